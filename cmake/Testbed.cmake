@@ -1,0 +1,102 @@
+# Helpers that make every library, program, test and benchmark of the testbed the same way
+# (STYLE.md, point 1). Includes start at the repository root: #include "common/geodesy/..."
+
+get_filename_component(TESTBED_ROOT ${CMAKE_CURRENT_LIST_DIR}/.. ABSOLUTE)
+
+add_library(testbed_options INTERFACE)
+target_compile_options(testbed_options INTERFACE -Wall -Wextra -Wpedantic)
+if(TESTBED_WERROR)
+  target_compile_options(testbed_options INTERFACE -Werror)
+endif()
+if(TESTBED_SANITIZE)
+  set(_san -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer)
+  target_compile_options(testbed_options INTERFACE ${_san})
+  target_link_options(testbed_options INTERFACE ${_san})
+endif()
+
+# testbed_library(<name> SOURCES ... [DEPS ...] [PRIVATE_DEPS ...])
+# Makes target <name> with alias testbed::<name>; header-only when SOURCES is empty.
+function(testbed_library name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS;PRIVATE_DEPS" ${ARGN})
+  if(ARG_SOURCES)
+    add_library(${name} STATIC ${ARG_SOURCES})
+    target_include_directories(${name} PUBLIC ${TESTBED_ROOT})
+    target_link_libraries(${name} PUBLIC testbed_options ${ARG_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
+    set_target_properties(${name} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+  else()
+    add_library(${name} INTERFACE)
+    target_include_directories(${name} INTERFACE ${TESTBED_ROOT})
+    target_link_libraries(${name} INTERFACE testbed_options ${ARG_DEPS})
+  endif()
+  add_library(testbed::${name} ALIAS ${name})
+endfunction()
+
+# testbed_program(<name> SOURCES ... [DEPS ...])
+function(testbed_program name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_include_directories(${name} PRIVATE ${TESTBED_ROOT})
+  target_link_libraries(${name} PRIVATE testbed_options ${ARG_DEPS})
+  set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/bin)
+endfunction()
+
+# testbed_gtest(<name> SOURCES ... [DEPS ...] [LABELS ...] [TIMEOUT s])
+# One line per test binary; every test in it is registered with ctest (label "unit" unless
+# given), so that `ctest -L unit` runs the fast ones.
+function(testbed_gtest name)
+  cmake_parse_arguments(ARG "" "TIMEOUT" "SOURCES;DEPS;LABELS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_include_directories(${name} PRIVATE ${TESTBED_ROOT})
+  target_link_libraries(${name} PRIVATE testbed_options ${ARG_DEPS} GTest::gtest GTest::gmock
+                                        GTest::gtest_main)
+  set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)
+  if(NOT ARG_LABELS)
+    set(ARG_LABELS unit)
+  endif()
+  if(NOT ARG_TIMEOUT)
+    set(ARG_TIMEOUT 120)
+  endif()
+  include(GoogleTest)
+  gtest_discover_tests(${name}
+    WORKING_DIRECTORY ${TESTBED_ROOT}
+    PROPERTIES LABELS "${ARG_LABELS}" TIMEOUT ${ARG_TIMEOUT}
+               ENVIRONMENT "TESTBED_BIN=${CMAKE_BINARY_DIR}/bin;TESTBED_ROOT=${TESTBED_ROOT}"
+    DISCOVERY_TIMEOUT 60)
+endfunction()
+
+# testbed_benchmark(<name> SOURCES ... [DEPS ...]) — Google Benchmark program in bin/bench/.
+function(testbed_benchmark name)
+  if(NOT TESTBED_BENCHMARKS)
+    return()
+  endif()
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_include_directories(${name} PRIVATE ${TESTBED_ROOT})
+  target_link_libraries(${name} PRIVATE testbed_options ${ARG_DEPS} benchmark::benchmark)
+  set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/bench)
+endfunction()
+
+# testbed_fuzzer(<name> SOURCES ... [DEPS ...] [CORPUS dir])
+# A libFuzzer target, built only with TESTBED_FUZZ (clang); registered with ctest under label
+# "fuzz" to run for a bounded time on its corpus.
+function(testbed_fuzzer name)
+  cmake_parse_arguments(ARG "" "CORPUS;SECONDS" "SOURCES;DEPS" ${ARGN})
+  if(NOT TESTBED_FUZZ)
+    return()
+  endif()
+  if(NOT ARG_SECONDS)
+    set(ARG_SECONDS 30)
+  endif()
+  add_executable(${name} ${ARG_SOURCES})
+  target_include_directories(${name} PRIVATE ${TESTBED_ROOT})
+  target_compile_options(${name} PRIVATE -fsanitize=fuzzer)
+  target_link_options(${name} PRIVATE -fsanitize=fuzzer)
+  target_link_libraries(${name} PRIVATE testbed_options ${ARG_DEPS})
+  set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/fuzz)
+  set(work ${CMAKE_BINARY_DIR}/fuzz/${name}.corpus)
+  add_test(NAME fuzz.${name}
+           COMMAND ${CMAKE_COMMAND} -E env ASAN_OPTIONS=detect_leaks=1
+                   sh -c "mkdir -p '${work}' && exec '$<TARGET_FILE:${name}>' -max_total_time=${ARG_SECONDS} -timeout=5 -rss_limit_mb=2048 '${work}' '${ARG_CORPUS}'")
+  math(EXPR limit "${ARG_SECONDS} * 3 + 60")
+  set_tests_properties(fuzz.${name} PROPERTIES LABELS fuzz TIMEOUT ${limit})
+endfunction()

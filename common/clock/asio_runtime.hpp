@@ -1,0 +1,30 @@
+#pragma once
+/// @file The real-time Runtime of the programs, driven by a Boost.Asio io_context.
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/steady_timer.hpp>
+
+#include "common/clock/runtime.hpp"
+
+namespace tb::clock {
+
+/// Fires timers from the io_context's thread. One steady_timer is armed for the earliest timer.
+class AsioRuntime final : public Runtime {
+ public:
+  explicit AsioRuntime(boost::asio::io_context& io) : timer_(io) {}
+  SteadyTime steady_now() const override { return SteadyClock::now(); }
+  WallTime wall_now() const override { return WallClock::now(); }
+  TimerId schedule_at(SteadyTime when, TimerCallback cb) override;
+  void cancel(TimerId id) override;
+
+ private:
+  void rearm();
+  void on_timer();
+
+  boost::asio::steady_timer timer_;
+  TimerQueue queue_;
+  bool armed_ = false;
+  SteadyTime armed_for_{};
+};
+
+}  // namespace tb::clock

@@ -1,0 +1,82 @@
+#include <gtest/gtest.h>
+
+#include <thread>
+#include <vector>
+
+#include "common/clock/asio_runtime.hpp"
+#include "common/clock/runtime.hpp"
+
+namespace tb::clock {
+namespace {
+
+using namespace std::chrono_literals;
+
+TEST(ManualRuntime, FiresTimersInOrderEachAtItsOwnInstant) {
+  ManualRuntime rt;
+  const SteadyTime start = rt.steady_now();
+  std::vector<std::pair<int, Duration>> fired;
+  rt.schedule_in(30ms, [&] { fired.emplace_back(3, rt.steady_now() - start); });
+  rt.schedule_in(10ms, [&] { fired.emplace_back(1, rt.steady_now() - start); });
+  rt.schedule_in(10ms, [&] { fired.emplace_back(2, rt.steady_now() - start); });
+  rt.advance(25ms);
+  ASSERT_EQ(fired.size(), 2u);
+  EXPECT_EQ(fired[0], std::make_pair(1, Duration{10ms}));
+  EXPECT_EQ(fired[1], std::make_pair(2, Duration{10ms}));
+  EXPECT_EQ(rt.steady_now() - start, 25ms);
+  rt.advance(5ms);
+  ASSERT_EQ(fired.size(), 3u);
+  EXPECT_EQ(fired[2], std::make_pair(3, Duration{30ms}));
+}
+
+TEST(ManualRuntime, CallbacksCanRescheduleAndCancel) {
+  ManualRuntime rt;
+  int ticks = 0;
+  std::function<void()> periodic = [&] {
+    ++ticks;
+    rt.schedule_in(100ms, periodic);
+  };
+  rt.schedule_in(100ms, periodic);
+  const TimerId doomed = rt.schedule_in(250ms, [&] { ticks += 1000; });
+  rt.schedule_in(200ms, [&] { rt.cancel(doomed); });
+  rt.advance(1s);
+  EXPECT_EQ(ticks, 10);
+}
+
+TEST(ManualRuntime, WallTimeMovesWithSteadyTime) {
+  ManualRuntime rt(WallTime{std::chrono::seconds{1'000}});
+  rt.advance(1500ms);
+  EXPECT_EQ(to_unix_ns(rt.wall_now()), 1'001'500'000'000);
+}
+
+TEST(ManualRuntime, TimerInThePastFiresOnNextAdvance) {
+  ManualRuntime rt;
+  rt.advance(1s);
+  bool fired = false;
+  rt.schedule_at(rt.steady_now() - 1ms, [&] { fired = true; });
+  rt.run_due();
+  EXPECT_TRUE(fired);
+}
+
+TEST(UnixNanoseconds, RoundTrip) {
+  const std::int64_t ns = 1'732'233'600'123'456'789;
+  EXPECT_EQ(to_unix_ns(from_unix_ns(ns)), ns);
+}
+
+// The one test that uses real time: the Asio runtime must fire in due order with a real
+// io_context. It waits for at most a few tens of milliseconds.
+TEST(AsioRuntime, FiresInOrderAndHonoursCancel) {
+  boost::asio::io_context io;
+  AsioRuntime rt(io);
+  std::vector<int> order;
+  rt.schedule_in(20ms, [&] { order.push_back(2); });
+  const TimerId cancelled = rt.schedule_in(5ms, [&] { order.push_back(99); });
+  rt.schedule_in(1ms, [&] { order.push_back(1); });
+  rt.cancel(cancelled);
+  const SteadyTime start = SteadyClock::now();
+  io.run_for(2s);
+  EXPECT_EQ(order, (std::vector<int>{1, 2}));
+  EXPECT_GE(SteadyClock::now() - start, 20ms);
+}
+
+}  // namespace
+}  // namespace tb::clock

@@ -1,0 +1,572 @@
+#include "common/scenario/loader.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <unordered_map>
+
+#include <fmt/format.h>
+
+#include "common/geodesy/local_frame.hpp"
+#include "common/map/road_map.hpp"
+#include "common/scenario/json_reader.hpp"
+
+namespace tb::scenario {
+
+using detail::Node;
+using json = nlohmann::json;
+
+ScenarioError::ScenarioError(std::string file, std::string path, std::string reason)
+    : std::runtime_error(file + ": " + (path.empty() ? std::string("/") : path) + ": " + reason),
+      file_(std::move(file)),
+      path_(std::move(path)),
+      reason_(std::move(reason)) {}
+
+namespace {
+
+// Limits that keep a scenario physically meaningful; see docs/scenario.md.
+constexpr int kMaxVehicles = 5000;
+constexpr double kMaxSpeed = 70.0;  // m/s, 252 km/h
+
+// ---- JSON text → json, rejecting duplicate keys (nlohmann silently keeps the last) ----------
+
+struct Frame {
+  bool is_array = false;
+  long index = -1;
+  std::string key;
+  std::set<std::string> keys;
+};
+
+std::string frames_path(const std::vector<Frame>& frames) {
+  std::string p;
+  for (const Frame& f : frames) {
+    if (f.is_array) {
+      if (f.index >= 0) p += "/" + std::to_string(f.index);
+    } else if (!f.key.empty()) {
+      p += "/" + f.key;
+    }
+  }
+  return p;
+}
+
+json parse_text(std::string_view text, const std::string& file) {
+  std::vector<Frame> frames;
+  std::string duplicate_path, duplicate_key;
+  auto element_begins = [&] {
+    if (!frames.empty() && frames.back().is_array) ++frames.back().index;
+  };
+  json::parser_callback_t cb = [&](int /*depth*/, json::parse_event_t event, json& parsed) {
+    switch (event) {
+      case json::parse_event_t::object_start:
+        element_begins();
+        frames.emplace_back();
+        break;
+      case json::parse_event_t::array_start:
+        element_begins();
+        frames.emplace_back().is_array = true;
+        break;
+      case json::parse_event_t::object_end:
+      case json::parse_event_t::array_end:
+        if (!frames.empty()) frames.pop_back();
+        break;
+      case json::parse_event_t::key: {
+        Frame& f = frames.back();
+        f.key = parsed.get<std::string>();
+        if (!f.keys.insert(f.key).second && duplicate_path.empty()) {
+          duplicate_path = frames_path(frames);
+          duplicate_key = f.key;
+        }
+        break;
+      }
+      case json::parse_event_t::value:
+        element_begins();
+        break;
+    }
+    return true;
+  };
+  json doc;
+  try {
+    doc = json::parse(text.begin(), text.end(), cb);
+  } catch (const json::parse_error& e) {
+    // Turn the byte offset into a line and column a person can find.
+    std::size_t line = 1, col = 1;
+    for (std::size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
+      if (text[i] == '\n') {
+        ++line;
+        col = 1;
+      } else {
+        ++col;
+      }
+    }
+    std::string msg = e.what();
+    if (const auto pos = msg.find("syntax error"); pos != std::string::npos) msg = msg.substr(pos);
+    throw ScenarioError(file, "", fmt::format("invalid JSON at line {}, column {}: {}", line, col,
+                                              msg));
+  }
+  if (!duplicate_path.empty()) {
+    throw ScenarioError(file, duplicate_path,
+                        "duplicate key \"" + duplicate_key + "\" (JSON objects need unique keys)");
+  }
+  return doc;
+}
+
+// ---- start_time ------------------------------------------------------------------------------
+
+// Days since 1970-01-01 of a proleptic Gregorian date (H. Hinnant's civil calendar algorithm).
+long long days_from_civil(long long y, unsigned m, unsigned d) {
+  y -= m <= 2;
+  const long long era = (y >= 0 ? y : y - 399) / 400;
+  const unsigned yoe = static_cast<unsigned>(y - era * 400);
+  const unsigned doy = (153 * (m + (m > 2 ? -3 : 9)) + 2) / 5 + d - 1;
+  const unsigned doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
+  return era * 146097 + static_cast<long long>(doe) - 719468;
+}
+
+std::chrono::system_clock::time_point parse_utc(const Node& n) {
+  const std::string s = n.string();
+  int y = 0, mo = 0, d = 0, h = 0, mi = 0, sec = 0, consumed = 0;
+  const char* bad = "expected a UTC time like \"2025-06-01T10:00:00Z\", found \"";
+  if (std::sscanf(s.c_str(), "%4d-%2d-%2dT%2d:%2d:%2d%n", &y, &mo, &d, &h, &mi, &sec,
+                  &consumed) != 6 ||
+      consumed != 19) {
+    n.fail(bad + s + "\"");
+  }
+  std::string rest = s.substr(19);
+  long long millis = 0;
+  if (!rest.empty() && rest[0] == '.') {
+    std::size_t i = 1;
+    int digits = 0;
+    while (i < rest.size() && std::isdigit(static_cast<unsigned char>(rest[i]))) {
+      if (digits < 3) millis = millis * 10 + (rest[i] - '0');
+      ++digits;
+      ++i;
+    }
+    if (digits == 0) n.fail(bad + s + "\"");
+    for (int k = digits; k < 3; ++k) millis *= 10;
+    rest = rest.substr(i);
+  }
+  if (rest != "Z") n.fail(bad + s + "\" (the time must be UTC and end in Z)");
+  static constexpr int kDays[] = {31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+  const bool leap = (y % 4 == 0 && y % 100 != 0) || y % 400 == 0;
+  if (y < 2004 || y > 2100 || mo < 1 || mo > 12 || d < 1 ||
+      d > (mo == 2 && !leap ? 28 : kDays[mo - 1]) || h > 23 || mi > 59 || sec > 59) {
+    n.fail("\"" + s + "\" is not a valid date and time between 2004 and 2100");
+  }
+  const long long secs = days_from_civil(y, static_cast<unsigned>(mo), static_cast<unsigned>(d)) *
+                             86400LL +
+                         h * 3600LL + mi * 60LL + sec;
+  return std::chrono::system_clock::time_point{std::chrono::seconds{secs} +
+                                               std::chrono::milliseconds{millis}};
+}
+
+// ---- sections --------------------------------------------------------------------------------
+
+MapSpec read_map(Node n) {
+  n.expect_object("the map");
+  MapSpec m;
+  const std::string type = n.required("type").choice({"straight", "ring", "crossing"});
+  m.type = type == "ring" ? MapType::kRing
+           : type == "crossing" ? MapType::kCrossing
+                                : MapType::kStraight;
+  if (auto l = n.optional("lanes")) m.lanes = static_cast<int>(l->integer(1, 8));
+  m.lane_width = n.number_or("lane_width", 3.5, 2.0, 6.0);
+  const int default_oncoming = m.type == MapType::kRing ? 0 : m.lanes / 2;
+  if (auto o = n.optional("oncoming_lanes")) {
+    m.oncoming_lanes = static_cast<int>(o->integer(0, m.lanes));
+  } else {
+    m.oncoming_lanes = default_oncoming;
+  }
+  std::vector<std::pair<std::string, std::string>> why_not;
+  switch (m.type) {
+    case MapType::kStraight:
+      m.length = n.number_or("length", 1000.0, 10.0, 100000.0);
+      why_not = {{"radius", "only for map type \"ring\""},
+                 {"arm_length", "only for map type \"crossing\""}};
+      break;
+    case MapType::kRing: {
+      const double half_width = m.lanes * m.lane_width / 2.0;
+      const double min_radius = half_width + 5.0;
+      if (auto r = n.optional("radius")) {
+        m.radius = r->number(min_radius, 10000.0);
+      } else {
+        m.radius = std::max(150.0, min_radius);
+      }
+      why_not = {{"length", "only for map type \"straight\""},
+                 {"arm_length", "only for map type \"crossing\""}};
+      break;
+    }
+    case MapType::kCrossing:
+      m.arm_length = n.number_or("arm_length", 300.0, 10.0, 10000.0);
+      why_not = {{"length", "only for map type \"straight\""},
+                 {"radius", "only for map type \"ring\""}};
+      break;
+  }
+  n.finish(why_not);
+  return m;
+}
+
+geodesy::Geodetic read_origin(Node n) {
+  n.expect_object("the geographic origin");
+  geodesy::Geodetic g;
+  g.latitude_deg = n.required("lat").number(-89.0, 89.0);
+  g.longitude_deg = n.required("lon").number(-180.0, 180.0);
+  g.altitude_m = n.number_or("alt", 0.0, -500.0, 9000.0);
+  n.finish();
+  return g;
+}
+
+Rates read_rates(Node n) {
+  n.expect_object("the rates");
+  Rates r;
+  r.physics_hz = n.number_or("physics_hz", r.physics_hz, 10.0, 1000.0);
+  r.gnss_hz = n.number_or("gnss_hz", r.gnss_hz, 0.5, 100.0);
+  r.can_dynamics_hz = n.number_or("can_dynamics_hz", r.can_dynamics_hz, 1.0, 1000.0);
+  r.can_body_hz = n.number_or("can_body_hz", r.can_body_hz, 0.5, 1000.0);
+  n.finish();
+  if (r.gnss_hz > r.physics_hz) {
+    n.fail(fmt::format("gnss_hz {} exceeds physics_hz {}: a fix cannot be newer than the "
+                       "physics it describes",
+                       r.gnss_hz, r.physics_hz));
+  }
+  return r;
+}
+
+GnssErrors read_gnss(Node n) {
+  n.expect_object("the GNSS error model");
+  GnssErrors g;
+  const std::string model =
+      n.optional("model") ? n.required("model").choice({"ideal", "noisy"}) : "ideal";
+  g.ideal = model == "ideal";
+  g.hdop = n.number_or("hdop", g.hdop, 0.5, 50.0);
+  g.vdop = n.number_or("vdop", g.vdop, 0.5, 50.0);
+  if (auto s = n.optional("satellites")) g.satellites = static_cast<int>(s->integer(4, 32));
+  if (auto windows = n.optional("fix_loss")) {
+    for (Node& w : windows->array(0, 1000)) {
+      w.expect_object("a fix-loss window");
+      FixLossWindow f;
+      f.from_s = w.required("from_s").number(0.0, 1e7);
+      f.to_s = w.required("to_s").number(0.0, 1e7);
+      w.finish();
+      if (f.to_s <= f.from_s) w.fail("to_s must be later than from_s");
+      g.fix_loss.push_back(f);
+    }
+  }
+  if (!g.ideal) {
+    g.white_noise_m = n.number_or("white_noise_m", 1.0, 0.0, 100.0);
+    g.bias_walk_m = n.number_or("bias_walk_m", 0.1, 0.0, 10.0);
+    g.vertical_noise_m = n.number_or("vertical_noise_m", 1.5, 0.0, 100.0);
+  }
+  const std::string only_noisy = "only with \"model\": \"noisy\"";
+  n.finish({{"white_noise_m", only_noisy},
+            {"bias_walk_m", only_noisy},
+            {"vertical_noise_m", only_noisy}});
+  return g;
+}
+
+CamPolicy read_cam(Node n) {
+  n.expect_object("the CAM policy");
+  CamPolicy c;
+  const std::string policy = n.required("policy").choice({"etsi", "fixed"});
+  c.kind = policy == "fixed" ? CamPolicy::Kind::kFixed : CamPolicy::Kind::kEtsi;
+  if (c.kind == CamPolicy::Kind::kFixed) {
+    c.period_ms = n.required("period_ms").number(10.0, 10000.0);
+  }
+  n.finish({{"period_ms", "only with \"policy\": \"fixed\""}});
+  return c;
+}
+
+ChannelModel read_channel(Node n) {
+  n.expect_object("the channel model");
+  ChannelModel c;
+  const std::string model =
+      n.required("model").choice({"ideal", "range", "log_distance", "two_ray"});
+  std::vector<std::pair<std::string, std::string>> why_not;
+  auto not_for = [&](std::initializer_list<const char*> keys) {
+    for (const char* k : keys) why_not.emplace_back(k, "not used by model \"" + model + "\"");
+  };
+  if (model == "ideal") {
+    c.kind = ChannelModel::Kind::kIdeal;
+    not_for({"range_m", "tx_power_dbm", "sensitivity_dbm", "reference_loss_db",
+             "path_loss_exponent", "antenna_height_m", "frequency_mhz"});
+  } else if (model == "range") {
+    c.kind = ChannelModel::Kind::kRange;
+    c.range_m = n.required("range_m").number(1.0, 100000.0);
+    not_for({"tx_power_dbm", "sensitivity_dbm", "reference_loss_db", "path_loss_exponent",
+             "antenna_height_m", "frequency_mhz"});
+  } else {
+    c.tx_power_dbm = n.number_or("tx_power_dbm", c.tx_power_dbm, -30.0, 40.0);
+    c.sensitivity_dbm = n.number_or("sensitivity_dbm", c.sensitivity_dbm, -120.0, -30.0);
+    c.frequency_mhz = n.number_or("frequency_mhz", c.frequency_mhz, 5000.0, 6000.0);
+    if (model == "log_distance") {
+      c.kind = ChannelModel::Kind::kLogDistance;
+      c.reference_loss_db = n.number_or("reference_loss_db", c.reference_loss_db, 0.0, 120.0);
+      c.path_loss_exponent = n.number_or("path_loss_exponent", c.path_loss_exponent, 1.0, 6.0);
+      not_for({"range_m", "antenna_height_m"});
+    } else {
+      c.kind = ChannelModel::Kind::kTwoRay;
+      c.antenna_height_m = n.number_or("antenna_height_m", c.antenna_height_m, 0.1, 50.0);
+      not_for({"range_m", "reference_loss_db", "path_loss_exponent"});
+    }
+  }
+  c.packet_error_rate = n.number_or("packet_error_rate", 0.0, 0.0, 1.0);
+  c.delay_ms = n.number_or("delay_ms", 0.0, 0.0, 1000.0);
+  c.jitter_ms = n.number_or("jitter_ms", 0.0, 0.0, 1000.0);
+  n.finish(why_not);
+  return c;
+}
+
+VehicleModel read_model(Node n) {
+  n.expect_object("the vehicle model");
+  VehicleModel m;
+  m.mass_kg = n.number_or("mass_kg", m.mass_kg, 100.0, 60000.0);
+  m.length_m = n.number_or("length_m", m.length_m, 1.0, 25.0);
+  m.width_m = n.number_or("width_m", m.width_m, 0.5, 3.0);
+  m.height_m = n.number_or("height_m", m.height_m, 0.5, 5.0);
+  m.wheelbase_m = n.number_or("wheelbase_m", m.wheelbase_m, 0.5, 20.0);
+  m.track_m = n.number_or("track_m", m.track_m, 0.5, 3.0);
+  m.wheel_radius_m = n.number_or("wheel_radius_m", m.wheel_radius_m, 0.1, 1.0);
+  m.centre_of_mass_height_m =
+      n.number_or("centre_of_mass_height_m", m.centre_of_mass_height_m, 0.1, 3.0);
+  m.suspension_stiffness = n.number_or("suspension_stiffness", m.suspension_stiffness, 1.0, 500.0);
+  m.suspension_damping = n.number_or("suspension_damping", m.suspension_damping, 0.0, 100.0);
+  m.suspension_travel_m = n.number_or("suspension_travel_m", m.suspension_travel_m, 0.01, 1.0);
+  m.tyre_friction = n.number_or("tyre_friction", m.tyre_friction, 0.05, 3.0);
+  if (auto curve = n.optional("torque_curve")) {
+    m.torque_curve.clear();
+    double last_rpm = -1.0;
+    for (Node& p : curve->array(2, 64)) {
+      const auto pair = p.array(2, 2);
+      TorquePoint t{pair[0].number(0.0, 20000.0), pair[1].number(0.0, 10000.0)};
+      if (t.rpm <= last_rpm) pair[0].fail("torque curve rpm values must increase");
+      last_rpm = t.rpm;
+      m.torque_curve.push_back(t);
+    }
+  }
+  if (auto gears = n.optional("gear_ratios")) {
+    m.gear_ratios.clear();
+    for (Node& g : gears->array(1, 12)) {
+      const double r = g.number(0.1, 20.0);
+      if (!m.gear_ratios.empty() && r >= m.gear_ratios.back()) {
+        g.fail("gear ratios must decrease from first to top gear");
+      }
+      m.gear_ratios.push_back(r);
+    }
+  }
+  m.reverse_ratio = n.number_or("reverse_ratio", m.reverse_ratio, 0.1, 20.0);
+  m.final_drive = n.number_or("final_drive", m.final_drive, 0.5, 20.0);
+  m.drivetrain_efficiency =
+      n.number_or("drivetrain_efficiency", m.drivetrain_efficiency, 0.3, 1.0);
+  m.idle_rpm = n.number_or("idle_rpm", m.idle_rpm, 100.0, 5000.0);
+  m.shift_up_rpm = n.number_or("shift_up_rpm", m.shift_up_rpm, 500.0, 20000.0);
+  m.shift_down_rpm = n.number_or("shift_down_rpm", m.shift_down_rpm, 300.0, 20000.0);
+  m.brake_torque_nm = n.number_or("brake_torque_nm", m.brake_torque_nm, 0.0, 100000.0);
+  m.handbrake_torque_nm = n.number_or("handbrake_torque_nm", m.handbrake_torque_nm, 0.0, 100000.0);
+  m.max_steer_deg = n.number_or("max_steer_deg", m.max_steer_deg, 5.0, 60.0);
+  m.steering_ratio = n.number_or("steering_ratio", m.steering_ratio, 1.0, 40.0);
+  m.drag_coefficient = n.number_or("drag_coefficient", m.drag_coefficient, 0.0, 2.0);
+  m.frontal_area_m2 = n.number_or("frontal_area_m2", m.frontal_area_m2, 0.1, 20.0);
+  m.rolling_resistance = n.number_or("rolling_resistance", m.rolling_resistance, 0.0, 0.1);
+  n.finish();
+  if (m.wheelbase_m >= m.length_m) n.fail("wheelbase_m must be shorter than length_m");
+  if (m.track_m > m.width_m) n.fail("track_m must not exceed width_m");
+  if (m.shift_down_rpm >= m.shift_up_rpm) n.fail("shift_down_rpm must be below shift_up_rpm");
+  return m;
+}
+
+Spawn read_spawn(Node n, const map::RoadMap& road_map) {
+  n.expect_object("the spawn point");
+  Spawn s;
+  s.speed = n.number_or("speed", 0.0, 0.0, kMaxSpeed);
+  const bool by_pose = n.has("x") || n.has("y") || n.has("heading_deg");
+  if (by_pose) {
+    PoseSpawn p;
+    p.x = n.required("x").number(-1e6, 1e6);
+    p.y = n.required("y").number(-1e6, 1e6);
+    p.heading_deg = n.required("heading_deg").number(0.0, 360.0);
+    const std::string why = "give either a lane (lane, s, road, direction) or a pose (x, y, "
+                            "heading_deg), not both";
+    n.finish({{"lane", why}, {"s", why}, {"road", why}, {"direction", why}});
+    if (!road_map.on_road({p.x, p.y})) {
+      n.fail(fmt::format("spawn point ({}, {}) is off the road", p.x, p.y));
+    }
+    s.where = p;
+    return s;
+  }
+  LaneSpawn l;
+  const int roads = static_cast<int>(road_map.roads().size());
+  if (auto r = n.optional("road")) l.road = static_cast<int>(r->integer(0, roads - 1));
+  const int lanes = static_cast<int>(road_map.roads()[l.road].lanes.size());
+  l.lane = static_cast<int>(n.required("lane").integer(0, lanes - 1));
+  const map::Lane& lane = road_map.lane(l.road, l.lane);
+  const double len = map::length(lane.centre);
+  l.s = n.required("s").number(0.0, map::is_closed(lane.centre) ? 1e6 : len);
+  if (auto d = n.optional("direction")) l.against = d->choice({"with", "against"}) == "against";
+  n.finish();
+  s.where = l;
+  return s;
+}
+
+// Where a spawn puts the vehicle, to check that vehicles do not overlap.
+map::Pose spawn_pose(const Spawn& s, const map::RoadMap& road_map) {
+  if (const auto* p = std::get_if<PoseSpawn>(&s.where)) {
+    return {{p->x, p->y}, geodesy::heading_deg_to_yaw(p->heading_deg)};
+  }
+  const auto& l = std::get<LaneSpawn>(s.where);
+  return road_map.lane_pose(l.road, l.lane, l.s);
+}
+
+Driver read_driver(Node n) {
+  if (n.is_string()) {
+    n.choice({"human"});
+    return HumanDriver{};
+  }
+  n.expect_object("the driver (\"human\" or an object with a \"type\")");
+  const std::string type = n.required("type").choice({"human", "timeline", "lane_follow"});
+  if (type == "human") {
+    n.finish();
+    return HumanDriver{};
+  }
+  if (type == "timeline") {
+    TimelineDriver t;
+    double last = -1.0;
+    for (Node& step : n.required("steps").array(1, 100000)) {
+      step.expect_object("a control step");
+      ControlStep c;
+      c.t = step.required("t").number(0.0, 1e7);
+      if (c.t < last) step.fail("steps must be in time order (t decreases here)");
+      last = c.t;
+      c.throttle = step.number_or("throttle", 0.0, 0.0, 1.0);
+      c.brake = step.number_or("brake", 0.0, 0.0, 1.0);
+      c.steer = step.number_or("steer", 0.0, -1.0, 1.0);
+      if (auto r = step.optional("reverse")) c.reverse = r->boolean();
+      if (auto h = step.optional("handbrake")) c.handbrake = h->boolean();
+      step.finish();
+      t.steps.push_back(c);
+    }
+    n.finish();
+    return t;
+  }
+  LaneFollowDriver f;
+  f.max_accel = n.number_or("max_accel", f.max_accel, 0.1, 10.0);
+  f.max_decel = n.number_or("max_decel", f.max_decel, 0.1, 10.0);
+  double last = -1.0;
+  bool first = true;
+  for (Node& p : n.required("speed_profile").array(1, 10000)) {
+    p.expect_object("a speed profile point");
+    SpeedPoint sp;
+    const bool has_t = p.has("t"), has_s = p.has("s");
+    if (has_t == has_s) p.fail("give exactly one of \"t\" (seconds) or \"s\" (metres)");
+    if (first) {
+      f.by_distance = has_s;
+    } else if (has_s != f.by_distance) {
+      p.fail("all points of a speed profile must use the same key, \"t\" or \"s\"");
+    }
+    sp.at = p.required(has_s ? "s" : "t").number(0.0, 1e7);
+    sp.speed = p.required("speed").number(0.0, kMaxSpeed);
+    p.finish();
+    if (sp.at <= last) p.fail("speed profile points must be in increasing order");
+    last = sp.at;
+    first = false;
+    f.profile.push_back(sp);
+  }
+  n.finish();
+  return f;
+}
+
+Vehicle read_vehicle(Node n, const map::RoadMap& road_map) {
+  n.expect_object("a vehicle");
+  Vehicle v;
+  v.id = n.required("id").string();
+  if (v.id.empty() || v.id.size() > 64 ||
+      v.id.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-") !=
+          std::string::npos) {
+    n.required("id").fail("vehicle id \"" + v.id +
+                          "\" must be 1 to 64 letters, digits, '_' or '-'");
+  }
+  v.station_id = static_cast<std::uint32_t>(n.required("station_id").integer(0, 4294967295LL));
+  if (auto t = n.optional("station_type")) v.station_type = static_cast<int>(t->integer(0, 255));
+  if (auto c = n.optional("color")) {
+    v.color = c->string();
+    if (v.color.size() != 7 || v.color[0] != '#' ||
+        v.color.find_first_not_of("0123456789abcdefABCDEF", 1) != std::string::npos) {
+      c->fail("colour \"" + v.color + "\" must look like \"#rrggbb\"");
+    }
+  }
+  if (auto m = n.optional("model")) v.model = read_model(*m);
+  v.spawn = read_spawn(n.required("spawn"), road_map);
+  v.driver = n.optional("driver") ? read_driver(n.required("driver")) : Driver{HumanDriver{}};
+  n.finish();
+  return v;
+}
+
+}  // namespace
+
+Scenario parse(std::string_view json_text, const std::string& file_name) {
+  const json doc = parse_text(json_text, file_name);
+  Node root(doc, "", file_name);
+  root.expect_object("a scenario");
+  Scenario s;
+  s.source = file_name;
+  s.name = root.required("name").string();
+  if (s.name.empty()) root.required("name").fail("the name must not be empty");
+  if (auto d = root.optional("description")) s.description = d->string();
+  s.map = read_map(root.required("map"));
+  s.origin = read_origin(root.required("origin"));
+  s.start_time = root.optional("start_time")
+                     ? parse_utc(root.required("start_time"))
+                     : std::chrono::system_clock::time_point{std::chrono::seconds{1735732800}};
+  if (auto d = root.optional("duration_s")) s.duration_s = d->number(0.1, 7 * 86400.0);
+  if (auto r = root.optional("rates")) s.rates = read_rates(*r);
+  if (auto g = root.optional("gnss")) s.gnss = read_gnss(*g);
+  if (auto c = root.optional("cam")) s.cam = read_cam(*c);
+  if (auto c = root.optional("channel")) s.channel = read_channel(*c);
+
+  const map::RoadMap road_map(s.map);
+  std::unordered_map<std::string, std::size_t> ids;
+  std::unordered_map<std::uint32_t, std::size_t> stations;
+  std::vector<map::Pose> poses;
+  const auto vehicles = root.required("vehicles").array(1, kMaxVehicles);
+  for (std::size_t i = 0; i < vehicles.size(); ++i) {
+    Vehicle v = read_vehicle(vehicles[i], road_map);
+    if (const auto [it, fresh] = ids.emplace(v.id, i); !fresh) {
+      Node(vehicles[i].json()["id"], vehicles[i].path() + "/id", file_name)
+          .fail(fmt::format("duplicate vehicle id \"{}\" (also /vehicles/{})", v.id, it->second));
+    }
+    if (const auto [it, fresh] = stations.emplace(v.station_id, i); !fresh) {
+      Node(vehicles[i].json()["station_id"], vehicles[i].path() + "/station_id", file_name)
+          .fail(fmt::format("duplicate station_id {} (also /vehicles/{})", v.station_id,
+                            it->second));
+    }
+    const map::Pose pose = spawn_pose(v.spawn, road_map);
+    for (std::size_t j = 0; j < poses.size(); ++j) {
+      const double gap = std::hypot(pose.p.x - poses[j].p.x, pose.p.y - poses[j].p.y);
+      const double min_gap = (v.model.length_m + s.vehicles[j].model.length_m) / 2.0;
+      if (gap < min_gap) {
+        Node(vehicles[i].json()["spawn"], vehicles[i].path() + "/spawn", file_name)
+            .fail(fmt::format("vehicle \"{}\" would spawn {:.1f} m from \"{}\", inside it "
+                              "(at least {:.1f} m needed)",
+                              v.id, gap, s.vehicles[j].id, min_gap));
+      }
+    }
+    poses.push_back(pose);
+    s.vehicles.push_back(std::move(v));
+  }
+  root.finish();
+  return s;
+}
+
+Scenario load_file(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) {
+    const bool exists = std::filesystem::exists(file);
+    throw ScenarioError(file.string(), "",
+                        exists ? "cannot be read (permissions?)" : "no such file");
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse(text.str(), file.string());
+}
+
+}  // namespace tb::scenario

@@ -1,0 +1,34 @@
+#pragma once
+/// @file Loading and validating scenario files.
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+#include "common/scenario/scenario.hpp"
+
+namespace tb::scenario {
+
+/// Programs exit with this code when the scenario cannot be used.
+inline constexpr int kExitBadScenario = 2;
+
+/// A scenario that cannot be used. what() reads "FILE: /json/pointer: reason".
+class ScenarioError : public std::runtime_error {
+ public:
+  ScenarioError(std::string file, std::string path, std::string reason);
+  const std::string& file() const { return file_; }
+  /// JSON pointer of the offending field (RFC 6901), "" for the whole document.
+  const std::string& path() const { return path_; }
+  const std::string& reason() const { return reason_; }
+
+ private:
+  std::string file_, path_, reason_;
+};
+
+/// Reads and validates a scenario file. @throws ScenarioError.
+Scenario load_file(const std::filesystem::path& file);
+/// Validates scenario JSON text; @p file_name only labels messages. @throws ScenarioError.
+Scenario parse(std::string_view json_text, const std::string& file_name);
+
+}  // namespace tb::scenario

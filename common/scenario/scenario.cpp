@@ -1,0 +1,19 @@
+#include "common/scenario/scenario.hpp"
+
+#include <algorithm>
+
+namespace tb::scenario {
+
+const Vehicle* Scenario::find_vehicle(std::string_view id) const {
+  const auto it = std::find_if(vehicles.begin(), vehicles.end(),
+                               [&](const Vehicle& v) { return v.id == id; });
+  return it == vehicles.end() ? nullptr : &*it;
+}
+
+const Vehicle* Scenario::find_station(std::uint32_t station_id) const {
+  const auto it = std::find_if(vehicles.begin(), vehicles.end(),
+                               [&](const Vehicle& v) { return v.station_id == station_id; });
+  return it == vehicles.end() ? nullptr : &*it;
+}
+
+}  // namespace tb::scenario

@@ -1,0 +1,205 @@
+#pragma once
+/// @file The scenario model: everything a run of the testbed is configured from.
+///
+/// Loaded from JSON by scenario/loader.hpp, documented field by field in docs/scenario.md.
+/// Units are SI (metres, seconds, m/s, radians for internal angles) unless a field's name says
+/// otherwise (_deg, _kmh, _ms, _hz, _dbm, _db).
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "common/geodesy/wgs84.hpp"
+
+namespace tb::scenario {
+
+// ---------------------------------------------------------------------------------------------
+// Map: built-in road layouts (OpenDRIVE later). Geometry lives in common/map.
+
+enum class MapType { kStraight, kRing, kCrossing };
+
+struct MapSpec {
+  MapType type = MapType::kStraight;
+  int lanes = 2;              ///< lanes per road, counted from the right edge
+  int oncoming_lanes = 1;     ///< how many of them (the leftmost) run the other way
+  double lane_width = 3.5;    ///< m
+  double length = 1000.0;     ///< straight: road length along +x from x = 0, m
+  double radius = 150.0;      ///< ring: radius of the road's centre line, m
+  double arm_length = 300.0;  ///< crossing: length of each of the four arms from the centre, m
+};
+
+// ---------------------------------------------------------------------------------------------
+// Vehicle model. Defaults: a compact passenger car, the Volkswagen Golf VII 1.4 TSI (90 kW);
+// figures from the manufacturer's 2013 data sheet: 0–100 km/h 9.3 s, top speed 203 km/h,
+// turning circle 10.9 m, kerb weight 1270 kg (see sim-server/README.md for the checks).
+
+struct TorquePoint {
+  double rpm = 0.0;
+  double torque_nm = 0.0;
+};
+
+struct VehicleModel {
+  double mass_kg = 1270.0;
+  double length_m = 4.255;
+  double width_m = 1.799;
+  double height_m = 1.452;
+  double wheelbase_m = 2.637;
+  double track_m = 1.540;
+  double wheel_radius_m = 0.316;          ///< 205/55 R16
+  double centre_of_mass_height_m = 0.55;  ///< above the ground
+  double suspension_stiffness = 35.0;     ///< per unit mass (Bullet's convention), 1/s²
+  double suspension_damping = 4.5;        ///< relative damping in compression and relaxation
+  double suspension_travel_m = 0.15;
+  double tyre_friction = 1.0;             ///< peak friction coefficient on a dry road
+  std::vector<TorquePoint> torque_curve{{1000, 140}, {1500, 200}, {4000, 200},
+                                        {5000, 190}, {6000, 150}, {6500, 120}};
+  std::vector<double> gear_ratios{3.62, 2.13, 1.37, 0.97, 0.76, 0.62};
+  double reverse_ratio = 3.3;
+  double final_drive = 3.94;
+  double drivetrain_efficiency = 0.9;
+  double idle_rpm = 800.0;
+  double shift_up_rpm = 6000.0;
+  double shift_down_rpm = 2000.0;
+  double brake_torque_nm = 2800.0;        ///< all four wheels together, at full pedal
+  double handbrake_torque_nm = 1500.0;    ///< rear wheels
+  double max_steer_deg = 36.0;            ///< road-wheel angle at full lock
+  double steering_ratio = 14.8;           ///< steering-wheel angle / road-wheel angle
+  double drag_coefficient = 0.30;         ///< Cd
+  double frontal_area_m2 = 2.19;
+  double rolling_resistance = 0.011;      ///< coefficient
+};
+
+// ---------------------------------------------------------------------------------------------
+// Spawn: a lane and a distance along it, or an explicit pose in the local frame.
+
+struct LaneSpawn {
+  int road = 0;             ///< crossing: 0 = east–west road, 1 = north–south road
+  int lane = 0;
+  double s = 0.0;           ///< distance along the lane in its direction of travel, m
+  bool against = false;    ///< drive against the lane's direction (head-on cases)
+};
+
+struct PoseSpawn {
+  double x = 0.0;  ///< east, m
+  double y = 0.0;  ///< north, m
+  double heading_deg = 0.0;  ///< ETSI convention: clockwise from north
+};
+
+struct Spawn {
+  std::variant<LaneSpawn, PoseSpawn> where;
+  double speed = 0.0;  ///< initial speed, m/s
+};
+
+// ---------------------------------------------------------------------------------------------
+// Drivers.
+
+struct HumanDriver {};
+
+/// At t seconds: controls; each entry holds until the next one.
+struct ControlStep {
+  double t = 0.0;
+  double throttle = 0.0;  ///< [0, 1]
+  double brake = 0.0;     ///< [0, 1]
+  double steer = 0.0;     ///< [-1, 1], positive = right (as CARLA)
+  bool reverse = false;
+  bool handbrake = false;
+};
+struct TimelineDriver {
+  std::vector<ControlStep> steps;
+};
+
+/// Target speed, interpolated linearly between points given over time or over distance.
+struct SpeedPoint {
+  double at = 0.0;     ///< s (time) or m (distance), see LaneFollowDriver::by_distance
+  double speed = 0.0;  ///< m/s
+};
+struct LaneFollowDriver {
+  std::vector<SpeedPoint> profile;
+  bool by_distance = false;
+  double max_accel = 2.0;  ///< comfortable acceleration, m/s²
+  double max_decel = 3.0;  ///< comfortable deceleration, m/s²
+};
+
+using Driver = std::variant<HumanDriver, TimelineDriver, LaneFollowDriver>;
+
+struct Vehicle {
+  std::string id;
+  std::uint32_t station_id = 0;  ///< ETSI StationID
+  int station_type = 5;          ///< CDD StationType: 5 = passengerCar
+  std::string color = "#d02020"; ///< for the drivers' views
+  VehicleModel model;
+  Spawn spawn;
+  Driver driver;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Rates, positioning errors, CAM policy and the radio channel.
+
+struct Rates {
+  double physics_hz = 100.0;
+  double gnss_hz = 10.0;
+  double can_dynamics_hz = 100.0;
+  double can_body_hz = 10.0;
+};
+
+struct FixLossWindow {
+  double from_s = 0.0;
+  double to_s = 0.0;
+};
+
+/// GNSS receiver error model (network-emulator's GPS agents). ideal = no noise.
+struct GnssErrors {
+  bool ideal = true;
+  double white_noise_m = 0.0;        ///< horizontal 1-sigma per axis
+  double bias_walk_m = 0.0;          ///< random-walk intensity, m/√s per axis
+  double vertical_noise_m = 0.0;
+  double hdop = 0.9;
+  double vdop = 1.2;
+  int satellites = 9;
+  std::vector<FixLossWindow> fix_loss;
+};
+
+struct CamPolicy {
+  enum class Kind { kEtsi, kFixed };
+  Kind kind = Kind::kEtsi;
+  double period_ms = 100.0;  ///< fixed policy only
+};
+
+struct ChannelModel {
+  enum class Kind { kIdeal, kRange, kLogDistance, kTwoRay };
+  Kind kind = Kind::kIdeal;
+  double range_m = 300.0;            ///< range model
+  double tx_power_dbm = 23.0;        ///< log-distance and two-ray
+  double sensitivity_dbm = -85.0;    ///< frames received below this are lost
+  double reference_loss_db = 47.86;  ///< log-distance: loss at 1 m (free space at 5.9 GHz)
+  double path_loss_exponent = 2.0;   ///< log-distance
+  double antenna_height_m = 1.5;     ///< two-ray
+  double frequency_mhz = 5900.0;
+  double packet_error_rate = 0.0;    ///< extra random loss on links in range, [0, 1]
+  double delay_ms = 0.0;
+  double jitter_ms = 0.0;
+};
+
+struct Scenario {
+  std::string name;
+  std::string description;
+  std::string source;  ///< the file it was loaded from, for messages
+  MapSpec map;
+  geodesy::Geodetic origin;
+  /// UTC instant of sim time 0; GNSS fixes are stamped start_time + sim time.
+  std::chrono::system_clock::time_point start_time;
+  std::optional<double> duration_s;  ///< empty: run until stopped
+  Rates rates;
+  GnssErrors gnss;
+  CamPolicy cam;
+  ChannelModel channel;
+  std::vector<Vehicle> vehicles;
+
+  const Vehicle* find_vehicle(std::string_view id) const;
+  const Vehicle* find_station(std::uint32_t station_id) const;
+};
+
+}  // namespace tb::scenario

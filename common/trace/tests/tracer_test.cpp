@@ -1,0 +1,94 @@
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "common/trace/tracer.hpp"
+
+namespace tb::trace {
+namespace {
+
+std::vector<nlohmann::json> read_lines(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<nlohmann::json> out;
+  for (std::string line; std::getline(in, line);) out.push_back(nlohmann::json::parse(line));
+  return out;
+}
+
+class TracerTest : public ::testing::Test {
+ protected:
+  std::string path_ = (std::filesystem::temp_directory_path() /
+                       ("tracer_test_" + std::to_string(::getpid()) + ".jsonl"))
+                          .string();
+  void TearDown() override { std::filesystem::remove(path_); }
+};
+
+TEST_F(TracerTest, WritesOneParseableJsonObjectPerRecord) {
+  {
+    Tracer t(path_, "its-station");
+    t.record_at(1'732'233'600'123'456'789, "cam.tx",
+                {{"station", 1001u}, {"gdt", 4242}, {"lat", 41.5}, {"why", "heading \"4\"\n"},
+                 {"lf", true}, {"neg", -7LL}});
+    t.record("nan", {{"v", 0.0 / 0.0}});
+  }
+  const auto lines = read_lines(path_);
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_EQ(lines[0]["ts"], 1'732'233'600'123'456'789LL);
+  EXPECT_EQ(lines[0]["proc"], "its-station");
+  EXPECT_EQ(lines[0]["ev"], "cam.tx");
+  EXPECT_EQ(lines[0]["station"], 1001);
+  EXPECT_EQ(lines[0]["gdt"], 4242);
+  EXPECT_EQ(lines[0]["lat"], 41.5);
+  EXPECT_EQ(lines[0]["why"], "heading \"4\"\n");
+  EXPECT_EQ(lines[0]["lf"], true);
+  EXPECT_EQ(lines[0]["neg"], -7);
+  EXPECT_TRUE(lines[1]["v"].is_null());
+}
+
+TEST_F(TracerTest, TimestampsAreRealtimeNanoseconds) {
+  const std::int64_t before = Tracer::now_ns();
+  {
+    Tracer t(path_, "p");
+    t.record("x", {});
+  }
+  const std::int64_t after = Tracer::now_ns();
+  const auto lines = read_lines(path_);
+  ASSERT_EQ(lines.size(), 1u);
+  const std::int64_t ts = lines[0]["ts"];
+  EXPECT_GE(ts, before);
+  EXPECT_LE(ts, after);
+  EXPECT_GT(ts, 1'600'000'000'000'000'000LL);  // CLOCK_REALTIME, not CLOCK_MONOTONIC
+}
+
+TEST_F(TracerTest, ManyRecordsSurviveBufferFlushes) {
+  {
+    Tracer t(path_, "p");
+    for (int i = 0; i < 20000; ++i) t.record("n", {{"i", i}});
+  }
+  const auto lines = read_lines(path_);
+  ASSERT_EQ(lines.size(), 20000u);
+  EXPECT_EQ(lines.back()["i"], 19999);
+}
+
+TEST(Tracer, DisabledTracerWritesNothing) {
+  Tracer t;
+  EXPECT_FALSE(t.enabled());
+  t.record("x", {{"i", 1}});
+  t.flush();
+}
+
+TEST(Tracer, UnwritablePathIsAnErrorNamingIt) {
+  try {
+    Tracer t("/nonexistent-dir/trace.jsonl", "p");
+    FAIL() << "expected an error";
+  } catch (const std::system_error& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent-dir/trace.jsonl"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace tb::trace
