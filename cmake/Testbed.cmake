@@ -4,6 +4,7 @@
 get_filename_component(TESTBED_ROOT ${CMAKE_CURRENT_LIST_DIR}/.. ABSOLUTE)
 
 add_library(testbed_options INTERFACE)
+add_custom_target(fuzzers)  # `cmake --build DIR --target fuzzers` builds every fuzz target
 target_compile_options(testbed_options INTERFACE -Wall -Wextra -Wpedantic)
 if(TESTBED_WERROR)
   target_compile_options(testbed_options INTERFACE -Werror)
@@ -88,6 +89,7 @@ function(testbed_fuzzer name)
     set(ARG_SECONDS 30)
   endif()
   add_executable(${name} ${ARG_SOURCES})
+  add_dependencies(fuzzers ${name})
   target_include_directories(${name} PRIVATE ${TESTBED_ROOT})
   target_compile_options(${name} PRIVATE -fsanitize=fuzzer)
   target_link_options(${name} PRIVATE -fsanitize=fuzzer)

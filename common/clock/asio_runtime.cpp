@@ -4,7 +4,8 @@ namespace tb::clock {
 
 TimerId AsioRuntime::schedule_at(SteadyTime when, TimerCallback cb) {
   const TimerId id = queue_.push(when, std::move(cb));
-  if (!armed_ || when < armed_for_) rearm();
+  if (!armed_ || when < armed_for_)
+    rearm();
   return id;
 }
 
@@ -14,12 +15,14 @@ void AsioRuntime::cancel(TimerId id) {
 }
 
 void AsioRuntime::rearm() {
-  if (queue_.empty()) return;
+  if (queue_.empty())
+    return;
   armed_ = true;
   armed_for_ = queue_.next_due();
   timer_.expires_at(armed_for_);
   timer_.async_wait([this](const boost::system::error_code& ec) {
-    if (ec == boost::asio::error::operation_aborted) return;  // re-armed or shut down
+    if (ec == boost::asio::error::operation_aborted)
+      return;  // re-armed or shut down
     armed_ = false;
     on_timer();
   });
@@ -29,7 +32,8 @@ void AsioRuntime::on_timer() {
   while (!queue_.empty() && queue_.next_due() <= SteadyClock::now()) {
     queue_.pop()();
   }
-  if (!armed_) rearm();
+  if (!armed_)
+    rearm();
 }
 
 }  // namespace tb::clock

@@ -11,7 +11,8 @@ TimerId TimerQueue::push(SteadyTime when, TimerCallback cb) {
 
 bool TimerQueue::cancel(TimerId id) {
   const auto it = due_by_id_.find(id);
-  if (it == due_by_id_.end()) return false;
+  if (it == due_by_id_.end())
+    return false;
   timers_.erase(std::make_pair(it->second, id));
   due_by_id_.erase(it);
   return true;
@@ -30,10 +31,12 @@ TimerId ManualRuntime::schedule_at(SteadyTime when, TimerCallback cb) {
 void ManualRuntime::advance_to(SteadyTime t) {
   while (!queue_.empty() && queue_.next_due() <= t) {
     const SteadyTime due = queue_.next_due();
-    if (due > clock_.steady_now()) clock_.set_steady(due);
+    if (due > clock_.steady_now())
+      clock_.set_steady(due);
     queue_.pop()();
   }
-  if (t > clock_.steady_now()) clock_.set_steady(t);
+  if (t > clock_.steady_now())
+    clock_.set_steady(t);
 }
 
 }  // namespace tb::clock

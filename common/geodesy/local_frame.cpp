@@ -50,8 +50,10 @@ Geodetic LocalFrame::to_geodetic(const Enu& p) const {
 
 double wrap_360(double deg) {
   double w = std::fmod(deg, 360.0);
-  if (w < 0.0) w += 360.0;
-  if (w >= 360.0) w -= 360.0;  // fmod of a tiny negative number can round up to 360
+  if (w < 0.0)
+    w += 360.0;
+  if (w >= 360.0)
+    w -= 360.0;  // fmod of a tiny negative number can round up to 360
   return w;
 }
 
@@ -60,7 +62,9 @@ double heading_difference_deg(double a, double b) {
   return d > 180.0 ? d - 360.0 : d;
 }
 
-double yaw_to_heading_deg(double yaw_rad) { return wrap_360(90.0 - yaw_rad * kRadToDeg); }
+double yaw_to_heading_deg(double yaw_rad) {
+  return wrap_360(90.0 - yaw_rad * kRadToDeg);
+}
 
 double heading_deg_to_yaw(double heading_deg) {
   double yaw = (90.0 - heading_deg) * kDegToRad;

@@ -31,8 +31,7 @@ Geodetic to_geodetic(const Ecef& e) {
     const double n =
         kSemiMajorAxis / std::sqrt(1.0 - kFirstEccentricitySquared * sin_lat * sin_lat);
     const double cos_lat = std::cos(lat);
-    height = std::abs(cos_lat) > 1e-10 ? p / cos_lat - n
-                                       : std::abs(e.z) - kSemiMinorAxis;
+    height = std::abs(cos_lat) > 1e-10 ? p / cos_lat - n : std::abs(e.z) - kSemiMinorAxis;
     const double next = std::atan2(e.z, p * (1.0 - kFirstEccentricitySquared * n / (n + height)));
     if (std::abs(next - lat) < 1e-14) {
       lat = next;

@@ -20,27 +20,29 @@ Overloaded(Ts...) -> Overloaded<Ts...>;
 
 double wrap_positive(double v, double period) {
   double w = std::fmod(v, period);
-  if (w < 0.0) w += period;
+  if (w < 0.0)
+    w += period;
   return w >= period ? 0.0 : w;
 }
 
 // Centre line of a lane whose middle is `offset` metres left of the road's reference line.
 CentreLine offset_line(const CentreLine& reference, double offset, bool reversed) {
   return std::visit(
-      Overloaded{
-          [&](const Segment& seg) -> CentreLine {
-            const Point left{-seg.dir.y, seg.dir.x};
-            Point start{seg.start.x + left.x * offset, seg.start.y + left.y * offset};
-            if (!reversed) return Segment{start, seg.dir, seg.length};
-            return Segment{{start.x + seg.dir.x * seg.length, start.y + seg.dir.y * seg.length},
-                           {-seg.dir.x, -seg.dir.y},
-                           seg.length};
-          },
-          [&](const Circle& c) -> CentreLine {
-            // Left of a counter-clockwise circle is towards its centre.
-            const double r = c.ccw ? c.radius - offset : c.radius + offset;
-            return Circle{c.centre, r, reversed ? !c.ccw : c.ccw};
-          }},
+      Overloaded{[&](const Segment& seg) -> CentreLine {
+                   const Point left{-seg.dir.y, seg.dir.x};
+                   Point start{seg.start.x + left.x * offset, seg.start.y + left.y * offset};
+                   if (!reversed)
+                     return Segment{start, seg.dir, seg.length};
+                   return Segment{
+                       {start.x + seg.dir.x * seg.length, start.y + seg.dir.y * seg.length},
+                       {-seg.dir.x, -seg.dir.y},
+                       seg.length};
+                 },
+                 [&](const Circle& c) -> CentreLine {
+                   // Left of a counter-clockwise circle is towards its centre.
+                   const double r = c.ccw ? c.radius - offset : c.radius + offset;
+                   return Circle{c.centre, r, reversed ? !c.ccw : c.ccw};
+                 }},
       reference);
 }
 
@@ -65,7 +67,9 @@ double length(const CentreLine& line) {
                     line);
 }
 
-bool is_closed(const CentreLine& line) { return std::holds_alternative<Circle>(line); }
+bool is_closed(const CentreLine& line) {
+  return std::holds_alternative<Circle>(line);
+}
 
 Pose pose_at(const CentreLine& line, double s) {
   return std::visit(
@@ -78,8 +82,8 @@ Pose pose_at(const CentreLine& line, double s) {
                    // s = 0 is the circle's easternmost point.
                    const double a = wrap_positive(s, kTwoPi * c.radius) / c.radius;
                    const double theta = c.ccw ? a : -a;
-                   const double yaw = c.ccw ? theta + std::numbers::pi / 2
-                                            : theta - std::numbers::pi / 2;
+                   const double yaw =
+                       c.ccw ? theta + std::numbers::pi / 2 : theta - std::numbers::pi / 2;
                    return Pose{{c.centre.x + c.radius * std::cos(theta),
                                 c.centre.y + c.radius * std::sin(theta)},
                                std::remainder(yaw, kTwoPi)};
@@ -88,22 +92,21 @@ Pose pose_at(const CentreLine& line, double s) {
 }
 
 Projection project(const CentreLine& line, Point p) {
-  return std::visit(
-      Overloaded{[&](const Segment& seg) {
-                   const double dx = p.x - seg.start.x, dy = p.y - seg.start.y;
-                   const double s = dx * seg.dir.x + dy * seg.dir.y;
-                   const double lateral = seg.dir.x * dy - seg.dir.y * dx;
-                   return Projection{s, lateral, s >= 0.0 && s <= seg.length};
-                 },
-                 [&](const Circle& c) {
-                   const double dx = p.x - c.centre.x, dy = p.y - c.centre.y;
-                   const double d = std::hypot(dx, dy);
-                   const double theta = std::atan2(dy, dx);
-                   const double s = wrap_positive((c.ccw ? theta : -theta) * c.radius,
-                                                  kTwoPi * c.radius);
-                   return Projection{s, c.ccw ? c.radius - d : d - c.radius, true};
-                 }},
-      line);
+  return std::visit(Overloaded{[&](const Segment& seg) {
+                                 const double dx = p.x - seg.start.x, dy = p.y - seg.start.y;
+                                 const double s = dx * seg.dir.x + dy * seg.dir.y;
+                                 const double lateral = seg.dir.x * dy - seg.dir.y * dx;
+                                 return Projection{s, lateral, s >= 0.0 && s <= seg.length};
+                               },
+                               [&](const Circle& c) {
+                                 const double dx = p.x - c.centre.x, dy = p.y - c.centre.y;
+                                 const double d = std::hypot(dx, dy);
+                                 const double theta = std::atan2(dy, dx);
+                                 const double s = wrap_positive((c.ccw ? theta : -theta) * c.radius,
+                                                                kTwoPi * c.radius);
+                                 return Projection{s, c.ccw ? c.radius - d : d - c.radius, true};
+                               }},
+                    line);
 }
 
 RoadMap::RoadMap(const scenario::MapSpec& spec) : spec_(spec) {
@@ -113,7 +116,8 @@ RoadMap::RoadMap(const scenario::MapSpec& spec) : spec_(spec) {
   }
   switch (spec.type) {
     case scenario::MapType::kStraight:
-      if (spec.length <= 0.0) throw std::invalid_argument("straight road needs a length > 0");
+      if (spec.length <= 0.0)
+        throw std::invalid_argument("straight road needs a length > 0");
       roads_.push_back(make_road(0, Segment{{0.0, 0.0}, {1.0, 0.0}, spec.length}, spec));
       break;
     case scenario::MapType::kRing:
@@ -123,7 +127,8 @@ RoadMap::RoadMap(const scenario::MapSpec& spec) : spec_(spec) {
       roads_.push_back(make_road(0, Circle{{0.0, 0.0}, spec.radius, true}, spec));
       break;
     case scenario::MapType::kCrossing:
-      if (spec.arm_length <= 0.0) throw std::invalid_argument("crossing needs arm_length > 0");
+      if (spec.arm_length <= 0.0)
+        throw std::invalid_argument("crossing needs arm_length > 0");
       roads_.push_back(
           make_road(0, Segment{{-spec.arm_length, 0.0}, {1.0, 0.0}, 2 * spec.arm_length}, spec));
       roads_.push_back(
@@ -138,8 +143,7 @@ const Lane& RoadMap::lane(int road, int lane) const {
   }
   const auto& lanes = roads_[road].lanes;
   if (lane < 0 || lane >= static_cast<int>(lanes.size())) {
-    throw std::out_of_range("no lane " + std::to_string(lane) + " on road " +
-                            std::to_string(road));
+    throw std::out_of_range("no lane " + std::to_string(lane) + " on road " + std::to_string(road));
   }
   return lanes[lane];
 }
@@ -154,7 +158,8 @@ std::optional<LaneMatch> RoadMap::find_lane(Point p, double yaw) const {
   for (const Road& road : roads_) {
     for (const Lane& lane : road.lanes) {
       const Projection pr = project(lane.centre, p);
-      if (!pr.within || std::abs(pr.lateral) > lane.width / 2.0) continue;
+      if (!pr.within || std::abs(pr.lateral) > lane.width / 2.0)
+        continue;
       // Inside the lane's area; several lanes overlap only in a crossing's middle. Prefer the
       // lane that runs closest to the vehicle's own direction.
       const double lane_yaw = pose_at(lane.centre, pr.s).yaw;
@@ -171,7 +176,8 @@ std::optional<LaneMatch> RoadMap::find_lane(Point p, double yaw) const {
 bool RoadMap::on_road(Point p) const {
   for (const Road& road : roads_) {
     const Projection pr = project(road.reference, p);
-    if (pr.within && std::abs(pr.lateral) <= road.width / 2.0) return true;
+    if (pr.within && std::abs(pr.lateral) <= road.width / 2.0)
+      return true;
   }
   return false;
 }

@@ -10,13 +10,20 @@ namespace tb::scenario::detail {
 namespace {
 
 std::string type_name(const nlohmann::json& j) {
-  if (j.is_number_integer() || j.is_number_unsigned()) return "an integer";
-  if (j.is_number_float()) return "a number";
-  if (j.is_string()) return "a string";
-  if (j.is_boolean()) return "a boolean";
-  if (j.is_null()) return "null";
-  if (j.is_array()) return "an array";
-  if (j.is_object()) return "an object";
+  if (j.is_number_integer() || j.is_number_unsigned())
+    return "an integer";
+  if (j.is_number_float())
+    return "a number";
+  if (j.is_string())
+    return "a string";
+  if (j.is_boolean())
+    return "a boolean";
+  if (j.is_null())
+    return "null";
+  if (j.is_array())
+    return "an array";
+  if (j.is_object())
+    return "an object";
   return j.type_name();
 }
 
@@ -36,7 +43,8 @@ std::string escape_pointer_token(std::string_view key) {
 
 std::size_t edit_distance(std::string_view a, std::string_view b) {
   std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (std::size_t j = 0; j <= b.size(); ++j)
+    prev[j] = j;
   for (std::size_t i = 1; i <= a.size(); ++i) {
     cur[0] = i;
     for (std::size_t j = 1; j <= b.size(); ++j) {
@@ -47,7 +55,9 @@ std::size_t edit_distance(std::string_view a, std::string_view b) {
   return prev[b.size()];
 }
 
-std::string format_number(double v) { return fmt::format("{}", v); }
+std::string format_number(double v) {
+  return fmt::format("{}", v);
+}
 
 }  // namespace
 
@@ -61,14 +71,18 @@ std::string suggestion(std::string_view unknown, const std::vector<std::string>&
       best = k;
     }
   }
-  if (best.empty() || best_d > std::max<std::size_t>(2, unknown.size() / 3)) return {};
+  if (best.empty() || best_d > std::max<std::size_t>(2, unknown.size() / 3))
+    return {};
   return best;
 }
 
-void Node::fail(const std::string& reason) const { throw ScenarioError(*file_, path_, reason); }
+void Node::fail(const std::string& reason) const {
+  throw ScenarioError(*file_, path_, reason);
+}
 
 double Node::number(double min, double max) const {
-  if (!value_->is_number()) fail("expected a number, found " + type_name(*value_));
+  if (!value_->is_number())
+    fail("expected a number, found " + type_name(*value_));
   const double v = value_->get<double>();
   if (!std::isfinite(v) || v < min || v > max) {
     fail(fmt::format("value {} is out of range [{}, {}]", format_number(v), format_number(min),
@@ -80,7 +94,8 @@ double Node::number(double min, double max) const {
 long long Node::integer(long long min, long long max) const {
   if (value_->is_number_float()) {
     const double d = value_->get<double>();
-    if (d != std::floor(d)) fail("expected an integer, found " + format_number(d));
+    if (d != std::floor(d))
+      fail("expected an integer, found " + format_number(d));
   } else if (!value_->is_number()) {
     fail("expected an integer, found " + type_name(*value_));
   }
@@ -95,32 +110,38 @@ long long Node::integer(long long min, long long max) const {
     fail(fmt::format("value {} is out of range [{}, {}]", value_->dump(), min, max));
   }
   const long long v = value_->get<long long>();
-  if (v < min || v > max) fail(fmt::format("value {} is out of range [{}, {}]", v, min, max));
+  if (v < min || v > max)
+    fail(fmt::format("value {} is out of range [{}, {}]", v, min, max));
   return v;
 }
 
 std::string Node::string() const {
-  if (!value_->is_string()) fail("expected a string, found " + type_name(*value_));
+  if (!value_->is_string())
+    fail("expected a string, found " + type_name(*value_));
   return value_->get<std::string>();
 }
 
 bool Node::boolean() const {
-  if (!value_->is_boolean()) fail("expected true or false, found " + type_name(*value_));
+  if (!value_->is_boolean())
+    fail("expected true or false, found " + type_name(*value_));
   return value_->get<bool>();
 }
 
 std::string Node::choice(std::initializer_list<std::string_view> choices) const {
   const std::string s = string();
   for (auto c : choices) {
-    if (s == c) return s;
+    if (s == c)
+      return s;
   }
   std::string list;
-  for (auto c : choices) list += (list.empty() ? "\"" : ", \"") + std::string(c) + "\"";
+  for (auto c : choices)
+    list += (list.empty() ? "\"" : ", \"") + std::string(c) + "\"";
   fail("\"" + s + "\" is not one of " + list);
 }
 
 std::vector<Node> Node::array(std::size_t min_size, std::size_t max_size) const {
-  if (!value_->is_array()) fail("expected an array, found " + type_name(*value_));
+  if (!value_->is_array())
+    fail("expected an array, found " + type_name(*value_));
   if (value_->size() < min_size || value_->size() > max_size) {
     fail(fmt::format("expected {} to {} elements, found {}", min_size, max_size, value_->size()));
   }
@@ -156,7 +177,8 @@ Node Node::required(std::string_view key) {
 
 std::optional<Node> Node::optional(std::string_view key) {
   seen_.insert(std::string(key));
-  if (!has(key)) return std::nullopt;
+  if (!has(key))
+    return std::nullopt;
   return member(key);
 }
 
@@ -166,13 +188,16 @@ double Node::number_or(std::string_view key, double fallback, double min, double
 }
 
 void Node::finish(const std::vector<std::pair<std::string, std::string>>& why_not) const {
-  if (!value_->is_object()) return;
+  if (!value_->is_object())
+    return;
   std::vector<std::string> known(seen_.begin(), seen_.end());
   for (auto it = value_->begin(); it != value_->end(); ++it) {
-    if (seen_.count(it.key())) continue;
+    if (seen_.count(it.key()))
+      continue;
     const Node bad = member(it.key());
     for (const auto& [key, reason] : why_not) {
-      if (key == it.key()) bad.fail("field \"" + key + "\" is not allowed here: " + reason);
+      if (key == it.key())
+        bad.fail("field \"" + key + "\" is not allowed here: " + reason);
     }
     const std::string near = suggestion(it.key(), known);
     bad.fail("unknown field \"" + it.key() + "\"" +

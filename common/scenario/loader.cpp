@@ -43,7 +43,8 @@ std::string frames_path(const std::vector<Frame>& frames) {
   std::string p;
   for (const Frame& f : frames) {
     if (f.is_array) {
-      if (f.index >= 0) p += "/" + std::to_string(f.index);
+      if (f.index >= 0)
+        p += "/" + std::to_string(f.index);
     } else if (!f.key.empty()) {
       p += "/" + f.key;
     }
@@ -55,7 +56,8 @@ json parse_text(std::string_view text, const std::string& file) {
   std::vector<Frame> frames;
   std::string duplicate_path, duplicate_key;
   auto element_begins = [&] {
-    if (!frames.empty() && frames.back().is_array) ++frames.back().index;
+    if (!frames.empty() && frames.back().is_array)
+      ++frames.back().index;
   };
   json::parser_callback_t cb = [&](int /*depth*/, json::parse_event_t event, json& parsed) {
     switch (event) {
@@ -69,7 +71,8 @@ json parse_text(std::string_view text, const std::string& file) {
         break;
       case json::parse_event_t::object_end:
       case json::parse_event_t::array_end:
-        if (!frames.empty()) frames.pop_back();
+        if (!frames.empty())
+          frames.pop_back();
         break;
       case json::parse_event_t::key: {
         Frame& f = frames.back();
@@ -101,9 +104,10 @@ json parse_text(std::string_view text, const std::string& file) {
       }
     }
     std::string msg = e.what();
-    if (const auto pos = msg.find("syntax error"); pos != std::string::npos) msg = msg.substr(pos);
-    throw ScenarioError(file, "", fmt::format("invalid JSON at line {}, column {}: {}", line, col,
-                                              msg));
+    if (const auto pos = msg.find("syntax error"); pos != std::string::npos)
+      msg = msg.substr(pos);
+    throw ScenarioError(file, "",
+                        fmt::format("invalid JSON at line {}, column {}: {}", line, col, msg));
   }
   if (!duplicate_path.empty()) {
     throw ScenarioError(file, duplicate_path,
@@ -128,8 +132,8 @@ std::chrono::system_clock::time_point parse_utc(const Node& n) {
   const std::string s = n.string();
   int y = 0, mo = 0, d = 0, h = 0, mi = 0, sec = 0, consumed = 0;
   const char* bad = "expected a UTC time like \"2025-06-01T10:00:00Z\", found \"";
-  if (std::sscanf(s.c_str(), "%4d-%2d-%2dT%2d:%2d:%2d%n", &y, &mo, &d, &h, &mi, &sec,
-                  &consumed) != 6 ||
+  if (std::sscanf(s.c_str(), "%4d-%2d-%2dT%2d:%2d:%2d%n", &y, &mo, &d, &h, &mi, &sec, &consumed) !=
+          6 ||
       consumed != 19) {
     n.fail(bad + s + "\"");
   }
@@ -139,24 +143,28 @@ std::chrono::system_clock::time_point parse_utc(const Node& n) {
     std::size_t i = 1;
     int digits = 0;
     while (i < rest.size() && std::isdigit(static_cast<unsigned char>(rest[i]))) {
-      if (digits < 3) millis = millis * 10 + (rest[i] - '0');
+      if (digits < 3)
+        millis = millis * 10 + (rest[i] - '0');
       ++digits;
       ++i;
     }
-    if (digits == 0) n.fail(bad + s + "\"");
-    for (int k = digits; k < 3; ++k) millis *= 10;
+    if (digits == 0)
+      n.fail(bad + s + "\"");
+    for (int k = digits; k < 3; ++k)
+      millis *= 10;
     rest = rest.substr(i);
   }
-  if (rest != "Z") n.fail(bad + s + "\" (the time must be UTC and end in Z)");
+  if (rest != "Z")
+    n.fail(bad + s + "\" (the time must be UTC and end in Z)");
   static constexpr int kDays[] = {31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
   const bool leap = (y % 4 == 0 && y % 100 != 0) || y % 400 == 0;
   if (y < 2004 || y > 2100 || mo < 1 || mo > 12 || d < 1 ||
       d > (mo == 2 && !leap ? 28 : kDays[mo - 1]) || h > 23 || mi > 59 || sec > 59) {
     n.fail("\"" + s + "\" is not a valid date and time between 2004 and 2100");
   }
-  const long long secs = days_from_civil(y, static_cast<unsigned>(mo), static_cast<unsigned>(d)) *
-                             86400LL +
-                         h * 3600LL + mi * 60LL + sec;
+  const long long secs =
+      days_from_civil(y, static_cast<unsigned>(mo), static_cast<unsigned>(d)) * 86400LL +
+      h * 3600LL + mi * 60LL + sec;
   return std::chrono::system_clock::time_point{std::chrono::seconds{secs} +
                                                std::chrono::milliseconds{millis}};
 }
@@ -167,10 +175,11 @@ MapSpec read_map(Node n) {
   n.expect_object("the map");
   MapSpec m;
   const std::string type = n.required("type").choice({"straight", "ring", "crossing"});
-  m.type = type == "ring" ? MapType::kRing
+  m.type = type == "ring"       ? MapType::kRing
            : type == "crossing" ? MapType::kCrossing
                                 : MapType::kStraight;
-  if (auto l = n.optional("lanes")) m.lanes = static_cast<int>(l->integer(1, 8));
+  if (auto l = n.optional("lanes"))
+    m.lanes = static_cast<int>(l->integer(1, 8));
   m.lane_width = n.number_or("lane_width", 3.5, 2.0, 6.0);
   const int default_oncoming = m.type == MapType::kRing ? 0 : m.lanes / 2;
   if (auto o = n.optional("oncoming_lanes")) {
@@ -226,9 +235,10 @@ Rates read_rates(Node n) {
   r.can_body_hz = n.number_or("can_body_hz", r.can_body_hz, 0.5, 1000.0);
   n.finish();
   if (r.gnss_hz > r.physics_hz) {
-    n.fail(fmt::format("gnss_hz {} exceeds physics_hz {}: a fix cannot be newer than the "
-                       "physics it describes",
-                       r.gnss_hz, r.physics_hz));
+    n.fail(
+        fmt::format("gnss_hz {} exceeds physics_hz {}: a fix cannot be newer than the "
+                    "physics it describes",
+                    r.gnss_hz, r.physics_hz));
   }
   return r;
 }
@@ -241,7 +251,8 @@ GnssErrors read_gnss(Node n) {
   g.ideal = model == "ideal";
   g.hdop = n.number_or("hdop", g.hdop, 0.5, 50.0);
   g.vdop = n.number_or("vdop", g.vdop, 0.5, 50.0);
-  if (auto s = n.optional("satellites")) g.satellites = static_cast<int>(s->integer(4, 32));
+  if (auto s = n.optional("satellites"))
+    g.satellites = static_cast<int>(s->integer(4, 32));
   if (auto windows = n.optional("fix_loss")) {
     for (Node& w : windows->array(0, 1000)) {
       w.expect_object("a fix-loss window");
@@ -249,7 +260,8 @@ GnssErrors read_gnss(Node n) {
       f.from_s = w.required("from_s").number(0.0, 1e7);
       f.to_s = w.required("to_s").number(0.0, 1e7);
       w.finish();
-      if (f.to_s <= f.from_s) w.fail("to_s must be later than from_s");
+      if (f.to_s <= f.from_s)
+        w.fail("to_s must be later than from_s");
       g.fix_loss.push_back(f);
     }
   }
@@ -284,7 +296,8 @@ ChannelModel read_channel(Node n) {
       n.required("model").choice({"ideal", "range", "log_distance", "two_ray"});
   std::vector<std::pair<std::string, std::string>> why_not;
   auto not_for = [&](std::initializer_list<const char*> keys) {
-    for (const char* k : keys) why_not.emplace_back(k, "not used by model \"" + model + "\"");
+    for (const char* k : keys)
+      why_not.emplace_back(k, "not used by model \"" + model + "\"");
   };
   if (model == "ideal") {
     c.kind = ChannelModel::Kind::kIdeal;
@@ -339,7 +352,8 @@ VehicleModel read_model(Node n) {
     for (Node& p : curve->array(2, 64)) {
       const auto pair = p.array(2, 2);
       TorquePoint t{pair[0].number(0.0, 20000.0), pair[1].number(0.0, 10000.0)};
-      if (t.rpm <= last_rpm) pair[0].fail("torque curve rpm values must increase");
+      if (t.rpm <= last_rpm)
+        pair[0].fail("torque curve rpm values must increase");
       last_rpm = t.rpm;
       m.torque_curve.push_back(t);
     }
@@ -356,8 +370,7 @@ VehicleModel read_model(Node n) {
   }
   m.reverse_ratio = n.number_or("reverse_ratio", m.reverse_ratio, 0.1, 20.0);
   m.final_drive = n.number_or("final_drive", m.final_drive, 0.5, 20.0);
-  m.drivetrain_efficiency =
-      n.number_or("drivetrain_efficiency", m.drivetrain_efficiency, 0.3, 1.0);
+  m.drivetrain_efficiency = n.number_or("drivetrain_efficiency", m.drivetrain_efficiency, 0.3, 1.0);
   m.idle_rpm = n.number_or("idle_rpm", m.idle_rpm, 100.0, 5000.0);
   m.shift_up_rpm = n.number_or("shift_up_rpm", m.shift_up_rpm, 500.0, 20000.0);
   m.shift_down_rpm = n.number_or("shift_down_rpm", m.shift_down_rpm, 300.0, 20000.0);
@@ -369,9 +382,12 @@ VehicleModel read_model(Node n) {
   m.frontal_area_m2 = n.number_or("frontal_area_m2", m.frontal_area_m2, 0.1, 20.0);
   m.rolling_resistance = n.number_or("rolling_resistance", m.rolling_resistance, 0.0, 0.1);
   n.finish();
-  if (m.wheelbase_m >= m.length_m) n.fail("wheelbase_m must be shorter than length_m");
-  if (m.track_m > m.width_m) n.fail("track_m must not exceed width_m");
-  if (m.shift_down_rpm >= m.shift_up_rpm) n.fail("shift_down_rpm must be below shift_up_rpm");
+  if (m.wheelbase_m >= m.length_m)
+    n.fail("wheelbase_m must be shorter than length_m");
+  if (m.track_m > m.width_m)
+    n.fail("track_m must not exceed width_m");
+  if (m.shift_down_rpm >= m.shift_up_rpm)
+    n.fail("shift_down_rpm must be below shift_up_rpm");
   return m;
 }
 
@@ -385,8 +401,9 @@ Spawn read_spawn(Node n, const map::RoadMap& road_map) {
     p.x = n.required("x").number(-1e6, 1e6);
     p.y = n.required("y").number(-1e6, 1e6);
     p.heading_deg = n.required("heading_deg").number(0.0, 360.0);
-    const std::string why = "give either a lane (lane, s, road, direction) or a pose (x, y, "
-                            "heading_deg), not both";
+    const std::string why =
+        "give either a lane (lane, s, road, direction) or a pose (x, y, "
+        "heading_deg), not both";
     n.finish({{"lane", why}, {"s", why}, {"road", why}, {"direction", why}});
     if (!road_map.on_road({p.x, p.y})) {
       n.fail(fmt::format("spawn point ({}, {}) is off the road", p.x, p.y));
@@ -396,13 +413,15 @@ Spawn read_spawn(Node n, const map::RoadMap& road_map) {
   }
   LaneSpawn l;
   const int roads = static_cast<int>(road_map.roads().size());
-  if (auto r = n.optional("road")) l.road = static_cast<int>(r->integer(0, roads - 1));
+  if (auto r = n.optional("road"))
+    l.road = static_cast<int>(r->integer(0, roads - 1));
   const int lanes = static_cast<int>(road_map.roads()[l.road].lanes.size());
   l.lane = static_cast<int>(n.required("lane").integer(0, lanes - 1));
   const map::Lane& lane = road_map.lane(l.road, l.lane);
   const double len = map::length(lane.centre);
   l.s = n.required("s").number(0.0, map::is_closed(lane.centre) ? 1e6 : len);
-  if (auto d = n.optional("direction")) l.against = d->choice({"with", "against"}) == "against";
+  if (auto d = n.optional("direction"))
+    l.against = d->choice({"with", "against"}) == "against";
   n.finish();
   s.where = l;
   return s;
@@ -435,13 +454,16 @@ Driver read_driver(Node n) {
       step.expect_object("a control step");
       ControlStep c;
       c.t = step.required("t").number(0.0, 1e7);
-      if (c.t < last) step.fail("steps must be in time order (t decreases here)");
+      if (c.t < last)
+        step.fail("steps must be in time order (t decreases here)");
       last = c.t;
       c.throttle = step.number_or("throttle", 0.0, 0.0, 1.0);
       c.brake = step.number_or("brake", 0.0, 0.0, 1.0);
       c.steer = step.number_or("steer", 0.0, -1.0, 1.0);
-      if (auto r = step.optional("reverse")) c.reverse = r->boolean();
-      if (auto h = step.optional("handbrake")) c.handbrake = h->boolean();
+      if (auto r = step.optional("reverse"))
+        c.reverse = r->boolean();
+      if (auto h = step.optional("handbrake"))
+        c.handbrake = h->boolean();
       step.finish();
       t.steps.push_back(c);
     }
@@ -457,7 +479,8 @@ Driver read_driver(Node n) {
     p.expect_object("a speed profile point");
     SpeedPoint sp;
     const bool has_t = p.has("t"), has_s = p.has("s");
-    if (has_t == has_s) p.fail("give exactly one of \"t\" (seconds) or \"s\" (metres)");
+    if (has_t == has_s)
+      p.fail("give exactly one of \"t\" (seconds) or \"s\" (metres)");
     if (first) {
       f.by_distance = has_s;
     } else if (has_s != f.by_distance) {
@@ -466,7 +489,8 @@ Driver read_driver(Node n) {
     sp.at = p.required(has_s ? "s" : "t").number(0.0, 1e7);
     sp.speed = p.required("speed").number(0.0, kMaxSpeed);
     p.finish();
-    if (sp.at <= last) p.fail("speed profile points must be in increasing order");
+    if (sp.at <= last)
+      p.fail("speed profile points must be in increasing order");
     last = sp.at;
     first = false;
     f.profile.push_back(sp);
@@ -486,7 +510,8 @@ Vehicle read_vehicle(Node n, const map::RoadMap& road_map) {
                           "\" must be 1 to 64 letters, digits, '_' or '-'");
   }
   v.station_id = static_cast<std::uint32_t>(n.required("station_id").integer(0, 4294967295LL));
-  if (auto t = n.optional("station_type")) v.station_type = static_cast<int>(t->integer(0, 255));
+  if (auto t = n.optional("station_type"))
+    v.station_type = static_cast<int>(t->integer(0, 255));
   if (auto c = n.optional("color")) {
     v.color = c->string();
     if (v.color.size() != 7 || v.color[0] != '#' ||
@@ -494,7 +519,8 @@ Vehicle read_vehicle(Node n, const map::RoadMap& road_map) {
       c->fail("colour \"" + v.color + "\" must look like \"#rrggbb\"");
     }
   }
-  if (auto m = n.optional("model")) v.model = read_model(*m);
+  if (auto m = n.optional("model"))
+    v.model = read_model(*m);
   v.spawn = read_spawn(n.required("spawn"), road_map);
   v.driver = n.optional("driver") ? read_driver(n.required("driver")) : Driver{HumanDriver{}};
   n.finish();
@@ -510,18 +536,25 @@ Scenario parse(std::string_view json_text, const std::string& file_name) {
   Scenario s;
   s.source = file_name;
   s.name = root.required("name").string();
-  if (s.name.empty()) root.required("name").fail("the name must not be empty");
-  if (auto d = root.optional("description")) s.description = d->string();
+  if (s.name.empty())
+    root.required("name").fail("the name must not be empty");
+  if (auto d = root.optional("description"))
+    s.description = d->string();
   s.map = read_map(root.required("map"));
   s.origin = read_origin(root.required("origin"));
   s.start_time = root.optional("start_time")
                      ? parse_utc(root.required("start_time"))
                      : std::chrono::system_clock::time_point{std::chrono::seconds{1735732800}};
-  if (auto d = root.optional("duration_s")) s.duration_s = d->number(0.1, 7 * 86400.0);
-  if (auto r = root.optional("rates")) s.rates = read_rates(*r);
-  if (auto g = root.optional("gnss")) s.gnss = read_gnss(*g);
-  if (auto c = root.optional("cam")) s.cam = read_cam(*c);
-  if (auto c = root.optional("channel")) s.channel = read_channel(*c);
+  if (auto d = root.optional("duration_s"))
+    s.duration_s = d->number(0.1, 7 * 86400.0);
+  if (auto r = root.optional("rates"))
+    s.rates = read_rates(*r);
+  if (auto g = root.optional("gnss"))
+    s.gnss = read_gnss(*g);
+  if (auto c = root.optional("cam"))
+    s.cam = read_cam(*c);
+  if (auto c = root.optional("channel"))
+    s.channel = read_channel(*c);
 
   const map::RoadMap road_map(s.map);
   std::unordered_map<std::string, std::size_t> ids;
@@ -536,8 +569,8 @@ Scenario parse(std::string_view json_text, const std::string& file_name) {
     }
     if (const auto [it, fresh] = stations.emplace(v.station_id, i); !fresh) {
       Node(vehicles[i].json()["station_id"], vehicles[i].path() + "/station_id", file_name)
-          .fail(fmt::format("duplicate station_id {} (also /vehicles/{})", v.station_id,
-                            it->second));
+          .fail(
+              fmt::format("duplicate station_id {} (also /vehicles/{})", v.station_id, it->second));
     }
     const map::Pose pose = spawn_pose(v.spawn, road_map);
     for (std::size_t j = 0; j < poses.size(); ++j) {

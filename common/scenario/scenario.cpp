@@ -5,8 +5,8 @@
 namespace tb::scenario {
 
 const Vehicle* Scenario::find_vehicle(std::string_view id) const {
-  const auto it = std::find_if(vehicles.begin(), vehicles.end(),
-                               [&](const Vehicle& v) { return v.id == id; });
+  const auto it =
+      std::find_if(vehicles.begin(), vehicles.end(), [&](const Vehicle& v) { return v.id == id; });
   return it == vehicles.end() ? nullptr : &*it;
 }
 

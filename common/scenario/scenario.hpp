@@ -53,7 +53,7 @@ struct VehicleModel {
   double suspension_stiffness = 35.0;     ///< per unit mass (Bullet's convention), 1/s²
   double suspension_damping = 4.5;        ///< relative damping in compression and relaxation
   double suspension_travel_m = 0.15;
-  double tyre_friction = 1.0;             ///< peak friction coefficient on a dry road
+  double tyre_friction = 1.0;  ///< peak friction coefficient on a dry road
   std::vector<TorquePoint> torque_curve{{1000, 140}, {1500, 200}, {4000, 200},
                                         {5000, 190}, {6000, 150}, {6500, 120}};
   std::vector<double> gear_ratios{3.62, 2.13, 1.37, 0.97, 0.76, 0.62};
@@ -63,28 +63,28 @@ struct VehicleModel {
   double idle_rpm = 800.0;
   double shift_up_rpm = 6000.0;
   double shift_down_rpm = 2000.0;
-  double brake_torque_nm = 2800.0;        ///< all four wheels together, at full pedal
-  double handbrake_torque_nm = 1500.0;    ///< rear wheels
-  double max_steer_deg = 36.0;            ///< road-wheel angle at full lock
-  double steering_ratio = 14.8;           ///< steering-wheel angle / road-wheel angle
-  double drag_coefficient = 0.30;         ///< Cd
+  double brake_torque_nm = 2800.0;      ///< all four wheels together, at full pedal
+  double handbrake_torque_nm = 1500.0;  ///< rear wheels
+  double max_steer_deg = 36.0;          ///< road-wheel angle at full lock
+  double steering_ratio = 14.8;         ///< steering-wheel angle / road-wheel angle
+  double drag_coefficient = 0.30;       ///< Cd
   double frontal_area_m2 = 2.19;
-  double rolling_resistance = 0.011;      ///< coefficient
+  double rolling_resistance = 0.011;  ///< coefficient
 };
 
 // ---------------------------------------------------------------------------------------------
 // Spawn: a lane and a distance along it, or an explicit pose in the local frame.
 
 struct LaneSpawn {
-  int road = 0;             ///< crossing: 0 = east–west road, 1 = north–south road
+  int road = 0;  ///< crossing: 0 = east–west road, 1 = north–south road
   int lane = 0;
-  double s = 0.0;           ///< distance along the lane in its direction of travel, m
-  bool against = false;    ///< drive against the lane's direction (head-on cases)
+  double s = 0.0;        ///< distance along the lane in its direction of travel, m
+  bool against = false;  ///< drive against the lane's direction (head-on cases)
 };
 
 struct PoseSpawn {
-  double x = 0.0;  ///< east, m
-  double y = 0.0;  ///< north, m
+  double x = 0.0;            ///< east, m
+  double y = 0.0;            ///< north, m
   double heading_deg = 0.0;  ///< ETSI convention: clockwise from north
 };
 
@@ -127,9 +127,9 @@ using Driver = std::variant<HumanDriver, TimelineDriver, LaneFollowDriver>;
 
 struct Vehicle {
   std::string id;
-  std::uint32_t station_id = 0;  ///< ETSI StationID
-  int station_type = 5;          ///< CDD StationType: 5 = passengerCar
-  std::string color = "#d02020"; ///< for the drivers' views
+  std::uint32_t station_id = 0;   ///< ETSI StationID
+  int station_type = 5;           ///< CDD StationType: 5 = passengerCar
+  std::string color = "#d02020";  ///< for the drivers' views
   VehicleModel model;
   Spawn spawn;
   Driver driver;
@@ -153,8 +153,8 @@ struct FixLossWindow {
 /// GNSS receiver error model (network-emulator's GPS agents). ideal = no noise.
 struct GnssErrors {
   bool ideal = true;
-  double white_noise_m = 0.0;        ///< horizontal 1-sigma per axis
-  double bias_walk_m = 0.0;          ///< random-walk intensity, m/√s per axis
+  double white_noise_m = 0.0;  ///< horizontal 1-sigma per axis
+  double bias_walk_m = 0.0;    ///< random-walk intensity, m/√s per axis
   double vertical_noise_m = 0.0;
   double hdop = 0.9;
   double vdop = 1.2;
@@ -178,7 +178,7 @@ struct ChannelModel {
   double path_loss_exponent = 2.0;   ///< log-distance
   double antenna_height_m = 1.5;     ///< two-ray
   double frequency_mhz = 5900.0;
-  double packet_error_rate = 0.0;    ///< extra random loss on links in range, [0, 1]
+  double packet_error_rate = 0.0;  ///< extra random loss on links in range, [0, 1]
   double delay_ms = 0.0;
   double jitter_ms = 0.0;
 };

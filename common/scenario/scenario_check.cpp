@@ -23,8 +23,7 @@ int main(int argc, char** argv) {
         std::printf("%s: ok: \"%s\", %zu vehicle(s)\n", f.c_str(), s.name.c_str(),
                     s.vehicles.size());
         for (const auto& v : s.vehicles) {
-          const char* driver = std::holds_alternative<tb::scenario::HumanDriver>(v.driver)
-                                   ? "human"
+          const char* driver = std::holds_alternative<tb::scenario::HumanDriver>(v.driver) ? "human"
                                : std::holds_alternative<tb::scenario::TimelineDriver>(v.driver)
                                    ? "timeline"
                                    : "lane_follow";

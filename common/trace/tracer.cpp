@@ -18,10 +18,18 @@ void append_escaped(fmt::memory_buffer& out, std::string_view s) {
   out.push_back('"');
   for (const char c : s) {
     switch (c) {
-      case '"': out.append(std::string_view{"\\\""}); break;
-      case '\\': out.append(std::string_view{"\\\\"}); break;
-      case '\n': out.append(std::string_view{"\\n"}); break;
-      case '\t': out.append(std::string_view{"\\t"}); break;
+      case '"':
+        out.append(std::string_view{"\\\""});
+        break;
+      case '\\':
+        out.append(std::string_view{"\\\\"});
+        break;
+      case '\n':
+        out.append(std::string_view{"\\n"});
+        break;
+      case '\t':
+        out.append(std::string_view{"\\t"});
+        break;
       default:
         if (static_cast<unsigned char>(c) < 0x20) {
           fmt::format_to(std::back_inserter(out), "\\u{:04x}", static_cast<unsigned>(c));
@@ -53,7 +61,8 @@ struct ValueWriter {
 
 Tracer::Tracer(const std::string& path, std::string process) : process_(std::move(process)) {
   fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw std::system_error(errno, std::generic_category(), "trace file " + path);
+  if (fd_ < 0)
+    throw std::system_error(errno, std::generic_category(), "trace file " + path);
 }
 
 Tracer::~Tracer() {
@@ -84,7 +93,8 @@ void Tracer::write(std::int64_t ts, std::string_view event, std::initializer_lis
     std::visit(ValueWriter{buffer_}, f.value);
   }
   buffer_.append(std::string_view{"}\n"});
-  if (buffer_.size() >= kFlushThreshold) flush_locked();
+  if (buffer_.size() >= kFlushThreshold)
+    flush_locked();
 }
 
 void Tracer::flush() {
@@ -98,7 +108,8 @@ void Tracer::flush_locked() {
   while (left > 0) {
     const ssize_t n = ::write(fd_, p, left);
     if (n < 0) {
-      if (errno == EINTR) continue;
+      if (errno == EINTR)
+        continue;
       break;  // a full disk must not stop the testbed; the records are lost, the run goes on
     }
     p += n;
@@ -114,16 +125,20 @@ std::unique_ptr<Tracer>& global_slot() {
 }
 }  // namespace
 
-Tracer& global() { return *global_slot(); }
+Tracer& global() {
+  return *global_slot();
+}
 
 void configure(const std::string& path, const std::string& process) {
-  if (path.empty()) return;
+  if (path.empty())
+    return;
   global_slot() = std::make_unique<Tracer>(path, process);
 }
 
 std::string configure_from_env(const std::string& process) {
   const char* dir = std::getenv("TESTBED_TRACE_DIR");
-  if (dir == nullptr || *dir == '\0') return {};
+  if (dir == nullptr || *dir == '\0')
+    return {};
   std::string path = std::string(dir) + "/" + process + ".jsonl";
   configure(path, process);
   return path;

@@ -50,12 +50,14 @@ class Tracer {
 
   /// Records @p event now (CLOCK_REALTIME).
   void record(std::string_view event, std::initializer_list<Field> fields) {
-    if (enabled()) write(now_ns(), event, fields);
+    if (enabled())
+      write(now_ns(), event, fields);
   }
   /// Records @p event with a timestamp taken earlier (for example a kernel receive time).
   void record_at(std::int64_t unix_ns, std::string_view event,
                  std::initializer_list<Field> fields) {
-    if (enabled()) write(unix_ns, event, fields);
+    if (enabled())
+      write(unix_ns, event, fields);
   }
   /// Writes buffered records to the file.
   void flush();

@@ -31,7 +31,8 @@ class ByteReader {
     pos_ += sizeof(T);
     if constexpr (sizeof(T) > 1) {
       if ((E == Endian::kLittle) != (std::endian::native == std::endian::little)) {
-        for (std::size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(raw[i], raw[sizeof(T) - 1 - i]);
+        for (std::size_t i = 0; i < sizeof(T) / 2; ++i)
+          std::swap(raw[i], raw[sizeof(T) - 1 - i]);
       }
     }
     T value;
@@ -39,9 +40,13 @@ class ByteReader {
     return value;
   }
   template <typename T>
-  T le() { return get<T, Endian::kLittle>(); }
+  T le() {
+    return get<T, Endian::kLittle>();
+  }
   template <typename T>
-  T be() { return get<T, Endian::kBig>(); }
+  T be() {
+    return get<T, Endian::kBig>();
+  }
 
   /// Copies @p out.size() bytes, or fails without copying.
   bool read(std::span<std::uint8_t> out) {
@@ -50,7 +55,8 @@ class ByteReader {
       pos_ = bytes_.size();
       return false;
     }
-    if (!out.empty()) std::memcpy(out.data(), bytes_.data() + pos_, out.size());
+    if (!out.empty())
+      std::memcpy(out.data(), bytes_.data() + pos_, out.size());
     pos_ += out.size();
     return true;
   }
@@ -90,23 +96,29 @@ class ByteWriter {
     std::memcpy(raw, &value, sizeof(T));
     if constexpr (sizeof(T) > 1) {
       if ((E == Endian::kLittle) != (std::endian::native == std::endian::little)) {
-        for (std::size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(raw[i], raw[sizeof(T) - 1 - i]);
+        for (std::size_t i = 0; i < sizeof(T) / 2; ++i)
+          std::swap(raw[i], raw[sizeof(T) - 1 - i]);
       }
     }
     std::memcpy(out_.data() + pos_, raw, sizeof(T));
     pos_ += sizeof(T);
   }
   template <typename T>
-  void le(T v) { put<T, Endian::kLittle>(v); }
+  void le(T v) {
+    put<T, Endian::kLittle>(v);
+  }
   template <typename T>
-  void be(T v) { put<T, Endian::kBig>(v); }
+  void be(T v) {
+    put<T, Endian::kBig>(v);
+  }
 
   void write(std::span<const std::uint8_t> bytes) {
     if (pos_ + bytes.size() > out_.size()) {
       failed_ = true;
       return;
     }
-    if (!bytes.empty()) std::memcpy(out_.data() + pos_, bytes.data(), bytes.size());
+    if (!bytes.empty())
+      std::memcpy(out_.data() + pos_, bytes.data(), bytes.size());
     pos_ += bytes.size();
   }
 

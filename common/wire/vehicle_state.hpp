@@ -43,15 +43,15 @@ struct Controls {
 
 struct VehicleState {
   std::uint32_t station_id = 0;
-  std::uint64_t tick = 0;            ///< physics step number
-  std::int64_t sim_time_ns = 0;      ///< sim time of the step, ns since scenario start
-  std::int64_t step_wall_ns = 0;     ///< CLOCK_REALTIME when the step was computed
-  std::int64_t send_wall_ns = 0;     ///< CLOCK_REALTIME when this datagram was sent
-  std::array<double, 3> position{};  ///< m
+  std::uint64_t tick = 0;                       ///< physics step number
+  std::int64_t sim_time_ns = 0;                 ///< sim time of the step, ns since scenario start
+  std::int64_t step_wall_ns = 0;                ///< CLOCK_REALTIME when the step was computed
+  std::int64_t send_wall_ns = 0;                ///< CLOCK_REALTIME when this datagram was sent
+  std::array<double, 3> position{};             ///< m
   float roll = 0.0f, pitch = 0.0f, yaw = 0.0f;  ///< rad
-  std::array<float, 3> velocity{};          ///< world frame, m/s
-  std::array<float, 3> angular_velocity{};  ///< world frame, rad/s
-  std::array<float, 3> acceleration{};      ///< body frame: longitudinal, lateral (left +), up
+  std::array<float, 3> velocity{};              ///< world frame, m/s
+  std::array<float, 3> angular_velocity{};      ///< world frame, rad/s
+  std::array<float, 3> acceleration{};          ///< body frame: longitudinal, lateral (left +), up
   float speed = 0.0f;           ///< signed along the vehicle's heading, m/s (negative reversing)
   float yaw_rate = 0.0f;        ///< rad/s
   float steering_angle = 0.0f;  ///< road-wheel angle, rad

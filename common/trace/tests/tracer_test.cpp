@@ -15,7 +15,8 @@ namespace {
 std::vector<nlohmann::json> read_lines(const std::string& path) {
   std::ifstream in(path);
   std::vector<nlohmann::json> out;
-  for (std::string line; std::getline(in, line);) out.push_back(nlohmann::json::parse(line));
+  for (std::string line; std::getline(in, line);)
+    out.push_back(nlohmann::json::parse(line));
   return out;
 }
 
@@ -31,8 +32,12 @@ TEST_F(TracerTest, WritesOneParseableJsonObjectPerRecord) {
   {
     Tracer t(path_, "its-station");
     t.record_at(1'732'233'600'123'456'789, "cam.tx",
-                {{"station", 1001u}, {"gdt", 4242}, {"lat", 41.5}, {"why", "heading \"4\"\n"},
-                 {"lf", true}, {"neg", -7LL}});
+                {{"station", 1001u},
+                 {"gdt", 4242},
+                 {"lat", 41.5},
+                 {"why", "heading \"4\"\n"},
+                 {"lf", true},
+                 {"neg", -7LL}});
     t.record("nan", {{"v", 0.0 / 0.0}});
   }
   const auto lines = read_lines(path_);
@@ -67,7 +72,8 @@ TEST_F(TracerTest, TimestampsAreRealtimeNanoseconds) {
 TEST_F(TracerTest, ManyRecordsSurviveBufferFlushes) {
   {
     Tracer t(path_, "p");
-    for (int i = 0; i < 20000; ++i) t.record("n", {{"i", i}});
+    for (int i = 0; i < 20000; ++i)
+      t.record("n", {{"i", i}});
   }
   const auto lines = read_lines(path_);
   ASSERT_EQ(lines.size(), 20000u);
