@@ -169,8 +169,16 @@ Node Node::member(std::string_view key) const {
 Node Node::required(std::string_view key) {
   seen_.insert(std::string(key));
   if (!has(key)) {
+    // A misspelled required key would otherwise only read as "missing": point at it.
+    std::vector<std::string> present;
+    if (value_->is_object()) {
+      for (auto it = value_->begin(); it != value_->end(); ++it)
+        present.push_back(it.key());
+    }
+    const std::string near = suggestion(key, present);
     Node(*value_, path_ + "/" + escape_pointer_token(key), *file_)
-        .fail("missing required field \"" + std::string(key) + "\"");
+        .fail("missing required field \"" + std::string(key) + "\"" +
+              (near.empty() ? std::string() : " (found \"" + near + "\": misspelled?)"));
   }
   return member(key);
 }

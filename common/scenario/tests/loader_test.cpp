@@ -1,2 +1,220 @@
 #include <gtest/gtest.h>
-TEST(Placeholder, Build) {}
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "common/scenario/loader.hpp"
+
+namespace tb::scenario {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path root() {
+  const char* r = std::getenv("TESTBED_ROOT");
+  return r != nullptr ? fs::path(r) : fs::current_path();
+}
+fs::path bad_dir() {
+  return root() / "common/scenario/tests/bad";
+}
+
+struct BadCase {
+  const char* file;
+  const char* path;    // JSON pointer the error must name
+  const char* reason;  // a part of the reason it must give
+};
+
+// Every bad file and the message it must produce: file, JSON path, reason.
+const BadCase kBadCases[] = {
+    {"unknown-key.json", "/map/lane_widht",
+     "unknown field \"lane_widht\"; did you mean \"lane_width\"?"},
+    {"misspelled-required.json", "/vehicles",
+     "missing required field \"vehicles\" (found \"vehicels\": misspelled?)"},
+    {"wrong-type.json", "/vehicles/0/station_id", "expected an integer, found a string"},
+    {"out-of-range.json", "/origin/lat", "value 95 is out of range [-89, 89]"},
+    {"duplicate-vehicle-id.json", "/vehicles/1/id",
+     "duplicate vehicle id \"a\" (also /vehicles/0)"},
+    {"duplicate-station-id.json", "/vehicles/1/station_id",
+     "duplicate station_id 1 (also /vehicles/0)"},
+    {"spawn-off-road.json", "/vehicles/0/spawn", "spawn point (50, 20) is off the road"},
+    {"invalid-json.json", "", "invalid JSON at line 2, column"},
+    {"lane-out-of-range.json", "/vehicles/0/spawn/lane", "value 2 is out of range [0, 1]"},
+    {"duplicate-key.json", "/map/lanes", "duplicate key \"lanes\""},
+    {"bad-map-type.json", "/map/type",
+     "\"circle\" is not one of \"straight\", \"ring\", \"crossing\""},
+    {"field-of-other-map-type.json", "/map/radius",
+     "field \"radius\" is not allowed here: only for map type \"ring\""},
+    {"timeline-out-of-order.json", "/vehicles/0/driver/steps/1", "steps must be in time order"},
+    {"overlapping-spawn.json", "/vehicles/1/spawn",
+     "vehicle \"b\" would spawn 2.0 m from \"a\", inside it"},
+    {"bad-start-time.json", "/start_time", "\"2025-02-30T10:00:00Z\" is not a valid date"},
+    {"start-time-not-utc.json", "/start_time", "the time must be UTC and end in Z"},
+    {"no-vehicles.json", "/vehicles", "expected 1 to 5000 elements, found 0"},
+    {"speed-profile-mixed-keys.json", "/vehicles/0/driver/speed_profile/1",
+     "must use the same key"},
+    {"station-id-too-large.json", "/vehicles/0/station_id",
+     "value 4294967296 is out of range [0, 4294967295]"},
+    {"cam-period-with-etsi.json", "/cam/period_ms", "only with \"policy\": \"fixed\""},
+    {"negative-mass.json", "/vehicles/0/model/mass_kg", "value -5 is out of range"},
+    {"bad-driver.json", "/vehicles/0/driver", "\"robot\" is not one of \"human\""},
+    {"noise-on-ideal-gnss.json", "/gnss/white_noise_m", "only with \"model\": \"noisy\""},
+    {"not-an-object.json", "", "expected a scenario (an object), found an array"},
+};
+
+TEST(ScenarioLoader, EveryBadFileGetsAnErrorNamingFilePathAndReason) {
+  std::size_t files_on_disk = 0;
+  for (const auto& e : fs::directory_iterator(bad_dir()))
+    files_on_disk += e.is_regular_file();
+  EXPECT_EQ(files_on_disk, std::size(kBadCases)) << "every bad file needs an expected message";
+
+  for (const BadCase& c : kBadCases) {
+    const fs::path file = bad_dir() / c.file;
+    try {
+      load_file(file);
+      ADD_FAILURE() << c.file << " loaded without error";
+    } catch (const ScenarioError& e) {
+      EXPECT_EQ(e.file(), file.string()) << c.file;
+      EXPECT_EQ(e.path(), c.path) << c.file << ": " << e.what();
+      EXPECT_NE(e.reason().find(c.reason), std::string::npos)
+          << c.file << ": got \"" << e.reason() << "\", want \"" << c.reason << "\"";
+      const std::string what = e.what();
+      EXPECT_EQ(what.rfind(file.string() + ": ", 0), 0u) << what;
+    }
+  }
+}
+
+TEST(ScenarioLoader, MissingFileIsAnError) {
+  try {
+    load_file("/no/such/scenario.json");
+    FAIL();
+  } catch (const ScenarioError& e) {
+    EXPECT_EQ(std::string(e.what()), "/no/such/scenario.json: /: no such file");
+  }
+}
+
+TEST(ScenarioLoader, ShippedScenariosLoad) {
+  for (const char* name :
+       {"demo", "lcrw-frontal", "lcrw-forward", "lcrw-different-lanes", "lcrw-three-vehicles"}) {
+    const Scenario s = load_file(root() / "scenarios" / (std::string(name) + ".json"));
+    EXPECT_EQ(s.name, name);
+    EXPECT_GE(s.vehicles.size(), 2u);
+  }
+}
+
+TEST(ScenarioLoader, DefaultsAreFilledAndDocumentedValuesRead) {
+  const Scenario s = parse(R"({
+    "name": "defaults",
+    "map": {"type": "ring", "lanes": 2},
+    "origin": {"lat": 48.1, "lon": 11.5},
+    "vehicles": [{"id": "v1", "station_id": 7, "spawn": {"lane": 1, "s": 3.5, "speed": 10}}]
+  })",
+                           "inline.json");
+  EXPECT_EQ(s.map.type, MapType::kRing);
+  EXPECT_EQ(s.map.oncoming_lanes, 0);  // rings default to one-way
+  EXPECT_DOUBLE_EQ(s.map.radius, 150.0);
+  EXPECT_DOUBLE_EQ(s.origin.altitude_m, 0.0);
+  EXPECT_DOUBLE_EQ(s.rates.physics_hz, 100.0);
+  EXPECT_DOUBLE_EQ(s.rates.gnss_hz, 10.0);
+  EXPECT_EQ(s.cam.kind, CamPolicy::Kind::kEtsi);
+  EXPECT_EQ(s.channel.kind, ChannelModel::Kind::kIdeal);
+  EXPECT_TRUE(s.gnss.ideal);
+  EXPECT_FALSE(s.duration_s.has_value());
+  // 2025-01-01T12:00:00Z
+  EXPECT_EQ(
+      std::chrono::duration_cast<std::chrono::seconds>(s.start_time.time_since_epoch()).count(),
+      1735732800);
+  ASSERT_EQ(s.vehicles.size(), 1u);
+  const Vehicle& v = s.vehicles[0];
+  EXPECT_EQ(v.station_type, 5);
+  EXPECT_TRUE(std::holds_alternative<HumanDriver>(v.driver));
+  EXPECT_DOUBLE_EQ(v.model.mass_kg, VehicleModel{}.mass_kg);
+  const auto& spawn = std::get<LaneSpawn>(v.spawn.where);
+  EXPECT_EQ(spawn.lane, 1);
+  EXPECT_DOUBLE_EQ(spawn.s, 3.5);
+  EXPECT_DOUBLE_EQ(v.spawn.speed, 10.0);
+}
+
+TEST(ScenarioLoader, ReadsEveryKindOfSection) {
+  const Scenario s = parse(R"({
+    "name": "full",
+    "map": {"type": "crossing", "lanes": 4, "oncoming_lanes": 2, "lane_width": 3.0,
+            "arm_length": 250},
+    "origin": {"lat": 41.0, "lon": 29.0, "alt": 12.5},
+    "start_time": "2026-03-04T05:06:07.250Z",
+    "duration_s": 90,
+    "rates": {"physics_hz": 200, "gnss_hz": 5, "can_dynamics_hz": 50, "can_body_hz": 5},
+    "gnss": {"model": "noisy", "white_noise_m": 0.5, "bias_walk_m": 0.2, "hdop": 1.1,
+             "satellites": 7, "fix_loss": [{"from_s": 10, "to_s": 12.5}]},
+    "cam": {"policy": "fixed", "period_ms": 100},
+    "channel": {"model": "log_distance", "tx_power_dbm": 20, "path_loss_exponent": 2.5,
+                "packet_error_rate": 0.01, "delay_ms": 1, "jitter_ms": 0.5},
+    "vehicles": [
+      {"id": "a", "station_id": 4294967295, "station_type": 6, "color": "#00ff00",
+       "model": {"mass_kg": 1500, "gear_ratios": [3.5, 2.0, 1.2], "torque_curve": [[1000, 100], [5000, 150]]},
+       "spawn": {"road": 1, "lane": 3, "s": 20, "direction": "against"},
+       "driver": {"type": "lane_follow", "max_accel": 1.5,
+                  "speed_profile": [{"s": 0, "speed": 5}, {"s": 100, "speed": 10}]}},
+      {"id": "b", "station_id": 0,
+       "spawn": {"x": 100, "y": 1.0, "heading_deg": 90},
+       "driver": {"type": "timeline", "steps": [{"t": 0, "throttle": 0.3, "steer": -0.2},
+                                                 {"t": 5, "brake": 1, "handbrake": true}]}}
+    ]
+  })",
+                           "inline.json");
+  EXPECT_EQ(s.map.type, MapType::kCrossing);
+  EXPECT_EQ(s.map.oncoming_lanes, 2);
+  EXPECT_DOUBLE_EQ(*s.duration_s, 90.0);
+  EXPECT_EQ(std::chrono::duration_cast<std::chrono::milliseconds>(s.start_time.time_since_epoch())
+                .count(),
+            1772600767250LL);
+  EXPECT_DOUBLE_EQ(s.rates.physics_hz, 200.0);
+  EXPECT_FALSE(s.gnss.ideal);
+  EXPECT_EQ(s.gnss.satellites, 7);
+  ASSERT_EQ(s.gnss.fix_loss.size(), 1u);
+  EXPECT_DOUBLE_EQ(s.gnss.fix_loss[0].to_s, 12.5);
+  EXPECT_EQ(s.cam.kind, CamPolicy::Kind::kFixed);
+  EXPECT_EQ(s.channel.kind, ChannelModel::Kind::kLogDistance);
+  EXPECT_DOUBLE_EQ(s.channel.path_loss_exponent, 2.5);
+  const Vehicle& a = s.vehicles[0];
+  EXPECT_EQ(a.station_id, 4294967295u);
+  EXPECT_EQ(a.model.gear_ratios.size(), 3u);
+  EXPECT_EQ(a.model.torque_curve.size(), 2u);
+  const auto& spawn = std::get<LaneSpawn>(a.spawn.where);
+  EXPECT_EQ(spawn.road, 1);
+  EXPECT_TRUE(spawn.against);
+  const auto& follow = std::get<LaneFollowDriver>(a.driver);
+  EXPECT_TRUE(follow.by_distance);
+  EXPECT_DOUBLE_EQ(follow.max_accel, 1.5);
+  const auto& timeline = std::get<TimelineDriver>(s.vehicles[1].driver);
+  ASSERT_EQ(timeline.steps.size(), 2u);
+  EXPECT_TRUE(timeline.steps[1].handbrake);
+  EXPECT_DOUBLE_EQ(timeline.steps[0].steer, -0.2);
+  EXPECT_EQ(s.find_station(0), &s.vehicles[1]);
+  EXPECT_EQ(s.find_vehicle("a"), &s.vehicles[0]);
+  EXPECT_EQ(s.find_vehicle("zz"), nullptr);
+}
+
+// The validator program exits with 2 and prints the loader's message.
+TEST(ScenarioCheck, ExitsWithTwoAndNamesTheProblem) {
+  const char* bin = std::getenv("TESTBED_BIN");
+  ASSERT_NE(bin, nullptr) << "TESTBED_BIN is set by ctest";
+  const std::string cmd =
+      std::string(bin) + "/scenario-check " + (bad_dir() / "unknown-key.json").string() + " 2>&1";
+  FILE* p = ::popen(cmd.c_str(), "r");
+  ASSERT_NE(p, nullptr);
+  std::string out;
+  std::array<char, 512> buf{};
+  while (std::fgets(buf.data(), buf.size(), p) != nullptr)
+    out += buf.data();
+  const int status = ::pclose(p);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), kExitBadScenario);
+  EXPECT_NE(out.find("unknown-key.json: /map/lane_widht: unknown field"), std::string::npos) << out;
+}
+
+}  // namespace
+}  // namespace tb::scenario
