@@ -1,0 +1,108 @@
+#pragma once
+/// @file The Cooperative Awareness Message of EN 302 637-2 V1.4.1 (module CAM-PDU-Descriptions
+/// version 2) and its UPER (ITU-T X.691 unaligned) codec.
+///
+/// Covered: ItsPduHeader, the basic container, the high-frequency container of a vehicle
+/// (basicVehicleContainerHighFrequency, with all its optional fields) and the low-frequency
+/// container of a vehicle (vehicleRole, exteriorLights, pathHistory of up to 40 points).
+/// Not covered (decode answers Error::kUnsupported naming the component): the RSU
+/// high-frequency container and the special-vehicle containers, which no station of this
+/// testbed sends. Extension additions of extensible SEQUENCEs are skipped when decoding, as
+/// X.691 clause 19 allows a version-1 decoder to.
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "common/util/expected.hpp"
+#include "its-station/asn1/error.hpp"
+#include "its-station/messages/cdd.hpp"
+
+namespace tb::its::messages {
+
+using asn1::CodecError;
+
+/// Milliseconds, TimestampIts mod 65536 of the position's time (EN 302 637-2 B.3).
+using GenerationDeltaTime = std::uint16_t;
+
+/// SEQUENCE {stationType, referencePosition, ...}.
+struct BasicContainer {
+  StationType stationType = station_type::kPassengerCar;
+  ReferencePosition referencePosition;
+  friend bool operator==(const BasicContainer&, const BasicContainer&) = default;
+};
+
+struct BasicVehicleContainerHighFrequency {
+  Heading heading;
+  Speed speed;
+  DriveDirection driveDirection = DriveDirection::unavailable;
+  VehicleLength vehicleLength;
+  VehicleWidth vehicleWidth = kVehicleWidthUnavailable;
+  LongitudinalAcceleration longitudinalAcceleration;
+  Curvature curvature;
+  CurvatureCalculationMode curvatureCalculationMode = CurvatureCalculationMode::unavailable;
+  YawRate yawRate;
+  std::optional<AccelerationControl> accelerationControl;
+  std::optional<LanePosition> lanePosition;
+  std::optional<SteeringWheelAngle> steeringWheelAngle;
+  std::optional<LateralAcceleration> lateralAcceleration;
+  std::optional<VerticalAcceleration> verticalAcceleration;
+  std::optional<PerformanceClass> performanceClass;
+  std::optional<CenDsrcTollingZone> cenDsrcTollingZone;
+  friend bool operator==(const BasicVehicleContainerHighFrequency&,
+                         const BasicVehicleContainerHighFrequency&) = default;
+};
+
+struct BasicVehicleContainerLowFrequency {
+  VehicleRole vehicleRole = VehicleRole::default_;
+  ExteriorLights exteriorLights = 0;
+  PathHistory pathHistory;
+  friend bool operator==(const BasicVehicleContainerLowFrequency&,
+                         const BasicVehicleContainerLowFrequency&) = default;
+};
+
+/// SEQUENCE {basicContainer, highFrequencyContainer, lowFrequencyContainer OPTIONAL,
+/// specialVehicleContainer OPTIONAL, ...}. The highFrequencyContainer CHOICE is always its
+/// basicVehicleContainerHighFrequency alternative; lowFrequencyContainer always
+/// basicVehicleContainerLowFrequency (its only root alternative).
+struct CamParameters {
+  BasicContainer basicContainer;
+  BasicVehicleContainerHighFrequency highFrequencyContainer;
+  std::optional<BasicVehicleContainerLowFrequency> lowFrequencyContainer;
+  friend bool operator==(const CamParameters&, const CamParameters&) = default;
+};
+
+struct CoopAwareness {
+  GenerationDeltaTime generationDeltaTime = 0;
+  CamParameters camParameters;
+  friend bool operator==(const CoopAwareness&, const CoopAwareness&) = default;
+};
+
+/// CAM ::= SEQUENCE {header ItsPduHeader, cam CoopAwareness}.
+struct Cam {
+  ItsPduHeader header{kProtocolVersion, kMessageIdCam, 0};
+  CoopAwareness cam;
+  friend bool operator==(const Cam&, const Cam&) = default;
+};
+
+/// Largest UPER encoding of a Cam as modelled here (all optional fields, 40 path points), in
+/// bytes; a buffer this big never gives kBufferTooSmall.
+inline constexpr std::size_t kCamMaxEncodedSize = 512;
+
+/// Encodes @p cam into @p out; returns the number of bytes written. Fails with
+/// kValueOutOfRange (naming the field and value) when a field is outside its ASN.1
+/// constraint, kWrongMessageId unless header.messageID is cam (2), kBufferTooSmall when @p out
+/// is too short. No heap allocation.
+Expected<std::size_t, CodecError> encode(const Cam& cam, std::span<std::uint8_t> out);
+Expected<std::vector<std::uint8_t>, CodecError> encode(const Cam& cam);
+
+/// Decodes one UPER-encoded CAM from @p bytes into @p out; returns the bytes consumed
+/// (the encoding padded to a whole octet). Rejects a messageID other than cam,
+/// protocolVersion other than 1 or 2, values outside their constraints, truncated input and
+/// unsupported choices. Never reads outside @p bytes; no heap allocation.
+Expected<std::size_t, CodecError> decode(std::span<const std::uint8_t> bytes, Cam& out);
+Expected<Cam, CodecError> decode_cam(std::span<const std::uint8_t> bytes);
+
+}  // namespace tb::its::messages
