@@ -1,0 +1,268 @@
+#pragma once
+/// @file The sim-server ⇄ sim-client protocol over TCP (sim-server/PROTOCOL.md), version 1.
+///
+/// Every message is one frame: an 8-byte header (magic "SP", protocol version, message type,
+/// payload length, little-endian) and a payload whose size is bounded per type. FrameParser is a
+/// pure, incremental state machine fed with whatever bytes the socket delivered; decode_*()
+/// turn a complete frame into a message; Conversation checks the order of a client's messages
+/// on the server. Nothing here touches a socket or a clock.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "common/util/expected.hpp"
+#include "common/wire/vehicle_state.hpp"
+
+namespace tb::wire::sim {
+
+inline constexpr std::uint8_t kProtocolVersion = 1;
+inline constexpr std::uint8_t kMagic0 = 'S';
+inline constexpr std::uint8_t kMagic1 = 'P';
+inline constexpr std::size_t kHeaderSize = 8;
+
+/// Limits every peer enforces; a frame beyond them closes the connection.
+inline constexpr std::size_t kMaxNameLength = 64;          ///< client and driver names, bytes
+inline constexpr std::size_t kMaxTextLength = 255;         ///< ids, colours, reasons, bytes
+inline constexpr std::size_t kMaxScenarioText = 1u << 20;  ///< scenario JSON in Welcome
+inline constexpr std::size_t kMaxVehicles = 4096;
+inline constexpr std::size_t kMaxClientPayload = 64;        ///< any client → server message
+inline constexpr std::size_t kMaxServerPayload = 4u << 20;  ///< any server → client message
+
+enum class MessageType : std::uint8_t {
+  // client → server
+  kHello = 0x01,
+  kAttach = 0x02,
+  kControls = 0x03,
+  kDetach = 0x04,
+  // server → client
+  kWelcome = 0x81,
+  kAttachResult = 0x82,
+  kState = 0x83,
+  kDriverChanged = 0x84,
+  kClosing = 0x85,
+};
+std::string_view to_string(MessageType t);
+
+/// Which peer sent the bytes a parser reads: decides the accepted types and size limits.
+enum class Sender { kClient, kServer };
+
+enum class ProtocolError : std::uint8_t {
+  kBadMagic = 1,
+  kUnsupportedVersion,
+  kUnknownType,   ///< not a type this sender may send
+  kOversized,     ///< declared payload larger than the type's bound
+  kBadLength,     ///< payload shorter or longer than its fields
+  kBadText,       ///< a string too long or with control characters
+  kNotFinite,     ///< NaN or infinity in a number
+  kBadValue,      ///< an enum or count outside its range
+  kBadState,      ///< a vehicle record that tb::wire::decode rejects
+  kOutOfOrder,    ///< a message the conversation does not allow now
+  kParserFailed,  ///< fed again after an error
+};
+std::string_view to_string(ProtocolError e);
+
+// ---------------------------------------------------------------------------------------------
+// Client → server.
+
+/// First message of every connection.
+struct Hello {
+  std::string client_name;  ///< ≤ kMaxNameLength printable bytes, shown in logs and to others
+  bool operator==(const Hello&) const = default;
+};
+
+enum class Role : std::uint8_t { kWatcher = 0, kDriver = 1 };
+
+/// Start the state stream (watcher) or drive a vehicle, given by its index in Welcome's list.
+/// A connection may drive several vehicles; each vehicle has at most one driver.
+struct Attach {
+  Role role = Role::kWatcher;
+  std::uint16_t vehicle = 0;  ///< ignored for watchers
+  bool operator==(const Attach&) const = default;
+};
+
+/// Driver input for one vehicle the connection drives; holds until the next Controls.
+/// Values outside their ranges are accepted on the wire and clamped (and counted) by the
+/// server; NaN or infinity is malformed.
+struct ControlsMsg {
+  std::uint16_t vehicle = 0;
+  Controls controls;
+  std::uint16_t lights = 0;  ///< Light bits the driver switches (indicators, beams, fog, ...)
+  bool operator==(const ControlsMsg&) const = default;
+};
+
+/// Stop driving a vehicle; it brakes to a stop as if its driver had disconnected.
+struct Detach {
+  std::uint16_t vehicle = 0;
+  bool operator==(const Detach&) const = default;
+};
+
+using ClientMessage = std::variant<Hello, Attach, ControlsMsg, Detach>;
+
+// ---------------------------------------------------------------------------------------------
+// Server → client.
+
+enum class DriverKind : std::uint8_t { kHuman = 0, kTimeline = 1, kLaneFollow = 2 };
+
+struct VehicleInfo {
+  std::uint16_t index = 0;
+  std::string id;
+  std::uint32_t station_id = 0;
+  std::uint8_t station_type = 5;
+  std::string color;  ///< "#rrggbb"
+  DriverKind driver_kind = DriverKind::kHuman;
+  float length_m = 0, width_m = 0, height_m = 0;
+  float wheelbase_m = 0, track_m = 0, wheel_radius_m = 0;
+  float max_steer_rad = 0;  ///< road-wheel angle at full lock
+  std::string driver;       ///< name of the client driving it, empty when nobody does
+  bool operator==(const VehicleInfo&) const = default;
+};
+
+/// The server's answer to Hello: what the world is. The scenario JSON is the file the server
+/// loaded, so that clients build the same tb::map::RoadMap (tb::scenario::parse + map spec).
+struct Welcome {
+  std::string server_name;
+  std::int64_t step_ns = 0;  ///< physics step
+  std::vector<VehicleInfo> vehicles;
+  std::string scenario_json;
+  bool operator==(const Welcome&) const = default;
+};
+
+enum class AttachStatus : std::uint8_t {
+  kOk = 0,
+  kUnknownVehicle = 1,
+  kAlreadyDriven = 2,  ///< another client drives it; reason names that client
+  kRefused = 3,        ///< any other reason, given in `reason`
+};
+std::string_view to_string(AttachStatus s);
+
+struct AttachResult {
+  Role role = Role::kWatcher;
+  std::uint16_t vehicle = 0;
+  AttachStatus status = AttachStatus::kOk;
+  std::string reason;  ///< empty on success
+  bool operator==(const AttachResult&) const = default;
+};
+
+/// All vehicles after one physics step, in Welcome's order.
+struct StateFrame {
+  std::uint64_t tick = 0;
+  std::int64_t sim_time_ns = 0;
+  std::int64_t step_wall_ns = 0;
+  std::vector<VehicleState> vehicles;
+  bool operator==(const StateFrame&) const = default;
+};
+
+/// Someone attached to or left a vehicle (sent to every attached client).
+struct DriverChanged {
+  std::uint16_t vehicle = 0;
+  std::string driver;  ///< empty: nobody drives it now
+  bool operator==(const DriverChanged&) const = default;
+};
+
+enum class CloseReason : std::uint8_t {
+  kProtocolError = 1,  ///< the client sent something malformed or out of order
+  kTooSlow = 2,        ///< the client did not read the state stream fast enough
+  kShutdown = 3,       ///< the server stops
+};
+std::string_view to_string(CloseReason r);
+
+/// The last message before the server closes a connection.
+struct Closing {
+  CloseReason reason = CloseReason::kShutdown;
+  std::string text;
+  bool operator==(const Closing&) const = default;
+};
+
+using ServerMessage = std::variant<Welcome, AttachResult, StateFrame, DriverChanged, Closing>;
+
+// ---------------------------------------------------------------------------------------------
+// Framing.
+
+struct Frame {
+  MessageType type = MessageType::kHello;
+  std::vector<std::uint8_t> payload;
+};
+
+/// Incremental frame parser. Feed it any slice of the byte stream; it consumes bytes up to the
+/// end of one frame and reports kFrame when frame() holds a complete one. After an error it
+/// stays failed (the connection has lost framing and must be closed).
+class FrameParser {
+ public:
+  enum class Status { kNeedMore, kFrame };
+
+  explicit FrameParser(Sender from) : from_(from) {}
+
+  /// Consumes bytes from the front of @p data (advancing it) until a frame is complete or the
+  /// bytes run out. Header errors are reported as soon as the 8 header bytes are in, before any
+  /// payload is buffered.
+  Expected<Status, ProtocolError> parse(std::span<const std::uint8_t>& data);
+  /// The last complete frame; valid until the next parse().
+  const Frame& frame() const { return frame_; }
+
+ private:
+  enum class Step { kHeader, kPayload, kFailed };
+  Expected<Status, ProtocolError> check_header();
+
+  Sender from_;
+  Step step_ = Step::kHeader;
+  std::array<std::uint8_t, kHeaderSize> header_{};
+  std::size_t header_fill_ = 0;
+  std::size_t payload_size_ = 0;
+  Frame frame_;
+};
+
+/// Payload bound of @p type when sent by @p from; 0 for a type that sender may not send.
+std::size_t max_payload(Sender from, MessageType type);
+
+Expected<ClientMessage, ProtocolError> decode_client(const Frame& f);
+Expected<ServerMessage, ProtocolError> decode_server(const Frame& f);
+
+/// Complete frames (header + payload), ready to write to a socket.
+std::vector<std::uint8_t> encode(const Hello& m);
+std::vector<std::uint8_t> encode(const Attach& m);
+std::vector<std::uint8_t> encode(const ControlsMsg& m);
+std::vector<std::uint8_t> encode(const Detach& m);
+std::vector<std::uint8_t> encode(const Welcome& m);
+std::vector<std::uint8_t> encode(const AttachResult& m);
+std::vector<std::uint8_t> encode(const StateFrame& m);
+std::vector<std::uint8_t> encode(const DriverChanged& m);
+std::vector<std::uint8_t> encode(const Closing& m);
+std::vector<std::uint8_t> encode(const ClientMessage& m);
+std::vector<std::uint8_t> encode(const ServerMessage& m);
+
+/// Encodes a state frame straight from the server's vehicle array, stamping @p send_wall_ns
+/// into every record (one encoding is shared by all clients).
+std::vector<std::uint8_t> encode_state(std::uint64_t tick, std::int64_t sim_time_ns,
+                                       std::int64_t step_wall_ns,
+                                       std::span<const VehicleState> vehicles,
+                                       std::int64_t send_wall_ns);
+
+/// Clamps throttle and brake to [0, 1] and steer to [-1, 1]; returns how many were out of
+/// range (the server counts them).
+int clamp(Controls& c);
+
+/// Order of a client's messages, as the server sees them: Hello first and once; Controls and
+/// Detach only for vehicles this connection drives (the server reports successful driver
+/// attachments with on_driving()).
+class Conversation {
+ public:
+  Expected<bool, ProtocolError> check(const ClientMessage& m) const;
+  void on_driving(std::uint16_t vehicle);
+  void on_released(std::uint16_t vehicle);
+  void on_hello() { greeted_ = true; }
+  bool greeted() const { return greeted_; }
+  bool drives(std::uint16_t vehicle) const;
+  const std::vector<std::uint16_t>& driven() const { return driven_; }
+
+ private:
+  bool greeted_ = false;
+  std::vector<std::uint16_t> driven_;
+};
+
+}  // namespace tb::wire::sim

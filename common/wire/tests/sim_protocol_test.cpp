@@ -1,0 +1,318 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "common/util/bytes.hpp"
+#include "common/wire/sim_protocol.hpp"
+
+namespace tb::wire::sim {
+namespace {
+
+using Bytes = std::vector<std::uint8_t>;
+
+/// Feeds @p bytes in slices of @p chunk and collects every complete frame.
+struct Feed {
+  std::vector<Frame> frames;
+  std::optional<ProtocolError> error;
+};
+Feed feed(FrameParser& p, const Bytes& bytes, std::size_t chunk) {
+  Feed out;
+  for (std::size_t at = 0; at < bytes.size() && !out.error; at += chunk) {
+    std::span<const std::uint8_t> data(bytes.data() + at, std::min(chunk, bytes.size() - at));
+    while (!data.empty()) {
+      auto r = p.parse(data);
+      if (!r) {
+        out.error = r.error();
+        break;
+      }
+      if (*r == FrameParser::Status::kFrame)
+        out.frames.push_back(p.frame());
+    }
+  }
+  return out;
+}
+
+ClientMessage client_roundtrip(const ClientMessage& m) {
+  FrameParser p(Sender::kClient);
+  auto f = feed(p, encode(m), 1000);
+  EXPECT_FALSE(f.error);
+  EXPECT_EQ(f.frames.size(), 1u);
+  auto d = decode_client(f.frames.at(0));
+  EXPECT_TRUE(d) << to_string(d.error());
+  return *d;
+}
+
+ServerMessage server_roundtrip(const ServerMessage& m) {
+  FrameParser p(Sender::kServer);
+  auto f = feed(p, encode(m), 1 << 20);
+  EXPECT_FALSE(f.error);
+  EXPECT_EQ(f.frames.size(), 1u);
+  auto d = decode_server(f.frames.at(0));
+  EXPECT_TRUE(d) << to_string(d.error());
+  return *d;
+}
+
+VehicleState state(std::uint32_t station, std::uint64_t tick) {
+  VehicleState s;
+  s.station_id = station;
+  s.tick = tick;
+  s.sim_time_ns = static_cast<std::int64_t>(tick) * 10'000'000;
+  s.position = {1.5 * station, -2.0, 0.3};
+  s.yaw = 0.25f;
+  s.speed = 12.5f;
+  s.controls = {0.5f, 0.0f, -0.25f, false, false};
+  s.gear = 3;
+  s.lights = kLowBeam;
+  return s;
+}
+
+Welcome sample_welcome() {
+  Welcome w;
+  w.server_name = "sim-server test";
+  w.step_ns = 10'000'000;
+  VehicleInfo a;
+  a.index = 0;
+  a.id = "ego";
+  a.station_id = 1001;
+  a.color = "#d02020";
+  a.length_m = 4.255f;
+  a.width_m = 1.799f;
+  a.height_m = 1.452f;
+  a.wheelbase_m = 2.637f;
+  a.track_m = 1.54f;
+  a.wheel_radius_m = 0.316f;
+  a.max_steer_rad = 0.628f;
+  a.driver = "alice";
+  VehicleInfo b = a;
+  b.index = 1;
+  b.id = "other";
+  b.station_id = 1002;
+  b.driver_kind = DriverKind::kLaneFollow;
+  b.driver = "";
+  w.vehicles = {a, b};
+  w.scenario_json = R"({"name":"x","map":{"type":"straight"}})";
+  return w;
+}
+
+TEST(SimProtocol, ClientMessagesRoundTrip) {
+  const std::vector<ClientMessage> msgs = {
+      Hello{"sim-client alice"},
+      Attach{Role::kDriver, 7},
+      Attach{Role::kWatcher, 0},
+      ControlsMsg{3, Controls{0.75f, 0.1f, -0.5f, true, true}, kIndicatorLeft | kLowBeam},
+      Detach{3},
+  };
+  for (const auto& m : msgs)
+    EXPECT_EQ(client_roundtrip(m), m);
+}
+
+TEST(SimProtocol, ServerMessagesRoundTrip) {
+  StateFrame s;
+  s.tick = 42;
+  s.sim_time_ns = 420'000'000;
+  s.step_wall_ns = 1'732'233'600'000'000'000;
+  s.vehicles = {state(1001, 42), state(1002, 42), state(1003, 42)};
+  const std::vector<ServerMessage> msgs = {
+      sample_welcome(),
+      AttachResult{Role::kDriver, 1, AttachStatus::kAlreadyDriven, "driven by 'bob'"},
+      s,
+      DriverChanged{1, "carol"},
+      Closing{CloseReason::kTooSlow, "send queue full"},
+  };
+  for (const auto& m : msgs)
+    EXPECT_EQ(server_roundtrip(m), m);
+}
+
+TEST(SimProtocol, EncodeStateStampsSendTimeIntoEveryRecord) {
+  const std::vector<VehicleState> v = {state(1, 5), state(2, 5)};
+  const auto bytes = encode_state(5, 50'000'000, 77, v, 99);
+  FrameParser p(Sender::kServer);
+  auto f = feed(p, bytes, bytes.size());
+  ASSERT_EQ(f.frames.size(), 1u);
+  auto d = decode_server(f.frames[0]);
+  ASSERT_TRUE(d);
+  const auto& s = std::get<StateFrame>(*d);
+  EXPECT_EQ(s.tick, 5u);
+  EXPECT_EQ(s.step_wall_ns, 77);
+  ASSERT_EQ(s.vehicles.size(), 2u);
+  EXPECT_EQ(s.vehicles[1].station_id, 2u);
+  EXPECT_EQ(s.vehicles[0].send_wall_ns, 99);
+  EXPECT_EQ(s.vehicles[1].send_wall_ns, 99);
+}
+
+TEST(SimProtocol, ParsesFramesFedOneByteAtATime) {
+  Bytes stream;
+  for (const ClientMessage& m : std::vector<ClientMessage>{
+           Hello{"a"}, Attach{Role::kDriver, 0}, ControlsMsg{0, {1.0f, 0, 0, false, false}, 0}}) {
+    auto b = encode(m);
+    stream.insert(stream.end(), b.begin(), b.end());
+  }
+  for (std::size_t chunk : {std::size_t{1}, std::size_t{3}, std::size_t{7}, stream.size()}) {
+    FrameParser p(Sender::kClient);
+    auto f = feed(p, stream, chunk);
+    ASSERT_FALSE(f.error) << "chunk " << chunk;
+    ASSERT_EQ(f.frames.size(), 3u) << "chunk " << chunk;
+    EXPECT_EQ(f.frames[0].type, MessageType::kHello);
+    EXPECT_EQ(f.frames[1].type, MessageType::kAttach);
+    EXPECT_EQ(f.frames[2].type, MessageType::kControls);
+    auto c = decode_client(f.frames[2]);
+    ASSERT_TRUE(c);
+    EXPECT_EQ(std::get<ControlsMsg>(*c).controls.throttle, 1.0f);
+  }
+}
+
+TEST(SimProtocol, PartialHeaderNeedsMore) {
+  const auto b = encode(Hello{"abc"});
+  FrameParser p(Sender::kClient);
+  std::span<const std::uint8_t> part(b.data(), 5);
+  auto r = p.parse(part);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(*r, FrameParser::Status::kNeedMore);
+  EXPECT_TRUE(part.empty());
+}
+
+Bytes header(std::uint8_t type, std::uint32_t size, std::uint8_t version = kProtocolVersion) {
+  Bytes b(kHeaderSize);
+  ByteWriter w(b);
+  w.le<std::uint8_t>('S');
+  w.le<std::uint8_t>('P');
+  w.le(version);
+  w.le(type);
+  w.le(size);
+  return b;
+}
+
+TEST(SimProtocol, RejectsOversizedBeforeBufferingThePayload) {
+  FrameParser p(Sender::kClient);
+  // A client claiming a 1 GiB Hello is refused on its header alone.
+  auto f = feed(p, header(0x01, 1u << 30), 64);
+  ASSERT_TRUE(f.error);
+  EXPECT_EQ(*f.error, ProtocolError::kOversized);
+  // Controls have a fixed size; one byte more is oversized too.
+  FrameParser q(Sender::kClient);
+  f = feed(q, header(0x03, 18), 64);
+  ASSERT_TRUE(f.error);
+  EXPECT_EQ(*f.error, ProtocolError::kOversized);
+}
+
+TEST(SimProtocol, RejectsUnknownTypeBadMagicAndVersion) {
+  FrameParser a(Sender::kClient);
+  EXPECT_EQ(*feed(a, header(0x42, 0), 64).error, ProtocolError::kUnknownType);
+  // A server message type coming from a client is just as unknown.
+  FrameParser b(Sender::kClient);
+  EXPECT_EQ(*feed(b, header(0x83, 0), 64).error, ProtocolError::kUnknownType);
+  FrameParser c(Sender::kServer);
+  EXPECT_EQ(*feed(c, header(0x03, 17), 64).error, ProtocolError::kUnknownType);
+  FrameParser d(Sender::kClient);
+  EXPECT_EQ(*feed(d, Bytes{'G', 'E', 'T', ' ', '/', ' ', 'H', 'T'}, 64).error,
+            ProtocolError::kBadMagic);
+  FrameParser e(Sender::kClient);
+  EXPECT_EQ(*feed(e, header(0x01, 1, 2), 64).error, ProtocolError::kUnsupportedVersion);
+}
+
+TEST(SimProtocol, StaysFailedAfterAnError) {
+  FrameParser p(Sender::kClient);
+  ASSERT_TRUE(feed(p, header(0x42, 0), 64).error);
+  const auto good = encode(Hello{"x"});
+  auto f = feed(p, good, good.size());
+  ASSERT_TRUE(f.error);
+  EXPECT_EQ(*f.error, ProtocolError::kParserFailed);
+}
+
+Frame frame(MessageType t, Bytes payload) {
+  return Frame{t, std::move(payload)};
+}
+
+TEST(SimProtocol, RejectsMalformedPayloads) {
+  // Controls one byte short.
+  auto c = encode(ControlsMsg{});
+  Bytes payload(c.begin() + kHeaderSize, c.end() - 1);
+  EXPECT_EQ(decode_client(frame(MessageType::kControls, payload)).error(),
+            ProtocolError::kBadLength);
+  // NaN throttle.
+  ControlsMsg nan;
+  nan.controls.throttle = std::numeric_limits<float>::quiet_NaN();
+  c = encode(nan);
+  EXPECT_EQ(
+      decode_client(frame(MessageType::kControls, Bytes(c.begin() + kHeaderSize, c.end()))).error(),
+      ProtocolError::kNotFinite);
+  // Unknown flag bits.
+  c = encode(ControlsMsg{});
+  Bytes flags(c.begin() + kHeaderSize, c.end());
+  flags[14] = 0x80;
+  EXPECT_EQ(decode_client(frame(MessageType::kControls, flags)).error(), ProtocolError::kBadValue);
+  // Role 9.
+  EXPECT_EQ(decode_client(frame(MessageType::kAttach, Bytes{9, 0, 0})).error(),
+            ProtocolError::kBadValue);
+  // A name with a control character, and one whose length runs past the payload.
+  EXPECT_EQ(decode_client(frame(MessageType::kHello, Bytes{2, 'a', '\n'})).error(),
+            ProtocolError::kBadText);
+  EXPECT_EQ(decode_client(frame(MessageType::kHello, Bytes{5, 'a'})).error(),
+            ProtocolError::kBadLength);
+  // Trailing bytes after the name.
+  EXPECT_EQ(decode_client(frame(MessageType::kHello, Bytes{1, 'a', 'b'})).error(),
+            ProtocolError::kBadLength);
+}
+
+TEST(SimProtocol, RejectsStateWithWrongCountOrBadRecord) {
+  const std::vector<VehicleState> v = {state(1, 1), state(2, 1)};
+  auto b = encode_state(1, 10'000'000, 0, v, 0);
+  Bytes payload(b.begin() + kHeaderSize, b.end());
+  // Claims three records but carries two.
+  payload[24] = 3;
+  EXPECT_EQ(decode_server(frame(MessageType::kState, payload)).error(), ProtocolError::kBadLength);
+  payload[24] = 2;
+  // Second record's magic broken.
+  payload[26 + kVehicleStateSize] = 'X';
+  EXPECT_EQ(decode_server(frame(MessageType::kState, payload)).error(), ProtocolError::kBadState);
+}
+
+TEST(SimProtocol, WelcomeRejectsTruncationAtEveryLength) {
+  auto b = encode(sample_welcome());
+  Bytes payload(b.begin() + kHeaderSize, b.end());
+  for (std::size_t n = 0; n < payload.size(); ++n) {
+    auto d =
+        decode_server(frame(MessageType::kWelcome, Bytes(payload.begin(), payload.begin() + n)));
+    EXPECT_FALSE(d) << "accepted a Welcome cut at " << n;
+  }
+}
+
+TEST(SimProtocol, ClampCountsOutOfRangeValues) {
+  Controls c{1.5f, -0.2f, -3.0f, false, false};
+  EXPECT_EQ(clamp(c), 3);
+  EXPECT_EQ(c.throttle, 1.0f);
+  EXPECT_EQ(c.brake, 0.0f);
+  EXPECT_EQ(c.steer, -1.0f);
+  Controls ok{0.3f, 0.0f, 1.0f, false, false};
+  EXPECT_EQ(clamp(ok), 0);
+  EXPECT_EQ(ok.steer, 1.0f);
+}
+
+TEST(SimProtocol, ConversationRequiresHelloFirstAndAttachBeforeControls) {
+  Conversation c;
+  const ClientMessage controls = ControlsMsg{0, {}, 0};
+  EXPECT_EQ(c.check(Attach{Role::kDriver, 0}).error(), ProtocolError::kOutOfOrder);
+  EXPECT_EQ(c.check(controls).error(), ProtocolError::kOutOfOrder);
+  ASSERT_TRUE(c.check(Hello{"a"}));
+  c.on_hello();
+  EXPECT_EQ(c.check(Hello{"again"}).error(), ProtocolError::kOutOfOrder);
+  // Controls before attach.
+  EXPECT_EQ(c.check(controls).error(), ProtocolError::kOutOfOrder);
+  EXPECT_TRUE(c.check(Attach{Role::kDriver, 0}));
+  c.on_driving(0);
+  EXPECT_TRUE(c.check(controls));
+  // Controls for a vehicle driven by someone else.
+  EXPECT_EQ(c.check(ControlsMsg{1, {}, 0}).error(), ProtocolError::kOutOfOrder);
+  EXPECT_TRUE(c.check(Detach{0}));
+  c.on_released(0);
+  EXPECT_EQ(c.check(controls).error(), ProtocolError::kOutOfOrder);
+}
+
+TEST(SimProtocol, ErrorsHaveNames) {
+  for (int e = 1; e <= static_cast<int>(ProtocolError::kParserFailed); ++e)
+    EXPECT_NE(to_string(static_cast<ProtocolError>(e)), "unknown error");
+}
+
+}  // namespace
+}  // namespace tb::wire::sim
