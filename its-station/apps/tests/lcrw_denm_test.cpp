@@ -1,0 +1,132 @@
+#include "its-station/apps/lcrw/lcrw_denm.hpp"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+namespace tb::its::apps {
+namespace {
+
+/// Records the requests as the facilities' DEN service would receive them.
+class RecordingDen : public DenService {
+ public:
+  std::optional<ActionId> trigger(const DenEventRequest& r) override {
+    triggered.push_back(r);
+    if (refuse) {
+      return std::nullopt;
+    }
+    return ActionId{1, ++seq};
+  }
+  bool update(const ActionId& id, const DenEventRequest& r) override {
+    updated.emplace_back(id, r);
+    return true;
+  }
+  bool terminate(const ActionId& id) override {
+    terminated.push_back(id);
+    return true;
+  }
+  std::vector<DenEventRequest> triggered;
+  std::vector<std::pair<ActionId, DenEventRequest>> updated;
+  std::vector<ActionId> terminated;
+  std::uint16_t seq = 0;
+  bool refuse = false;
+};
+
+class LcrwDenmTest : public ::testing::Test {
+ protected:
+  LcrwWarning warning(WarningEvent e, Severity s, double distance) {
+    LcrwWarning w;
+    w.event = e;
+    w.station_id = 1;
+    w.other_station_id = 2;
+    w.collision_case = CollisionCase::kFrontal;
+    w.severity = s;
+    w.distance_m = distance;
+    w.updated_at = clock::WallTime{std::chrono::seconds{1'700'000'100}};
+    return w;
+  }
+  VehicleKinematics own() {
+    VehicleKinematics v;
+    v.station_id = 1;
+    v.x = 100;
+    v.y = 50;
+    v.heading_deg = 90;
+    return v;
+  }
+  geodesy::LocalFrame frame{geodesy::Geodetic{52.0, 13.0, 40.0}};
+  RecordingDen den;
+};
+
+TEST_F(LcrwDenmTest, RaisedWarningTriggersCollisionRiskDenmAtOwnPosition) {
+  LcrwDenmTrigger t(den, frame);
+  t.on_warning(warning(WarningEvent::kRaised, Severity::kWarning, 80), own());
+  ASSERT_EQ(den.triggered.size(), 1u);
+  const auto& r = den.triggered[0];
+  EXPECT_EQ(r.cause_code, 97);
+  EXPECT_EQ(r.sub_cause_code, 1);
+  const auto p = frame.to_enu(r.event_position);
+  EXPECT_NEAR(p.east, 100.0, 0.01);
+  EXPECT_NEAR(p.north, 50.0, 0.01);
+  EXPECT_EQ(r.relevance_distance, RelevanceDistance::kLessThan100m);
+  EXPECT_EQ(r.relevance_traffic_direction, RelevanceTrafficDirection::kAllTrafficDirections);
+  EXPECT_EQ(r.detection_time, warning(WarningEvent::kRaised, Severity::kWarning, 80).updated_at);
+  EXPECT_EQ(t.open_events().size(), 1u);
+}
+
+TEST_F(LcrwDenmTest, UpdatesOnlyWhenSeverityOrRelevanceChanges) {
+  LcrwDenmTrigger t(den, frame);
+  t.on_warning(warning(WarningEvent::kRaised, Severity::kWarning, 80), own());
+  t.on_warning(warning(WarningEvent::kUpdated, Severity::kWarning, 70), own());
+  EXPECT_TRUE(den.updated.empty());
+  t.on_warning(warning(WarningEvent::kUpdated, Severity::kWarning, 40), own());
+  ASSERT_EQ(den.updated.size(), 1u);
+  EXPECT_EQ(den.updated[0].second.relevance_distance, RelevanceDistance::kLessThan50m);
+  t.on_warning(warning(WarningEvent::kUpdated, Severity::kCritical, 30), own());
+  ASSERT_EQ(den.updated.size(), 2u);
+  EXPECT_EQ(den.updated[1].first, (ActionId{1, 1}));
+}
+
+TEST_F(LcrwDenmTest, ClearedWarningTerminatesTheEvent) {
+  LcrwDenmTrigger t(den, frame);
+  t.on_warning(warning(WarningEvent::kRaised, Severity::kWarning, 80), own());
+  t.on_warning(warning(WarningEvent::kCleared, Severity::kWarning, 80), own());
+  ASSERT_EQ(den.terminated.size(), 1u);
+  EXPECT_EQ(den.terminated[0], (ActionId{1, 1}));
+  EXPECT_TRUE(t.open_events().empty());
+  // A clear without an open event terminates nothing.
+  t.on_warning(warning(WarningEvent::kCleared, Severity::kWarning, 80), own());
+  EXPECT_EQ(den.terminated.size(), 1u);
+}
+
+TEST_F(LcrwDenmTest, OnlyCriticalWaitsForCriticalSeverity) {
+  LcrwDenmConfig cfg;
+  cfg.only_critical = true;
+  LcrwDenmTrigger t(den, frame, cfg);
+  t.on_warning(warning(WarningEvent::kRaised, Severity::kWarning, 80), own());
+  EXPECT_TRUE(den.triggered.empty());
+  t.on_warning(warning(WarningEvent::kUpdated, Severity::kCritical, 20), own());
+  ASSERT_EQ(den.triggered.size(), 1u);
+}
+
+TEST_F(LcrwDenmTest, RefusedTriggerLeavesNoOpenEvent) {
+  den.refuse = true;
+  LcrwDenmTrigger t(den, frame);
+  t.on_warning(warning(WarningEvent::kRaised, Severity::kWarning, 80), own());
+  EXPECT_TRUE(t.open_events().empty());
+  t.on_warning(warning(WarningEvent::kCleared, Severity::kWarning, 80), own());
+  EXPECT_TRUE(den.terminated.empty());
+}
+
+TEST_F(LcrwDenmTest, ForwardCaseConcernsUpstreamTraffic) {
+  LcrwDenmTrigger t(den, frame);
+  auto w = warning(WarningEvent::kRaised, Severity::kWarning, 150);
+  w.collision_case = CollisionCase::kForward;
+  t.on_warning(w, own());
+  ASSERT_EQ(den.triggered.size(), 1u);
+  EXPECT_EQ(den.triggered[0].relevance_traffic_direction,
+            RelevanceTrafficDirection::kUpstreamTraffic);
+  EXPECT_EQ(den.triggered[0].relevance_distance, RelevanceDistance::kLessThan200m);
+}
+
+}  // namespace
+}  // namespace tb::its::apps
