@@ -1,0 +1,44 @@
+#pragma once
+/// @file CanBus on a SocketCAN interface (vcan0 or a real CAN controller).
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/posix/stream_descriptor.hpp>
+
+#include "common/can/can_bus.hpp"
+#include "common/util/expected.hpp"
+
+namespace tb::can {
+
+/// Whether this kernel offers SocketCAN at all: socket(PF_CAN, SOCK_RAW, CAN_RAW) fails with
+/// EAFNOSUPPORT or EPROTONOSUPPORT where the can / can-raw modules are missing.
+bool socketcan_available();
+
+class SocketCanBus final : public CanBus {
+ public:
+  /// Opens a CAN_RAW socket on @p interface, created inside network namespace @p netns when
+  /// given (see netns.hpp). Errors: no such device, address family not supported, ...
+  static Expected<std::unique_ptr<SocketCanBus>, std::error_code> open(
+      boost::asio::io_context& io, const std::string& interface, const std::string& netns = {});
+  ~SocketCanBus() override;
+
+  std::string_view kind() const override { return "vcan"; }
+  std::error_code send(std::span<const CanFrame> frames) override;
+  void start_receive(FrameHandler handler) override;
+
+  std::uint64_t dropped_by_kernel() const { return dropped_; }
+
+ private:
+  SocketCanBus(boost::asio::io_context& io, int fd);
+  void wait_next();
+  void read_all();
+
+  boost::asio::posix::stream_descriptor descriptor_;
+  FrameHandler handler_;
+  std::uint64_t dropped_ = 0;
+};
+
+}  // namespace tb::can

@@ -1,0 +1,95 @@
+#include "common/can/udp_can_bus.hpp"
+
+#include <chrono>
+
+namespace tb::can {
+
+namespace {
+std::int64_t now_unix_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+}  // namespace
+
+std::unique_ptr<UdpCanBus> UdpCanBus::connect(boost::asio::io_context& io,
+                                              const udp::endpoint& peer) {
+  udp::socket s(io, peer.protocol());
+  s.connect(peer);
+  s.non_blocking(true);
+  return std::unique_ptr<UdpCanBus>(new UdpCanBus(std::move(s)));
+}
+
+std::unique_ptr<UdpCanBus> UdpCanBus::bind(boost::asio::io_context& io,
+                                           const udp::endpoint& local) {
+  udp::socket s(io, local.protocol());
+  s.set_option(udp::socket::reuse_address(true));
+  s.bind(local);
+  return std::unique_ptr<UdpCanBus>(new UdpCanBus(std::move(s)));
+}
+
+std::error_code UdpCanBus::send(std::span<const CanFrame> frames) {
+  while (!frames.empty()) {
+    // Greedily take frames while the datagram stays under kMaxDatagram.
+    std::size_t n = 0, size = kCannelloniHeaderSize;
+    while (n < frames.size()) {
+      const std::size_t next = cannelloni_size(frames.subspan(n, 1)) - kCannelloniHeaderSize;
+      if (size + next > kMaxDatagram && n > 0)
+        break;
+      size += next;
+      ++n;
+    }
+    const std::size_t len = encode_cannelloni(tx_sequence_, frames.first(n), tx_buffer_);
+    if (len == 0)
+      return std::make_error_code(std::errc::message_size);
+    boost::system::error_code ec;
+    socket_.send(boost::asio::buffer(tx_buffer_.data(), len), 0, ec);
+    if (ec)
+      return ec;
+    ++tx_sequence_;
+    frames = frames.subspan(n);
+  }
+  return {};
+}
+
+void UdpCanBus::start_receive(FrameHandler handler) {
+  handler_ = std::move(handler);
+  receive_next();
+}
+
+void UdpCanBus::receive_next() {
+  socket_.async_receive_from(boost::asio::buffer(rx_buffer_), rx_from_,
+                             [this](const boost::system::error_code& ec, std::size_t n) {
+                               if (ec == boost::asio::error::operation_aborted)
+                                 return;
+                               if (!ec)
+                                 on_packet(n);
+                               receive_next();
+                             });
+}
+
+void UdpCanBus::on_packet(std::size_t n) {
+  const std::int64_t rx = now_unix_ns();
+  auto packet = decode_cannelloni({rx_buffer_.data(), n});
+  if (!packet) {
+    ++stats_.malformed;
+    stats_.last_error = packet.error();
+    return;
+  }
+  ++stats_.packets;
+  if (rx_last_sequence_) {
+    const auto expected = static_cast<std::uint8_t>(*rx_last_sequence_ + 1);
+    const auto missing = static_cast<std::uint8_t>(packet->sequence - expected);
+    // A packet that arrives late looks like a gap of almost 256; count only forward jumps.
+    if (missing < 128)
+      stats_.sequence_gaps += missing;
+  }
+  rx_last_sequence_ = packet->sequence;
+  for (const CanFrame& f : packet->frames) {
+    ++stats_.frames;
+    if (handler_)
+      handler_(f, rx);
+  }
+}
+
+}  // namespace tb::can
