@@ -1,0 +1,61 @@
+#include "its-station/geonet/location_table.hpp"
+
+#include <algorithm>
+
+namespace tb::its::geonet {
+
+LocationTableEntry* LocationTable::find(std::uint64_t mid_key, clock::SteadyTime now) {
+  auto it = entries_.find(mid_key);
+  if (it == entries_.end() || it->second.expires <= now)
+    return nullptr;
+  return &it->second;
+}
+
+const LocationTableEntry* LocationTable::find(std::uint64_t mid_key, clock::SteadyTime now) const {
+  auto it = entries_.find(mid_key);
+  if (it == entries_.end() || it->second.expires <= now)
+    return nullptr;
+  return &it->second;
+}
+
+LocationTableEntry& LocationTable::find_or_create(const GnAddress& address, clock::SteadyTime now,
+                                                  bool& created) {
+  auto [it, inserted] = entries_.try_emplace(address.mid_key());
+  LocationTableEntry& e = it->second;
+  created = inserted || e.expires <= now;
+  if (created) {
+    // An expired entry is as good as absent: its position and DPL are stale (clause 8.1.3).
+    e = LocationTableEntry{};
+    e.address = address;
+    e.expires = now + lifetime_;
+  }
+  return e;
+}
+
+bool LocationTable::update_position(LocationTableEntry& entry, const LongPositionVector& pv,
+                                    clock::SteadyTime now) {
+  if (entry.has_position && !is_newer(pv.timestamp, entry.position.timestamp))
+    return false;
+  entry.position = pv;
+  entry.has_position = true;
+  entry.address = pv.address;
+  entry.expires = now + lifetime_;
+  return true;
+}
+
+bool LocationTable::is_duplicate_sequence_number(LocationTableEntry& entry, std::uint16_t sn) {
+  const auto end = entry.dpl.begin() + entry.dpl_size;
+  if (std::find(entry.dpl.begin(), end, sn) != end)
+    return true;
+  entry.dpl[entry.dpl_next] = sn;
+  entry.dpl_next = static_cast<std::uint8_t>((entry.dpl_next + 1) % kDuplicatePacketListLength);
+  if (entry.dpl_size < kDuplicatePacketListLength)
+    ++entry.dpl_size;
+  return false;
+}
+
+std::size_t LocationTable::purge(clock::SteadyTime now) {
+  return std::erase_if(entries_, [now](const auto& kv) { return kv.second.expires <= now; });
+}
+
+}  // namespace tb::its::geonet

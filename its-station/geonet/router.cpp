@@ -1,0 +1,397 @@
+#include "its-station/geonet/router.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "common/geodesy/local_frame.hpp"
+
+namespace tb::its::geonet {
+
+std::string to_string(DataConfirm c) {
+  switch (c) {
+    case DataConfirm::kAccepted:
+      return "accepted";
+    case DataConfirm::kMaxSduSizeExceeded:
+      return "payload exceeds itsGnMaxSduSize";
+    case DataConfirm::kMaxLifetimeExceeded:
+      return "lifetime exceeds itsGnMaxPacketLifetime";
+    case DataConfirm::kMissingArea:
+      return "GeoBroadcast request without a destination area";
+    case DataConfirm::kNoPosition:
+      return "no ego position yet";
+    case DataConfirm::kNoNeighbourTowardsArea:
+      return "outside the area and no neighbour closer to it";
+    case DataConfirm::kLinkError:
+      return "link layer refused the frame";
+  }
+  return "unknown";
+}
+
+std::string to_string(DropReason r) {
+  switch (r) {
+    case DropReason::kWrongEtherType:
+      return "not a GeoNetworking ethertype";
+    case DropReason::kParseError:
+      return "malformed packet";
+    case DropReason::kOwnPacket:
+      return "own packet";
+    case DropReason::kDuplicate:
+      return "duplicate packet";
+    case DropReason::kLifetimeExpired:
+      return "packet lifetime expired";
+    case DropReason::kHopLimitZero:
+      return "remaining hop limit is 0";
+    case DropReason::kHopLimitExceedsMaximum:
+      return "remaining hop limit exceeds maximum hop limit";
+    case DropReason::kOutsideArea:
+      return "outside the destination area";
+    case DropReason::kNotForwardedHopLimit:
+      return "not forwarded: hop limit reached";
+    case DropReason::kNoForwardingNeighbour:
+      return "not forwarded: no neighbour towards the area";
+    case DropReason::kForwardLinkError:
+      return "not forwarded: link error";
+    case DropReason::kCount:
+      break;
+  }
+  return "unknown";
+}
+
+namespace {
+
+std::uint32_t seed_from(const link::MacAddress& mac) {
+  std::uint32_t seed = 0x9e3779b9u;
+  for (const auto b : mac)
+    seed = (seed ^ b) * 0x01000193u;
+  return seed == 0 ? 1 : seed;
+}
+
+PacketType gbc_type(AreaShape shape) {
+  switch (shape) {
+    case AreaShape::kRectangle:
+      return PacketType::kGeoBroadcastRectangle;
+    case AreaShape::kEllipse:
+      return PacketType::kGeoBroadcastEllipse;
+    case AreaShape::kCircle:
+      break;
+  }
+  return PacketType::kGeoBroadcastCircle;
+}
+
+}  // namespace
+
+Router::Router(clock::Runtime& runtime, link::LinkLayer& link, const PositionProvider& position,
+               RouterConfig config)
+    : runtime_(runtime),
+      link_(link),
+      position_(position),
+      config_(config),
+      address_{config.manually_configured_address, config.station_type, link.address()},
+      table_(config.location_entry_lifetime),
+      rng_(config.random_seed != 0 ? config.random_seed : seed_from(link.address())) {
+  link_.set_receive_handler([this](const link::ReceivedFrame& f) { on_frame(f); });
+  // Clause 10.3.6.2: the first beacon goes out after a random jitter, so that stations started
+  // together do not beacon in step.
+  schedule_beacon(jitter());
+}
+
+Router::~Router() {
+  runtime_.cancel(beacon_timer_);
+  link_.set_receive_handler({});
+}
+
+std::optional<LongPositionVector> Router::ego_position_vector() const {
+  const auto pos = position_.current_position();
+  if (!pos || !std::isfinite(pos->latitude_deg) || !std::isfinite(pos->longitude_deg))
+    return std::nullopt;
+  LongPositionVector pv;
+  pv.address = address_;
+  pv.timestamp = to_timestamp(pos->time);
+  pv.latitude = to_tenth_micro_degree(std::clamp(pos->latitude_deg, -90.0, 90.0));
+  pv.longitude = to_tenth_micro_degree(std::clamp(pos->longitude_deg, -180.0, 180.0));
+  pv.position_accurate = pos->accurate;
+  // S is 15-bit signed in 0.01 m/s (clause 9.5.2).
+  const double speed = std::isfinite(pos->speed_mps) ? pos->speed_mps * 100.0 : 0.0;
+  pv.speed = static_cast<std::int16_t>(std::lround(std::clamp(speed, -16384.0, 16383.0)));
+  const double heading = std::isfinite(pos->heading_deg) ? geodesy::wrap_360(pos->heading_deg) : 0;
+  pv.heading = static_cast<std::uint16_t>(std::lround(heading * 10.0) % 3600);
+  return pv;
+}
+
+clock::Duration Router::jitter() {
+  const auto max_ms =
+      std::chrono::duration_cast<std::chrono::milliseconds>(config_.beacon_max_jitter).count();
+  if (max_ms <= 0)
+    return clock::Duration::zero();
+  std::uniform_int_distribution<std::int64_t> dist(0, max_ms);
+  return std::chrono::milliseconds{dist(rng_)};
+}
+
+void Router::schedule_beacon(clock::Duration delay) {
+  runtime_.cancel(beacon_timer_);
+  beacon_timer_ = runtime_.schedule_in(delay, [this] { on_beacon_timer(); });
+}
+
+void Router::on_beacon_timer() {
+  beacon_timer_ = 0;
+  if (auto epv = ego_position_vector()) {
+    BasicHeader basic{kGnProtocolVersion, BasicNextHeader::kCommonHeader,
+                      Lifetime::from_duration(config_.default_lifetime), 1};
+    CommonHeader common{UpperProtocol::kAny, PacketType::kBeacon, {}, config_.is_mobile, 0, 1};
+    const std::size_t n = serialize(basic, common, BeaconHeader{*epv}, {}, tx_);
+    if (n > 0 && send_frame(link::kBroadcastMac, std::span(tx_).first(n))) {
+      ++stats_.sent;
+      ++stats_.beacons_sent;
+    }
+  }
+  // Clause 10.3.6.2: retransmit after itsGnBeaconServiceRetransmitTimer plus a random jitter.
+  schedule_beacon(config_.beacon_interval + jitter());
+}
+
+bool Router::send_frame(const link::MacAddress& to, std::span<const std::uint8_t> bytes) {
+  return !link_.send(to, link::kEtherTypeGeoNetworking, bytes);
+}
+
+DataConfirm Router::request(const DataRequest& req, std::span<const std::uint8_t> payload) {
+  if (payload.size() > config_.max_sdu_size)
+    return DataConfirm::kMaxSduSizeExceeded;
+  const clock::Duration lifetime =
+      req.lifetime > clock::Duration::zero() ? req.lifetime : config_.default_lifetime;
+  if (lifetime > config_.max_lifetime)
+    return DataConfirm::kMaxLifetimeExceeded;
+  if (req.transport == TransportType::kGeoBroadcast && !req.area)
+    return DataConfirm::kMissingArea;
+  const auto epv = ego_position_vector();
+  if (!epv)
+    return DataConfirm::kNoPosition;
+
+  const std::uint8_t hop_limit =
+      req.transport == TransportType::kSingleHopBroadcast
+          ? 1
+          : (req.max_hop_limit != 0 ? req.max_hop_limit : config_.default_hop_limit);
+  BasicHeader basic{kGnProtocolVersion, BasicNextHeader::kCommonHeader,
+                    Lifetime::from_duration(lifetime), hop_limit};
+  CommonHeader common{req.upper_protocol,
+                      PacketType::kSingleHopBroadcast,
+                      req.traffic_class,
+                      config_.is_mobile,
+                      static_cast<std::uint16_t>(payload.size()),
+                      hop_limit};
+  ExtendedHeader ext;
+  link::MacAddress destination = link::kBroadcastMac;
+  switch (req.transport) {
+    case TransportType::kSingleHopBroadcast:
+      ext = ShbHeader{*epv, 0};
+      break;
+    case TransportType::kTopologicallyScopedBroadcast:
+      common.type = PacketType::kTopologicallyScopedBroadcast;
+      ext = TsbHeader{sequence_number_++, *epv};
+      break;
+    case TransportType::kGeoBroadcast: {
+      common.type = gbc_type(req.area->shape);
+      ext = GbcHeader{sequence_number_++, *epv, *req.area};
+      // Clause 10.3.11.2 with Annex F: broadcast inside the area, greedy towards it otherwise.
+      const GeoPoint ego = position_of(*epv);
+      if (!is_inside_or_at_border(*req.area, ego)) {
+        const auto next = greedy_next_hop(*req.area, ego);
+        if (!next)
+          return DataConfirm::kNoNeighbourTowardsArea;
+        destination = *next;
+      }
+      break;
+    }
+  }
+  const std::size_t n = serialize(basic, common, ext, payload, tx_);
+  if (n == 0)
+    return DataConfirm::kMaxSduSizeExceeded;
+  if (!send_frame(destination, std::span(tx_).first(n)))
+    return DataConfirm::kLinkError;
+  ++stats_.sent;
+  // Clause 10.3.10.2: an SHB tells the neighbours where we are, so the next beacon can wait.
+  if (req.transport == TransportType::kSingleHopBroadcast)
+    schedule_beacon(config_.beacon_interval + jitter());
+  return DataConfirm::kAccepted;
+}
+
+void Router::drop(DropReason reason, std::optional<ParseError> pe) {
+  ++stats_.drops[static_cast<std::size_t>(reason)];
+  if (drop_hook_)
+    drop_hook_(DropEvent{reason, pe});
+}
+
+std::optional<link::MacAddress> Router::greedy_next_hop(const GeoArea& area,
+                                                        const GeoPoint& ego) const {
+  // Annex E.2, most forward within radius: the neighbour nearest to the destination, if it is
+  // nearer than we are.
+  const GeoPoint centre{to_degrees(area.latitude), to_degrees(area.longitude)};
+  double best = distance_m(ego, centre);
+  std::optional<link::MacAddress> next;
+  table_.for_each_neighbour(runtime_.steady_now(), [&](const LocationTableEntry& e) {
+    const double d = distance_m(position_of(e.position), centre);
+    if (d < best) {
+      best = d;
+      next = e.link_address;
+    }
+  });
+  return next;
+}
+
+void Router::deliver(const Packet& packet, const link::ReceivedFrame& frame,
+                     clock::Duration remaining_lifetime) {
+  ++stats_.delivered;
+  if (!indication_)
+    return;
+  DataIndication ind;
+  ind.upper_protocol = packet.common.next_header;
+  ind.packet_type = packet.common.type;
+  ind.source_position = source_position(packet.extended);
+  ind.source = ind.source_position.address;
+  if (const auto* gbc = std::get_if<GbcHeader>(&packet.extended))
+    ind.destination_area = gbc->area;
+  ind.traffic_class = packet.common.traffic_class;
+  ind.remaining_lifetime = remaining_lifetime;
+  ind.remaining_hop_limit = packet.basic.remaining_hop_limit;
+  ind.sender = frame.source;
+  ind.rx_time = frame.rx_time;
+  indication_(ind, packet.payload);
+}
+
+void Router::forward(const Packet& packet, std::span<const std::uint8_t> bytes,
+                     const std::optional<GeoArea>& area, bool inside) {
+  // Clause 10.3.9.3 / 10.3.11.3: decrement RHL; at 0 the packet goes no further.
+  const std::uint8_t rhl = packet.basic.remaining_hop_limit - 1;
+  if (rhl == 0) {
+    drop(DropReason::kNotForwardedHopLimit);
+    return;
+  }
+  link::MacAddress destination = link::kBroadcastMac;
+  if (area && !inside) {
+    const auto epv = ego_position_vector();
+    const auto next = epv ? greedy_next_hop(*area, position_of(*epv)) : std::nullopt;
+    if (!next) {
+      drop(DropReason::kNoForwardingNeighbour);
+      return;
+    }
+    destination = *next;
+  }
+  // Forward the packet as received, headers and payload unchanged but for the RHL (byte 3 of
+  // the basic header); link padding after the payload is not copied.
+  const std::size_t length =
+      static_cast<std::size_t>(packet.payload.data() - bytes.data()) + packet.payload.size();
+  std::copy_n(bytes.begin(), length, tx_.begin());
+  tx_[3] = rhl;
+  if (!send_frame(destination, std::span(tx_).first(length))) {
+    drop(DropReason::kForwardLinkError);
+    return;
+  }
+  ++stats_.forwarded;
+}
+
+void Router::on_frame(const link::ReceivedFrame& frame) {
+  ++stats_.received;
+  if (frame.ethertype != link::kEtherTypeGeoNetworking) {
+    drop(DropReason::kWrongEtherType);
+    return;
+  }
+  const clock::SteadyTime now = runtime_.steady_now();
+  if (now >= next_purge_) {
+    table_.purge(now);
+    next_purge_ = now + 1s;
+  }
+
+  auto parsed = parse_packet(frame.payload);
+  if (!parsed) {
+    drop(DropReason::kParseError, parsed.error());
+    return;
+  }
+  const Packet& p = *parsed;
+  const LongPositionVector& so = source_position(p.extended);
+  if (so.address.mid == address_.mid || frame.source == address_.mid) {
+    drop(DropReason::kOwnPacket);
+    return;
+  }
+  // Clause 10.3.3: basic and common header processing.
+  if (p.basic.remaining_hop_limit == 0) {
+    drop(DropReason::kHopLimitZero);
+    return;
+  }
+  if (p.basic.remaining_hop_limit > p.common.maximum_hop_limit) {
+    drop(DropReason::kHopLimitExceedsMaximum);
+    return;
+  }
+  // LT bounds how long the packet may live after its source stamped its position; a packet
+  // older than that (by the source's TST, clocks being GNSS-synchronised) is stale. A TST in
+  // the future counts as age 0.
+  clock::Duration remaining_lifetime = p.basic.lifetime.duration();
+  if (p.common.type != PacketType::kBeacon) {
+    const std::int32_t age_ms =
+        std::max(0, timestamp_difference(to_timestamp(runtime_.wall_now()), so.timestamp));
+    remaining_lifetime -= std::chrono::milliseconds{age_ms};
+    if (remaining_lifetime <= clock::Duration::zero()) {
+      drop(DropReason::kLifetimeExpired);
+      return;
+    }
+  }
+
+  bool created = false;
+  LocationTableEntry& entry = table_.find_or_create(so.address, now, created);
+  switch (p.common.type) {
+    case PacketType::kBeacon:
+    case PacketType::kSingleHopBroadcast: {
+      // Annex A.3: single-hop packets carry no sequence number; a source timestamp not newer
+      // than the one held marks a duplicate.
+      if (entry.has_position && !is_newer(so.timestamp, entry.position.timestamp)) {
+        drop(DropReason::kDuplicate);
+        return;
+      }
+      table_.update_position(entry, so, now);
+      entry.is_neighbour = true;
+      entry.link_address = frame.source;
+      if (p.common.type == PacketType::kSingleHopBroadcast)
+        deliver(p, frame, remaining_lifetime);
+      return;
+    }
+    case PacketType::kTopologicallyScopedBroadcast: {
+      const auto& tsb = std::get<TsbHeader>(p.extended);
+      if (LocationTable::is_duplicate_sequence_number(entry, tsb.sequence_number)) {
+        drop(DropReason::kDuplicate);
+        return;
+      }
+      table_.update_position(entry, so, now);
+      deliver(p, frame, remaining_lifetime);
+      forward(p, frame.payload, std::nullopt, true);
+      return;
+    }
+    case PacketType::kGeoBroadcastCircle:
+    case PacketType::kGeoBroadcastRectangle:
+    case PacketType::kGeoBroadcastEllipse: {
+      const auto& gbc = std::get<GbcHeader>(p.extended);
+      if (LocationTable::is_duplicate_sequence_number(entry, gbc.sequence_number)) {
+        drop(DropReason::kDuplicate);
+        return;
+      }
+      table_.update_position(entry, so, now);
+      const auto epv = ego_position_vector();
+      const bool inside = epv && is_inside_or_at_border(gbc.area, position_of(*epv));
+      if (inside) {
+        deliver(p, frame, remaining_lifetime);
+        forward(p, frame.payload, gbc.area, true);
+        return;
+      }
+      drop(DropReason::kOutsideArea);
+      // Annex F.2: a packet that a sender inside the area broadcast has done its job; carrying
+      // it back towards the area would only loop.
+      const std::uint64_t sender_key =
+          GnAddress{false, StationType::kUnknown, frame.source}.mid_key();
+      const LocationTableEntry* sender = table_.find(sender_key, now);
+      if (sender != nullptr && sender->has_position &&
+          is_inside_or_at_border(gbc.area, position_of(sender->position)))
+        return;
+      forward(p, frame.payload, gbc.area, false);
+      return;
+    }
+  }
+}
+
+}  // namespace tb::its::geonet

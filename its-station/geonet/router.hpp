@@ -1,0 +1,172 @@
+#pragma once
+/// @file The GeoAdhoc router (EN 302 636-4-1 V1.4.1 clause 10): SHB, TSB and GBC source and
+/// receive operations, GBC forwarding, beacons, the location table and duplicate detection.
+///
+/// Time comes from a clock::Runtime and frames from a link::LinkLayer, so tests drive it with a
+/// ManualRuntime and a TestLink. Everything runs on the caller's thread; no locking.
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <random>
+#include <span>
+#include <string>
+
+#include "common/clock/runtime.hpp"
+#include "its-station/geonet/area.hpp"
+#include "its-station/geonet/location_table.hpp"
+#include "its-station/geonet/packet.hpp"
+#include "its-station/geonet/position_provider.hpp"
+#include "its-station/link/link_layer.hpp"
+
+namespace tb::its::geonet {
+
+using namespace std::chrono_literals;
+
+/// The router's MIB (Annex H), with the standard's defaults.
+struct RouterConfig {
+  StationType station_type = StationType::kPassengerCar;
+  bool manually_configured_address = false;       ///< the GN_ADDR's M bit
+  bool is_mobile = true;                          ///< itsGnIsMobile
+  clock::Duration beacon_interval = 3000ms;       ///< itsGnBeaconServiceRetransmitTimer
+  clock::Duration beacon_max_jitter = 750ms;      ///< itsGnBeaconServiceMaxJitter
+  clock::Duration location_entry_lifetime = 20s;  ///< itsGnLifetimeLocTE
+  clock::Duration default_lifetime = 60s;         ///< itsGnDefaultPacketLifetime
+  clock::Duration max_lifetime = 600s;            ///< itsGnMaxPacketLifetime
+  std::uint8_t default_hop_limit = 10;            ///< itsGnDefaultHopLimit
+  std::size_t max_sdu_size = 1398;                ///< itsGnMaxSduSize
+  /// Seeds the beacon jitter; 0 derives a seed from the MAC so that stations differ.
+  std::uint32_t random_seed = 0;
+};
+
+enum class TransportType { kSingleHopBroadcast, kTopologicallyScopedBroadcast, kGeoBroadcast };
+
+/// GN-DATA.request (clause 7.2 / Annex J).
+struct DataRequest {
+  TransportType transport = TransportType::kSingleHopBroadcast;
+  UpperProtocol upper_protocol = UpperProtocol::kBtpB;
+  TrafficClass traffic_class;
+  /// Zero means itsGnDefaultPacketLifetime.
+  clock::Duration lifetime{0};
+  /// TSB and GBC; zero means itsGnDefaultHopLimit. SHB always uses 1.
+  std::uint8_t max_hop_limit = 0;
+  /// GBC only.
+  std::optional<GeoArea> area;
+};
+
+/// GN-DATA.confirm result codes.
+enum class DataConfirm {
+  kAccepted,
+  kMaxSduSizeExceeded,
+  kMaxLifetimeExceeded,
+  kMissingArea,             ///< GBC request without a destination area
+  kNoPosition,              ///< the positioning service has no fix yet
+  kNoNeighbourTowardsArea,  ///< GBC from outside the area and greedy forwarding found no one
+  kLinkError,
+};
+std::string to_string(DataConfirm c);
+
+/// GN-DATA.indication (clause 7.2 / Annex J): what the upper protocol learns with a payload.
+struct DataIndication {
+  UpperProtocol upper_protocol = UpperProtocol::kAny;
+  PacketType packet_type = PacketType::kSingleHopBroadcast;
+  GnAddress source;
+  LongPositionVector source_position;
+  std::optional<GeoArea> destination_area;
+  TrafficClass traffic_class;
+  clock::Duration remaining_lifetime{0};
+  std::uint8_t remaining_hop_limit = 0;
+  link::MacAddress sender{};  ///< link-layer source of the frame (the last forwarder)
+  clock::WallTime rx_time{};  ///< kernel receive time of the frame
+};
+
+using IndicationHandler =
+    std::function<void(const DataIndication&, std::span<const std::uint8_t> payload)>;
+
+/// Why a received packet was not delivered or not forwarded.
+enum class DropReason {
+  kWrongEtherType,
+  kParseError,              ///< see the ParseError passed along
+  kOwnPacket,               ///< our own packet, rebroadcast by a neighbour
+  kDuplicate,               ///< Annex A: seen before (sequence number or timestamp)
+  kLifetimeExpired,         ///< LT zero, or older than LT by its source timestamp
+  kHopLimitZero,            ///< RHL 0 on reception
+  kHopLimitExceedsMaximum,  ///< RHL > MHL: inconsistent, so not trusted
+  kOutsideArea,             ///< GBC for an area we are not in: forwarded, not delivered
+  kNotForwardedHopLimit,    ///< delivered, but RHL reached 0 so not forwarded
+  kNoForwardingNeighbour,   ///< greedy forwarding towards the area found no one
+  kForwardLinkError,
+  kCount
+};
+std::string to_string(DropReason r);
+
+struct DropEvent {
+  DropReason reason;
+  std::optional<ParseError> parse_error;
+};
+using DropHook = std::function<void(const DropEvent&)>;
+
+struct RouterStats {
+  std::uint64_t received = 0;
+  std::uint64_t delivered = 0;
+  std::uint64_t sent = 0;  ///< originated packets, beacons included
+  std::uint64_t beacons_sent = 0;
+  std::uint64_t forwarded = 0;
+  std::array<std::uint64_t, static_cast<std::size_t>(DropReason::kCount)> drops{};
+  std::uint64_t dropped(DropReason r) const { return drops[static_cast<std::size_t>(r)]; }
+};
+
+class Router {
+ public:
+  Router(clock::Runtime& runtime, link::LinkLayer& link, const PositionProvider& position,
+         RouterConfig config = {});
+  ~Router();
+  Router(const Router&) = delete;
+  Router& operator=(const Router&) = delete;
+
+  /// GN-DATA.request: originates a packet carrying @p payload (the BTP header and data).
+  DataConfirm request(const DataRequest& request, std::span<const std::uint8_t> payload);
+
+  void set_indication_handler(IndicationHandler h) { indication_ = std::move(h); }
+  void set_drop_hook(DropHook h) { drop_hook_ = std::move(h); }
+
+  /// The receive path; the constructor binds it to the link. Public so that a caller holding
+  /// frames from elsewhere (a pcap, a fuzzer) can feed them.
+  void on_frame(const link::ReceivedFrame& frame);
+
+  const GnAddress& address() const { return address_; }
+  const LocationTable& location_table() const { return table_; }
+  const RouterStats& stats() const { return stats_; }
+  /// The long position vector the router would send now, if it has a position.
+  std::optional<LongPositionVector> ego_position_vector() const;
+
+ private:
+  void drop(DropReason reason, std::optional<ParseError> pe = std::nullopt);
+  clock::Duration jitter();
+  void schedule_beacon(clock::Duration delay);
+  void on_beacon_timer();
+  bool send_frame(const link::MacAddress& to, std::span<const std::uint8_t> bytes);
+  std::optional<link::MacAddress> greedy_next_hop(const GeoArea& area, const GeoPoint& ego) const;
+  void forward(const Packet& packet, std::span<const std::uint8_t> bytes,
+               const std::optional<GeoArea>& area, bool inside);
+  void deliver(const Packet& packet, const link::ReceivedFrame& frame,
+               clock::Duration remaining_lifetime);
+
+  clock::Runtime& runtime_;
+  link::LinkLayer& link_;
+  const PositionProvider& position_;
+  RouterConfig config_;
+  GnAddress address_;
+  LocationTable table_;
+  std::uint16_t sequence_number_ = 0;
+  std::minstd_rand rng_;
+  clock::TimerId beacon_timer_ = 0;
+  clock::SteadyTime next_purge_{};
+  IndicationHandler indication_;
+  DropHook drop_hook_;
+  RouterStats stats_;
+  std::array<std::uint8_t, link::kMaxPayload> tx_{};
+};
+
+}  // namespace tb::its::geonet

@@ -1,0 +1,93 @@
+#include <gtest/gtest.h>
+
+#include "its-station/geonet/location_table.hpp"
+
+namespace tb::its::geonet {
+namespace {
+
+using namespace std::chrono_literals;
+
+GnAddress addr(std::uint8_t last) {
+  return {false, StationType::kPassengerCar, {0x02, 0, 0, 0, 0, last}};
+}
+
+LongPositionVector pv(std::uint8_t last, Timestamp tst) {
+  LongPositionVector p;
+  p.address = addr(last);
+  p.timestamp = tst;
+  p.latitude = 481'500'000;
+  return p;
+}
+
+TEST(LocationTable, EntriesExpireAfterTheirLifetimeSinceTheLastUpdate) {
+  LocationTable table{20s};
+  const clock::SteadyTime t0{};
+  bool created = false;
+  auto& e = table.find_or_create(addr(1), t0, created);
+  EXPECT_TRUE(created);
+  EXPECT_TRUE(table.update_position(e, pv(1, 1000), t0));
+  EXPECT_NE(table.find(addr(1).mid_key(), t0 + 19s), nullptr);
+  // A newer position at 10 s restarts the lifetime.
+  EXPECT_TRUE(
+      table.update_position(*table.find(addr(1).mid_key(), t0 + 10s), pv(1, 2000), t0 + 10s));
+  EXPECT_NE(table.find(addr(1).mid_key(), t0 + 29s), nullptr);
+  EXPECT_EQ(table.find(addr(1).mid_key(), t0 + 30s), nullptr);
+  EXPECT_EQ(table.size(), 1u);
+  EXPECT_EQ(table.purge(t0 + 30s), 1u);
+  EXPECT_EQ(table.size(), 0u);
+}
+
+TEST(LocationTable, AnExpiredEntryIsRecreatedEmpty) {
+  LocationTable table{20s};
+  bool created = false;
+  auto& e = table.find_or_create(addr(1), {}, created);
+  table.update_position(e, pv(1, 1000), {});
+  e.is_neighbour = true;
+  EXPECT_FALSE(LocationTable::is_duplicate_sequence_number(e, 7));
+  auto& again = table.find_or_create(addr(1), clock::SteadyTime{} + 21s, created);
+  EXPECT_TRUE(created);
+  EXPECT_FALSE(again.is_neighbour);
+  EXPECT_FALSE(again.has_position);
+  EXPECT_FALSE(LocationTable::is_duplicate_sequence_number(again, 7));
+}
+
+TEST(LocationTable, OnlyNewerPositionsReplaceTheHeldOne) {
+  LocationTable table{20s};
+  bool created = false;
+  auto& e = table.find_or_create(addr(1), {}, created);
+  EXPECT_TRUE(table.update_position(e, pv(1, 0xffff'ff00u), {}));
+  EXPECT_FALSE(table.update_position(e, pv(1, 0xffff'ff00u), {}));  // equal
+  EXPECT_FALSE(table.update_position(e, pv(1, 0xffff'fe00u), {}));  // older
+  EXPECT_TRUE(table.update_position(e, pv(1, 0x10), {}));           // newer across the wrap
+  EXPECT_EQ(e.position.timestamp, 0x10u);
+}
+
+TEST(LocationTable, DuplicateListRemembersTheLastEightSequenceNumbers) {
+  LocationTable table{20s};
+  bool created = false;
+  auto& e = table.find_or_create(addr(1), {}, created);
+  for (std::uint16_t sn = 100; sn < 108; ++sn)
+    EXPECT_FALSE(LocationTable::is_duplicate_sequence_number(e, sn));
+  for (std::uint16_t sn = 100; sn < 108; ++sn)
+    EXPECT_TRUE(LocationTable::is_duplicate_sequence_number(e, sn));
+  EXPECT_FALSE(LocationTable::is_duplicate_sequence_number(e, 108));  // evicts 100
+  EXPECT_FALSE(LocationTable::is_duplicate_sequence_number(e, 100));
+  EXPECT_TRUE(LocationTable::is_duplicate_sequence_number(e, 108));
+}
+
+TEST(LocationTable, NeighboursAreTheLiveEntriesMarkedSo) {
+  LocationTable table{20s};
+  bool created = false;
+  table.find_or_create(addr(1), {}, created).is_neighbour = true;
+  table.find_or_create(addr(2), {}, created);
+  table.find_or_create(addr(3), clock::SteadyTime{} + 5s, created).is_neighbour = true;
+  int n = 0;
+  table.for_each_neighbour(clock::SteadyTime{} + 21s, [&](const LocationTableEntry& e) {
+    ++n;
+    EXPECT_EQ(e.address, addr(3));
+  });
+  EXPECT_EQ(n, 1);
+}
+
+}  // namespace
+}  // namespace tb::its::geonet
