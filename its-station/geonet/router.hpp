@@ -53,6 +53,26 @@ struct DataRequest {
   std::uint8_t max_hop_limit = 0;
   /// GBC only.
   std::optional<GeoArea> area;
+
+  static DataRequest single_hop(TrafficClass tc = {}, clock::Duration lifetime = {}) {
+    DataRequest r;
+    r.traffic_class = tc;
+    r.lifetime = lifetime;
+    return r;
+  }
+  static DataRequest topologically_scoped(std::uint8_t max_hop_limit = 0) {
+    DataRequest r;
+    r.transport = TransportType::kTopologicallyScopedBroadcast;
+    r.max_hop_limit = max_hop_limit;
+    return r;
+  }
+  static DataRequest geo_broadcast(const GeoArea& area, std::uint8_t max_hop_limit = 0) {
+    DataRequest r;
+    r.transport = TransportType::kGeoBroadcast;
+    r.area = area;
+    r.max_hop_limit = max_hop_limit;
+    return r;
+  }
 };
 
 /// GN-DATA.confirm result codes.
