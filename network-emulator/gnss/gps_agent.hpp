@@ -1,0 +1,59 @@
+#pragma once
+/// @file GpsAgent: one station's GNSS receiver, turning vehicle states into NMEA epochs.
+///
+/// Epochs fall on whole multiples of the period in sim time (a real receiver's epochs are
+/// aligned to whole 100 ms of GPS time at 10 Hz): the first state at or after an epoch
+/// boundary makes an epoch that describes that state, stamped with its sim time (scenario
+/// start_time + sim_time_ns). So a fix names the physics step it came from, and no time is
+/// lost waiting for a free-running timer. No sockets: the caller sends the datagram.
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "common/geodesy/local_frame.hpp"
+#include "common/scenario/scenario.hpp"
+#include "common/wire/vehicle_state.hpp"
+#include "network-emulator/gnss/error_model.hpp"
+#include "network-emulator/gnss/nmea.hpp"
+
+namespace tb::emu::gnss {
+
+struct AgentConfig {
+  std::uint32_t station_id = 0;
+  double rate_hz = 10.0;
+  std::chrono::system_clock::time_point start_time;  ///< UTC of sim time 0
+  scenario::GnssErrors errors;
+  std::uint64_t seed = 1;
+};
+
+class GpsAgent {
+ public:
+  /// @p frame must outlive the agent. @throws std::invalid_argument for a rate ≤ 0.
+  GpsAgent(const AgentConfig& config, const geodesy::LocalFrame& frame);
+
+  /// Feeds the station's latest state. Returns one epoch's sentences (valid until the next
+  /// call) when an epoch falls due, otherwise nothing.
+  std::optional<std::string_view> on_state(const wire::VehicleState& state);
+
+  /// The fix of the last epoch (for tests and traces).
+  const Fix& last_fix() const { return fix_; }
+  std::uint64_t epochs() const { return epochs_; }
+  std::int64_t period_ns() const { return period_ns_; }
+
+ private:
+  AgentConfig config_;
+  const geodesy::LocalFrame& frame_;
+  ErrorModel errors_;
+  std::int64_t period_ns_;
+  std::optional<std::int64_t> next_epoch_ns_;
+  std::optional<double> course_deg_;
+  Fix fix_;
+  std::vector<SatelliteView> sky_;
+  std::string out_;
+  std::uint64_t epochs_ = 0;
+};
+
+}  // namespace tb::emu::gnss
