@@ -54,8 +54,9 @@ struct VehicleModel {
   double suspension_damping = 4.5;        ///< relative damping in compression and relaxation
   double suspension_travel_m = 0.15;
   double tyre_friction = 1.0;  ///< peak friction coefficient on a dry road
+  /// 200 Nm from 1500 to 4000 rpm, 90 kW from 5000 to 6000 rpm (data sheet).
   std::vector<TorquePoint> torque_curve{{1000, 140}, {1500, 200}, {4000, 200},
-                                        {5000, 190}, {6000, 150}, {6500, 120}};
+                                        {5000, 172}, {6000, 143}, {6500, 120}};
   std::vector<double> gear_ratios{3.62, 2.13, 1.37, 0.97, 0.76, 0.62};
   double reverse_ratio = 3.3;
   double final_drive = 3.94;
@@ -63,7 +64,9 @@ struct VehicleModel {
   double idle_rpm = 800.0;
   double shift_up_rpm = 6000.0;
   double shift_down_rpm = 2000.0;
-  double brake_torque_nm = 2800.0;      ///< all four wheels together, at full pedal
+  /// All four wheels together, at full pedal: enough to reach the tyres' grip on a dry road
+  /// at every wheel (a stop from 100 km/h in about 36 m, sim-server/README.md).
+  double brake_torque_nm = 5000.0;
   double handbrake_torque_nm = 1500.0;  ///< rear wheels
   double max_steer_deg = 36.0;          ///< road-wheel angle at full lock
   double steering_ratio = 14.8;         ///< steering-wheel angle / road-wheel angle
