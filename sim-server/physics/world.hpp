@@ -1,0 +1,99 @@
+#pragma once
+/// @file The simulated world: the road surface of the scenario's map and every vehicle, stepped
+/// at a fixed rate on Bullet.
+///
+/// Each vehicle is a btRaycastVehicle (a rigid chassis on four ray-cast suspension struts)
+/// driven by a Powertrain. The wheels do not ray-cast through Bullet's broadphase: they ask a
+/// GroundCaster for the road surface only, which never tests the cars' own chassis and is the
+/// bulk of the saving at 1000 cars (sim-server/README.md, Performance). The chassis still
+/// collide with each other and with the road mesh through the ordinary collision pipeline.
+///
+/// Same scenario, same controls in the same steps ⇒ bit-identical states: the world is stepped
+/// single-threaded, in a fixed order, and reads no clock.
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "common/map/road_map.hpp"
+#include "common/scenario/scenario.hpp"
+#include "common/wire/vehicle_state.hpp"
+
+namespace tb::server::physics {
+
+/// How wheels find the road.
+enum class GroundCast {
+  /// The built-in layouts are flat (z = 0 inside the ground's bounds): an exact ray–plane test.
+  kFlat,
+  /// Bullet's ray test against the road mesh alone, for surfaces that are not flat.
+  kMesh,
+};
+
+struct WorldOptions {
+  double step_s = 0.01;
+  GroundCast ground_cast = GroundCast::kFlat;
+  /// Ground beyond the roads' extent, so that a car leaving the road still has something to
+  /// drive on, m.
+  double ground_margin_m = 200.0;
+};
+
+/// Where a vehicle starts.
+struct SpawnPose {
+  double x = 0.0, y = 0.0;  ///< ground position of the vehicle's reference point, m
+  double yaw = 0.0;         ///< rad, counter-clockwise from east
+  double speed = 0.0;       ///< m/s along the heading
+};
+
+/// The scenario's spawn as a pose on the map. @throws std::out_of_range for a lane that does
+/// not exist.
+SpawnPose spawn_pose(const map::RoadMap& map, const scenario::Spawn& spawn);
+
+class World {
+ public:
+  /// Builds the ground for @p map_spec; vehicles are added with add_vehicle().
+  World(const scenario::MapSpec& map_spec, WorldOptions options);
+  /// Builds the scenario's map and spawns its vehicles in order.
+  explicit World(const scenario::Scenario& scenario, WorldOptions options = {});
+  ~World();
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  /// Adds a vehicle at rest on its wheels (suspension at its static compression). Returns its
+  /// index.
+  std::size_t add_vehicle(const scenario::VehicleModel& model, std::uint32_t station_id,
+                          const SpawnPose& pose);
+  std::size_t size() const;
+
+  /// Controls for the coming steps (already clamped to their ranges) and the lights the driver
+  /// switched on; brake and reverse lights are added by the world.
+  void set_controls(std::size_t vehicle, const wire::Controls& c, std::uint16_t driver_lights);
+  const wire::Controls& controls(std::size_t vehicle) const;
+
+  /// Advances the world by one step; @p step_wall_ns is stamped into the states.
+  void step(std::int64_t step_wall_ns = 0);
+
+  std::uint64_t tick() const { return tick_; }
+  std::int64_t sim_time_ns() const;
+  double step_s() const { return options_.step_s; }
+  std::span<const wire::VehicleState> states() const { return states_; }
+  const map::RoadMap& map() const { return map_; }
+
+  /// Ground contact point of each wheel (FL, FR, RL, RR), for tests and drawing.
+  std::array<std::array<double, 3>, 4> wheel_contacts(std::size_t vehicle) const;
+
+ private:
+  struct Bullet;
+  struct Car;
+  void update_state(std::size_t i, std::int64_t step_wall_ns);
+
+  WorldOptions options_;
+  map::RoadMap map_;
+  std::unique_ptr<Bullet> bt_;
+  std::vector<std::unique_ptr<Car>> cars_;
+  std::vector<wire::VehicleState> states_;
+  std::uint64_t tick_ = 0;
+};
+
+}  // namespace tb::server::physics

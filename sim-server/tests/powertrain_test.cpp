@@ -1,0 +1,89 @@
+#include <gtest/gtest.h>
+
+#include "sim-server/physics/powertrain.hpp"
+
+namespace tb::server::physics {
+namespace {
+
+constexpr double kDt = 0.01;
+
+TEST(Powertrain, TorqueCurveInterpolatesAndIsFlatBeyondItsEnds) {
+  Powertrain p(scenario::VehicleModel{});
+  EXPECT_DOUBLE_EQ(p.full_load_torque(500), 140.0);
+  EXPECT_DOUBLE_EQ(p.full_load_torque(1250), 170.0);
+  EXPECT_DOUBLE_EQ(p.full_load_torque(3000), 200.0);
+  EXPECT_DOUBLE_EQ(p.full_load_torque(5500), 157.5);
+  EXPECT_DOUBLE_EQ(p.full_load_torque(9000), 120.0);
+}
+
+TEST(Powertrain, ShiftsUpAboveShiftRpmAndCutsTorqueWhileShifting) {
+  scenario::VehicleModel m;
+  Powertrain p(m);
+  const wire::Controls full{1.0f, 0.0f, 0.0f, false, false};
+  // Just above the up-shift speed in first gear.
+  const double v = (m.shift_up_rpm + 50) / p.rpm_at(1.0, 1);
+  auto f = p.update(full, v, kDt);
+  EXPECT_EQ(f.gear, 2);
+  EXPECT_EQ(f.traction_n, 0.0);
+  for (int i = 0; i < 50; ++i)
+    f = p.update(full, v, kDt);
+  EXPECT_EQ(f.gear, 2);
+  EXPECT_GT(f.traction_n, 1000.0);
+}
+
+TEST(Powertrain, KicksDownSeveralGearsAtLowSpeed) {
+  scenario::VehicleModel m;
+  Powertrain p(m);
+  const wire::Controls full{1.0f, 0.0f, 0.0f, false, false};
+  double v = 0;
+  for (int i = 0; i < 4000 && p.gear() < 5; ++i) {
+    p.update(full, v, kDt);
+    v += 0.02;
+  }
+  ASSERT_EQ(p.gear(), 5);
+  // 29 km/h in fifth is far below the down-shift speed: once the up-shift is done, one step
+  // goes down to second.
+  for (int i = 0; i < 60 && p.gear() == 5; ++i)
+    p.update(full, 8.0, kDt);
+  EXPECT_LE(p.gear(), 2);
+}
+
+TEST(Powertrain, EngagesReverseOnlyNearStandstill) {
+  Powertrain p(scenario::VehicleModel{});
+  const wire::Controls rev{0.5f, 0.0f, 0.0f, true, false};
+  EXPECT_EQ(p.update(rev, 5.0, kDt).gear, 1);
+  const auto f = p.update(rev, 0.1, kDt);
+  EXPECT_EQ(f.gear, -1);
+  EXPECT_LT(f.traction_n, 0.0);
+}
+
+TEST(Powertrain, BrakeAndHandbrakeForces) {
+  scenario::VehicleModel m;
+  Powertrain p(m);
+  const auto f = p.update({0.0f, 0.5f, 0.0f, false, true}, 10.0, kDt);
+  EXPECT_DOUBLE_EQ(f.brake_n, 0.5 * m.brake_torque_nm / m.wheel_radius_m);
+  EXPECT_DOUBLE_EQ(f.handbrake_n, m.handbrake_torque_nm / m.wheel_radius_m);
+}
+
+TEST(Powertrain, ClosedThrottleDragsAgainstTheMotion) {
+  Powertrain p(scenario::VehicleModel{});
+  DriveForces f;
+  for (int i = 0; i < 100; ++i)  // through the up-shifts a fresh gearbox makes at 54 km/h
+    f = p.update({}, 15.0, kDt);
+  EXPECT_LT(f.traction_n, 0.0);
+  EXPECT_GT(f.traction_n, -1000.0);
+  // And none at standstill, where the clutch is open.
+  Powertrain q(scenario::VehicleModel{});
+  EXPECT_EQ(q.update({}, 0.0, kDt).traction_n, 0.0);
+}
+
+TEST(Powertrain, NoTorqueBeyondRedline) {
+  scenario::VehicleModel m;
+  m.gear_ratios = {3.62};  // nothing to shift into
+  Powertrain p(m);
+  const double v = 6700 / p.rpm_at(1.0, 1);
+  EXPECT_EQ(p.update({1.0f, 0.0f, 0.0f, false, false}, v, kDt).traction_n, 0.0);
+}
+
+}  // namespace
+}  // namespace tb::server::physics
