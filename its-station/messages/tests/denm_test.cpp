@@ -1,0 +1,295 @@
+#include <gtest/gtest.h>
+
+#include <random>
+#include <string>
+#include <vector>
+
+#include "its-station/messages/cam.hpp"
+#include "its-station/messages/denm.hpp"
+#include "its-station/messages/tests/bits.hpp"
+#include "its-station/messages/tests/samples.hpp"
+
+namespace tb::its::messages {
+namespace {
+
+using asn1::Error;
+using testing::bits_of;
+using testing::from_bits;
+using testing::to_bits;
+using testing::with_bits;
+using Bytes = std::vector<std::uint8_t>;
+
+Bytes must_encode(const Denm& d) {
+  auto bytes = encode(d);
+  EXPECT_TRUE(bytes) << asn1::to_string(bytes.error());
+  return bytes ? *bytes : Bytes{};
+}
+
+void expect_round_trip(const Denm& d) {
+  const Bytes bytes = must_encode(d);
+  auto back = decode_denm(bytes);
+  ASSERT_TRUE(back) << asn1::to_string(back.error());
+  EXPECT_EQ(*back, d);
+  EXPECT_EQ(must_encode(*back), bytes);
+}
+
+Denm everything_at(bool upper) {
+  Denm d = samples::denm_collision_risk();
+  ManagementContainer& m = d.denm.management;
+  m.actionID = {upper ? 4294967295u : 0u, static_cast<SequenceNumber>(upper ? 65535 : 0)};
+  m.detectionTime = upper ? kTimestampItsMax : 0;
+  m.referenceTime = upper ? kTimestampItsMax : 0;
+  m.termination = upper ? Termination::isNegation : Termination::isCancellation;
+  m.eventPosition.latitude = upper ? 900000001 : -900000000;
+  m.eventPosition.longitude = upper ? 1800000001 : -1800000000;
+  m.relevanceDistance = upper ? RelevanceDistance::over10km : RelevanceDistance::lessThan50m;
+  m.relevanceTrafficDirection = upper ? RelevanceTrafficDirection::oppositeTraffic
+                                      : RelevanceTrafficDirection::allTrafficDirections;
+  m.validityDuration = upper ? 86400 : 0;
+  m.transmissionInterval = static_cast<TransmissionInterval>(upper ? 10000 : 1);
+  m.stationType = upper ? 255 : 0;
+  SituationContainer& s = *d.denm.situation;
+  s.informationQuality = upper ? 7 : 0;
+  s.eventType = {static_cast<CauseCodeType>(upper ? 255 : 0),
+                 static_cast<SubCauseCodeType>(upper ? 255 : 0)};
+  s.linkedCause = CauseCode{cause_code::kAccident, 1};
+  EventHistory& h = s.eventHistory.emplace();
+  const std::size_t events = upper ? 23 : 1;
+  for (std::size_t i = 0; i < events; ++i)
+    h.push_back(EventPoint{{upper ? 131072 : -131071, upper ? 131072 : -131071,
+                            static_cast<DeltaAltitude>(upper ? 12800 : -12700)},
+                           static_cast<PathDeltaTime>(upper ? 65535 : 1),
+                           static_cast<InformationQuality>(upper ? 7 : 0)});
+  LocationContainer& l = *d.denm.location;
+  l.eventSpeed = Speed{static_cast<SpeedValue>(upper ? 16383 : 0),
+                       static_cast<SpeedConfidence>(upper ? 127 : 1)};
+  l.eventPositionHeading = Heading{static_cast<HeadingValue>(upper ? 3601 : 0),
+                                   static_cast<HeadingConfidence>(upper ? 127 : 1)};
+  l.traces.clear();
+  const std::size_t traces = upper ? 7 : 1;
+  for (std::size_t t = 0; t < traces; ++t) {
+    PathHistory& ph = l.traces.emplace_back();
+    for (std::size_t i = 0; upper && i < kPathHistoryMaxPoints; ++i)
+      ph.push_back(PathPoint{{131072, -131071, 12800}, 65535});
+  }
+  l.roadType = upper ? RoadType::nonUrban_WithStructuralSeparationToOppositeLanes
+                     : RoadType::urban_NoStructuralSeparationToOppositeLanes;
+  AlacarteContainer& a = d.denm.alacarte.emplace();
+  a.lanePosition = static_cast<LanePosition>(upper ? 14 : -1);
+  a.externalTemperature = static_cast<Temperature>(upper ? 67 : -60);
+  a.positioningSolution =
+      upper ? PositioningSolutionType::dR : PositioningSolutionType::noPositioningSolution;
+  return d;
+}
+
+TEST(Denm, RoundTripOfEveryFieldAtItsBounds) {
+  expect_round_trip(everything_at(false));
+  const Denm upper = everything_at(true);
+  expect_round_trip(upper);
+  EXPECT_LE(must_encode(upper).size(), kDenmMaxEncodedSize);
+}
+
+TEST(Denm, ManagementOnlyAndEmptyTraceRoundTrip) {
+  Denm d = samples::denm_collision_risk();
+  d.denm.situation.reset();
+  d.denm.location.reset();
+  expect_round_trip(d);
+  d = samples::denm_collision_risk();
+  d.denm.location->traces[0].clear();  // one trace without points: SIZE(1..7) of SIZE(0..40)
+  expect_round_trip(d);
+}
+
+TEST(Denm, DefaultValidityIsLeftOutAndRestored) {
+  Denm d = samples::denm_collision_risk();
+  d.denm.management.validityDuration = kDefaultValidity;
+  const Bytes with_default = must_encode(d);
+  const std::string bits = to_bits(with_default);
+  EXPECT_EQ(bits[55], '0');             // validityDuration presence bit (golden table, bit 55)
+  EXPECT_EQ(with_default.size(), 68u);  // 538 bits: the golden 555 less 17 of validityDuration
+  auto back = decode_denm(with_default);
+  ASSERT_TRUE(back);
+  EXPECT_EQ(back->denm.management.validityDuration, kDefaultValidity);
+  // An encoder that sends the default explicitly (BASIC-PER allows it) decodes the same.
+  std::string explicit_bits = bits.substr(0, 317);
+  explicit_bits[55] = '1';
+  explicit_bits += bits_of(600, 17) + bits.substr(317, 538 - 317);
+  auto explicit_back = decode_denm(from_bits(explicit_bits));
+  ASSERT_TRUE(explicit_back) << asn1::to_string(explicit_back.error());
+  EXPECT_EQ(*explicit_back, d);
+}
+
+TEST(Denm, EncoderRejectsOutOfRangeAndEmptySequences) {
+  struct Case {
+    const char* field;
+    void (*spoil)(Denm&);
+    Error code;
+  };
+  const Case cases[] = {
+      {"detectionTime", [](Denm& d) { d.denm.management.detectionTime = kTimestampItsMax + 1; },
+       Error::kValueOutOfRange},
+      {"referenceTime", [](Denm& d) { d.denm.management.referenceTime = ~TimestampIts{0}; },
+       Error::kValueOutOfRange},
+      {"validityDuration", [](Denm& d) { d.denm.management.validityDuration = 86401; },
+       Error::kValueOutOfRange},
+      {"transmissionInterval", [](Denm& d) { d.denm.management.transmissionInterval = 0; },
+       Error::kValueOutOfRange},
+      {"transmissionInterval", [](Denm& d) { d.denm.management.transmissionInterval = 10001; },
+       Error::kValueOutOfRange},
+      {"termination", [](Denm& d) { d.denm.management.termination = Termination{2}; },
+       Error::kValueOutOfRange},
+      {"relevanceDistance",
+       [](Denm& d) { d.denm.management.relevanceDistance = RelevanceDistance{8}; },
+       Error::kValueOutOfRange},
+      {"informationQuality", [](Denm& d) { d.denm.situation->informationQuality = 8; },
+       Error::kValueOutOfRange},
+      {"roadType", [](Denm& d) { d.denm.location->roadType = RoadType{4}; },
+       Error::kValueOutOfRange},
+      {"traces", [](Denm& d) { d.denm.location->traces.clear(); }, Error::kSizeOutOfRange},
+      {"eventHistory", [](Denm& d) { d.denm.situation->eventHistory.emplace(); },
+       Error::kSizeOutOfRange},
+      {"externalTemperature", [](Denm& d) { d.denm.alacarte.emplace().externalTemperature = 68; },
+       Error::kValueOutOfRange},
+      {"positioningSolution",
+       [](Denm& d) { d.denm.alacarte.emplace().positioningSolution = PositioningSolutionType{6}; },
+       Error::kValueOutOfRange},
+      {"messageID", [](Denm& d) { d.header.messageID = kMessageIdCam; }, Error::kWrongMessageId},
+  };
+  for (const Case& c : cases) {
+    Denm d = samples::denm_collision_risk();
+    c.spoil(d);
+    auto r = encode(d);
+    ASSERT_FALSE(r) << c.field;
+    EXPECT_EQ(r.error().code, c.code) << c.field;
+    EXPECT_STREQ(r.error().field, c.field);
+  }
+}
+
+TEST(Denm, DecoderRejectsEveryTruncation) {
+  for (const Denm& sample : {samples::denm_collision_risk(), everything_at(true)}) {
+    const Bytes bytes = must_encode(sample);
+    for (std::size_t n = 0; n < bytes.size(); ++n) {
+      auto r = decode_denm(std::span<const std::uint8_t>(bytes).first(n));
+      ASSERT_FALSE(r) << n;
+      EXPECT_EQ(r.error().code, Error::kTruncated) << n << ": " << asn1::to_string(r.error());
+    }
+  }
+}
+
+TEST(Denm, DecoderRejectsCamsOtherVersionsAndBadValues) {
+  auto cam = encode(samples::cam_hf());
+  ASSERT_TRUE(cam);
+  auto r = decode_denm(*cam);
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error().code, Error::kWrongMessageId);
+
+  const Bytes golden = must_encode(samples::denm_collision_risk());
+  auto v3 = decode_denm(with_bits(golden, 0, 8, 3));
+  ASSERT_FALSE(v3);
+  EXPECT_EQ(v3.error().code, Error::kUnsupportedVersion);
+
+  struct Case {
+    std::size_t bit;
+    unsigned width;
+    std::uint64_t raw;
+    const char* field;
+  };
+  const Case cases[] = {
+      {317, 17, 86401, "validityDuration"},
+      {334, 14, 10000, "transmissionInterval"},  // raw 10000 is value 10001
+      {404, 12, 3602, "headingValue"},
+      {416, 7, 127, "headingConfidence"},  // raw 127 is value 128
+      {469, 15, 25501, "deltaAltitude"},
+  };
+  for (const Case& c : cases) {
+    auto bad = decode_denm(with_bits(golden, c.bit, c.width, c.raw));
+    ASSERT_FALSE(bad) << c.field;
+    EXPECT_EQ(bad.error().code, Error::kValueOutOfRange) << c.field;
+    EXPECT_STREQ(bad.error().field, c.field);
+    EXPECT_EQ(bad.error().bit_offset, c.bit);
+  }
+  // traces SIZE(1..7) in 3 bits: 7 is size 8.
+  auto traces = decode_denm(with_bits(golden, 423, 3, 7));
+  ASSERT_FALSE(traces);
+  EXPECT_EQ(traces.error().code, Error::kValueOutOfRange);
+  EXPECT_STREQ(traces.error().field, "traces");
+
+  Bytes longer = golden;
+  longer.push_back(0xFF);
+  auto trailing = decode_denm(longer);
+  ASSERT_FALSE(trailing);
+  EXPECT_EQ(trailing.error().code, Error::kTrailingData);
+}
+
+TEST(Denm, AlacarteMembersNotImplementedAreNamed) {
+  Denm d = samples::denm_collision_risk();
+  d.denm.alacarte.emplace();
+  const std::string bits = to_bits(must_encode(d));
+  // The alacarte container starts right after the location container (bit 555 in the golden
+  // table): extension bit, then the six presence bits.
+  const std::size_t at = 555;
+  ASSERT_EQ(bits.substr(at, 7), "0000000");
+  const std::pair<std::size_t, const char*> members[] = {
+      {2, "impactReduction"}, {4, "roadWorks"}, {6, "stationaryVehicle"}};
+  for (auto [offset, name] : members) {
+    std::string spoilt = bits;
+    spoilt[at + offset] = '1';
+    auto r = decode_denm(from_bits(spoilt));
+    ASSERT_FALSE(r) << name;
+    EXPECT_EQ(r.error().code, Error::kUnsupported);
+    EXPECT_STREQ(r.error().field, name);
+  }
+}
+
+TEST(Denm, DecoderSkipsManagementExtensionAdditions) {
+  std::string bits = to_bits(must_encode(samples::denm_collision_risk())).substr(0, 555);
+  bits[51] = '1';  // management extension bit
+  // After stationType (ends at bit 356): one addition, present, 3 octets.
+  bits.insert(356, "0" + bits_of(0, 6) + "1" + bits_of(3, 8) + bits_of(0x123456, 24));
+  auto r = decode_denm(from_bits(bits));
+  ASSERT_TRUE(r) << asn1::to_string(r.error());
+  EXPECT_EQ(*r, samples::denm_collision_risk());
+}
+
+TEST(Denm, RandomValidMessagesRoundTrip) {
+  std::mt19937 rng(11);
+  auto in = [&](std::int64_t lb, std::int64_t ub) {
+    return std::uniform_int_distribution<std::int64_t>(lb, ub)(rng);
+  };
+  for (int i = 0; i < 500; ++i) {
+    Denm d = samples::denm_collision_risk();
+    ManagementContainer& m = d.denm.management;
+    m.actionID = {static_cast<StationID>(in(0, 4294967295)),
+                  static_cast<SequenceNumber>(in(0, 65535))};
+    m.detectionTime = static_cast<TimestampIts>(in(0, 4398046511103));
+    m.referenceTime = static_cast<TimestampIts>(in(0, 4398046511103));
+    if (in(0, 1))
+      m.termination = static_cast<Termination>(in(0, 1));
+    else
+      m.termination.reset();
+    m.validityDuration = static_cast<ValidityDuration>(in(0, 86400));
+    if (in(0, 1))
+      m.transmissionInterval.reset();
+    if (in(0, 1))
+      d.denm.situation.reset();
+    if (in(0, 1)) {
+      d.denm.location->traces.clear();
+      const auto traces = in(1, 7);
+      for (std::int64_t t = 0; t < traces; ++t) {
+        PathHistory& ph = d.denm.location->traces.emplace_back();
+        const auto points = in(0, 40);
+        for (std::int64_t k = 0; k < points; ++k)
+          ph.push_back(
+              PathPoint{{static_cast<DeltaLatitude>(in(-131071, 131072)),
+                         static_cast<DeltaLongitude>(in(-131071, 131072)),
+                         static_cast<DeltaAltitude>(in(-12700, 12800))},
+                        in(0, 1) ? std::optional<PathDeltaTime>(in(1, 65535)) : std::nullopt});
+      }
+    }
+    expect_round_trip(d);
+    if (::testing::Test::HasFailure())
+      break;
+  }
+}
+
+}  // namespace
+}  // namespace tb::its::messages
