@@ -1,0 +1,176 @@
+#include <map>
+
+#include <gtest/gtest.h>
+
+#include "common/can/checksum.hpp"
+#include "network-emulator/can/can_feeder.hpp"
+
+namespace tb::emu::can {
+namespace {
+
+using tb::can::CanFrame;
+using tb::can::Database;
+
+const Database& db() {
+  static const Database d = [] {
+    auto r = Database::load(TESTBED_VEHICLE_DBC);
+    if (!r)
+      throw std::runtime_error(r.error().message());
+    return *r;
+  }();
+  return d;
+}
+
+CanFeeder feeder(FeederConfig c = {}) {
+  auto f = CanFeeder::create(db(), c);
+  if (!f)
+    throw std::runtime_error(f.error().message());
+  return std::move(*f);
+}
+
+wire::VehicleState state(std::int64_t sim_ms) {
+  wire::VehicleState s;
+  s.sim_time_ns = sim_ms * 1'000'000;
+  s.speed = 50.0f / 3.6f;
+  s.wheel_speeds = {13.0f, 14.0f, 13.5f, 13.6f};
+  s.yaw_rate = 0.1f;  // rad/s, to the left
+  s.acceleration = {1.5f, -0.8f, 0.0f};
+  s.steering_angle = 0.05f;  // rad at the road wheels
+  s.controls.throttle = 0.42f;
+  s.controls.brake = 0.0f;
+  s.gear = 3;
+  s.engine_rpm = 2500.0f;
+  s.lights = wire::kLowBeam | wire::kIndicatorLeft;
+  return s;
+}
+
+double value(const CanFrame& f, const char* message, const char* signal) {
+  const auto* m = db().find_message(message);
+  return m->find_signal(signal)->decode(f.payload());
+}
+
+TEST(CanFeeder, EverySignalOfTheVehicleDatabaseHasASource) {
+  auto f = CanFeeder::create(db(), {});
+  ASSERT_TRUE(f.has_value()) << f.error().message();
+}
+
+TEST(CanFeeder, SendsEachMessageAtItsRate) {
+  CanFeeder f = feeder();
+  std::map<std::uint32_t, int> count;
+  for (std::int64_t ms = 0; ms < 1000; ms += 10)
+    for (const CanFrame& fr : f.on_state(state(ms)))
+      ++count[fr.id()];
+  EXPECT_EQ(count[256], 100);  // VehicleSpeed, 10 ms
+  EXPECT_EQ(count[288], 100);  // Dynamics
+  EXPECT_EQ(count[512], 10);   // Lights, 100 ms
+  EXPECT_EQ(count.size(), 6u);
+
+  // The scenario's rates replace the DBC's cycle times per group.
+  CanFeeder slow = feeder({.dynamics_hz = 50.0, .body_hz = 5.0, .steering_ratio = 14.8});
+  EXPECT_EQ(slow.period_ns("Dynamics"), 20'000'000);
+  EXPECT_EQ(slow.period_ns("Lights"), 200'000'000);
+  count.clear();
+  for (std::int64_t ms = 0; ms < 1000; ms += 10)
+    for (const CanFrame& fr : slow.on_state(state(ms)))
+      ++count[fr.id()];
+  EXPECT_EQ(count[288], 50);
+  EXPECT_EQ(count[512], 5);
+}
+
+TEST(CanFeeder, FramesCarryTheStatesValues) {
+  CanFeeder f = feeder();
+  std::map<std::string, CanFrame> by_name;
+  for (const CanFrame& fr : f.on_state(state(0)))
+    by_name[db().find_message(fr.id())->name] = fr;
+  ASSERT_EQ(by_name.size(), 6u);
+  EXPECT_NEAR(value(by_name["VehicleSpeed"], "VehicleSpeed", "VehicleSpeed"), 50.0, 0.005);
+  EXPECT_EQ(value(by_name["VehicleSpeed"], "VehicleSpeed", "DrivingDirection"), 1.0);
+  EXPECT_NEAR(value(by_name["WheelSpeeds"], "WheelSpeeds", "WheelSpeedFR"), 14.0 * 3.6, 0.05);
+  EXPECT_NEAR(value(by_name["Dynamics"], "Dynamics", "YawRate"), 5.73, 0.005);  // 0.1 rad/s
+  EXPECT_NEAR(value(by_name["Dynamics"], "Dynamics", "LateralAcceleration"), -0.8, 0.0005);
+  EXPECT_NEAR(value(by_name["Steering"], "Steering", "SteeringWheelAngle"), 42.4,
+              0.05);  // 0.05·14.8 rad
+  EXPECT_NEAR(value(by_name["Powertrain"], "Powertrain", "ThrottlePedal"), 42.0, 0.2);
+  EXPECT_EQ(value(by_name["Powertrain"], "Powertrain", "Gear"), 3.0);
+  EXPECT_EQ(value(by_name["Powertrain"], "Powertrain", "EngineSpeed"), 2500.0);
+  EXPECT_EQ(value(by_name["Lights"], "Lights", "IndicatorLeft"), 1.0);
+  EXPECT_EQ(value(by_name["Lights"], "Lights", "IndicatorRight"), 0.0);
+  EXPECT_EQ(value(by_name["Lights"], "Lights", "LowBeam"), 1.0);
+  EXPECT_EQ(value(by_name["Lights"], "Lights", "BrakeLights"), 0.0);
+  EXPECT_EQ(by_name["Steering"].len, 4);
+  EXPECT_EQ(by_name["Lights"].len, 3);
+}
+
+TEST(CanFeeder, VehicleSpeedFrameMatchesHandComputedBytes) {
+  // 50 km/h forward, first frame (alive counter 0): see common/can/tests/vehicle_dbc_test.cpp
+  // for the working: 88 13 01 00 00 00 00, CRC-8 SAE J1850 = 0xCD.
+  CanFeeder f = feeder();
+  const auto frames = f.on_state(state(0));
+  ASSERT_EQ(frames[0].id(), 256u);
+  EXPECT_EQ(std::vector<std::uint8_t>(frames[0].payload().begin(), frames[0].payload().end()),
+            (std::vector<std::uint8_t>{0x88, 0x13, 0x01, 0x00, 0x00, 0x00, 0x00, 0xCD}));
+}
+
+TEST(CanFeeder, AliveCounterWrapsAndChecksumsVerify) {
+  CanFeeder f = feeder();
+  std::vector<int> counters;
+  for (std::int64_t ms = 0; ms < 200; ms += 10) {
+    for (const CanFrame& fr : f.on_state(state(ms))) {
+      const auto bytes = fr.payload();
+      EXPECT_EQ(bytes.back(), tb::can::crc8_sae_j1850(bytes.first(bytes.size() - 1))) << fr.id();
+      if (fr.id() == 288)
+        counters.push_back(static_cast<int>(value(fr, "Dynamics", "AliveCounter")));
+    }
+  }
+  ASSERT_EQ(counters.size(), 20u);
+  for (std::size_t i = 0; i < counters.size(); ++i)
+    EXPECT_EQ(counters[i], static_cast<int>(i % 16));
+}
+
+TEST(CanFeeder, ReverseAndHazards) {
+  CanFeeder f = feeder();
+  auto s = state(0);
+  s.speed = -2.0f;
+  s.gear = -1;
+  s.lights = wire::kHazard | wire::kReverseLight | wire::kBrakeLights;
+  for (const CanFrame& fr : f.on_state(s)) {
+    if (fr.id() == 256) {
+      EXPECT_NEAR(value(fr, "VehicleSpeed", "VehicleSpeed"), 7.2, 0.005);
+      EXPECT_EQ(value(fr, "VehicleSpeed", "DrivingDirection"), 2.0);
+    } else if (fr.id() == 320) {
+      EXPECT_EQ(value(fr, "Powertrain", "Gear"), -1.0);
+    } else if (fr.id() == 512) {
+      EXPECT_EQ(value(fr, "Lights", "IndicatorLeft"), 1.0);
+      EXPECT_EQ(value(fr, "Lights", "IndicatorRight"), 1.0);
+      EXPECT_EQ(value(fr, "Lights", "HazardLights"), 1.0);
+      EXPECT_EQ(value(fr, "Lights", "ReverseLight"), 1.0);
+      EXPECT_EQ(value(fr, "Lights", "BrakeLights"), 1.0);
+    }
+  }
+}
+
+TEST(CanFeeder, RejectsDatabasesItCannotFill) {
+  auto unknown = Database::parse(
+      "BO_ 1 M: 8 X\n SG_ Mystery : 0|8@1+ (1,0) [0|0] \"\" X\nBA_ \"GenMsgCycleTime\" BO_ 1 10;\n",
+      "u.dbc");
+  ASSERT_TRUE(unknown.has_value());
+  auto f = CanFeeder::create(*unknown, {});
+  ASSERT_FALSE(f.has_value());
+  EXPECT_EQ(f.error().code, FeederErrc::kUnknownSignal);
+  EXPECT_NE(f.error().message().find("Mystery"), std::string::npos);
+
+  auto no_cycle = Database::parse("BO_ 1 M: 8 X\n SG_ Gear : 0|8@1- (1,0) [0|0] \"\" X\n", "n.dbc");
+  ASSERT_TRUE(no_cycle.has_value());
+  EXPECT_EQ(CanFeeder::create(*no_cycle, {}).error().code, FeederErrc::kNoCycleTime);
+
+  auto bad_crc = Database::parse(
+      "BO_ 1 M: 8 X\n SG_ Checksum : 4|8@1+ (1,0) [0|0] \"\" X\nBA_ \"GenMsgCycleTime\" BO_ 1 "
+      "10;\n",
+      "c.dbc");
+  ASSERT_TRUE(bad_crc.has_value());
+  EXPECT_EQ(CanFeeder::create(*bad_crc, {}).error().code, FeederErrc::kBadChecksumSignal);
+  EXPECT_EQ(CanFeeder::create(db(), {.dynamics_hz = 0}).error().code, FeederErrc::kBadRate);
+}
+
+}  // namespace
+}  // namespace tb::emu::can
