@@ -1,0 +1,189 @@
+#include "its-station/apps/mqtt/messages.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tb::its::apps::mqtt {
+namespace {
+
+using nlohmann::json;
+
+/// Unix time of 2004-01-01T00:00:00Z in ms; the same definition as
+/// its-station/facilities/its_time.hpp so that MQTT subscribers and the air agree.
+constexpr std::int64_t kItsEpochUnixMs = 1'072'915'200'000;
+
+std::int64_t scaled(double v, double unit, std::int64_t lo, std::int64_t hi) {
+  return std::clamp<std::int64_t>(std::llround(v / unit), lo, hi);
+}
+
+// CDD (TS 102 894-2) value encodings. Out-of-range values saturate at the largest valid code
+// rather than falling onto the "unavailable" code.
+std::int64_t latitude(double deg) {
+  return scaled(deg, 1e-7, -900000000, 900000000);
+}
+std::int64_t longitude(double deg) {
+  return scaled(deg, 1e-7, -1800000000, 1800000000);
+}
+std::int64_t altitude(double m) {
+  return scaled(m, 0.01, -100000, 800000);
+}
+std::int64_t heading(double deg) {
+  const double wrapped = geodesy::wrap_360(deg);
+  return std::llround(wrapped * 10.0) % 3600;  // 359.96° rounds to 3600, which is 0°
+}
+std::int64_t speed(double mps) {
+  return scaled(mps, 0.01, 0, 16382);
+}
+std::int64_t longitudinal_acceleration(double mps2) {
+  return scaled(mps2, 0.1, -160, 160);
+}
+std::int64_t vehicle_length(double m) {
+  return scaled(m, 0.1, 1, 1022);
+}
+std::int64_t vehicle_width(double m) {
+  return scaled(m, 0.1, 1, 61);
+}
+
+json reference_position(const Kinematics& k) {
+  json p{{"latitude", latitude(k.latitude_deg)}, {"longitude", longitude(k.longitude_deg)}};
+  if (k.altitude_m) {
+    p["altitude"] = altitude(*k.altitude_m);
+  }
+  return p;
+}
+
+json high_frequency(const Kinematics& k) {
+  json h = json::object();
+  if (k.heading_deg) {
+    h["heading"] = heading(*k.heading_deg);
+  }
+  if (k.speed_mps) {
+    h["speed"] = speed(*k.speed_mps);
+  }
+  h["drive_direction"] = k.reversing ? 1 : 0;  // CDD DriveDirection: forward(0), backward(1)
+  if (k.longitudinal_accel_mps2) {
+    h["longitudinal_acceleration"] = longitudinal_acceleration(*k.longitudinal_accel_mps2);
+  }
+  if (k.length_m) {
+    h["vehicle_length"] = vehicle_length(*k.length_m);
+  }
+  if (k.width_m) {
+    h["vehicle_width"] = vehicle_width(*k.width_m);
+  }
+  return h;
+}
+
+json finite_or_null(double v) {
+  return std::isfinite(v) ? json(v) : json(nullptr);
+}
+
+}  // namespace
+
+Topics::Topics(std::string prefix, std::uint32_t station_id)
+    : root_(std::move(prefix) + "/" + std::to_string(station_id)) {}
+
+std::string Topics::cam_in(std::uint32_t source) const {
+  return root_ + "/in/cam/" + std::to_string(source);
+}
+std::string Topics::denm_in(std::uint32_t originating) const {
+  return root_ + "/in/denm/" + std::to_string(originating);
+}
+
+std::string_view to_string(GnssFix f) {
+  switch (f) {
+    case GnssFix::kNoFix:
+      return "none";
+    case GnssFix::k2D:
+      return "2d";
+    case GnssFix::k3D:
+      return "3d";
+  }
+  return "unknown";
+}
+
+std::int64_t unix_ms(clock::WallTime t) {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(t.time_since_epoch()).count();
+}
+
+std::int64_t timestamp_its(clock::WallTime t) {
+  return unix_ms(t) - kItsEpochUnixMs;
+}
+
+json envelope(std::string_view type, std::string_view origin, std::uint32_t source,
+              clock::WallTime now, json message) {
+  return json{{"type", type},
+              {"origin", origin},
+              {"version", kEnvelopeVersion},
+              {"source_uuid", "station-" + std::to_string(source)},
+              {"timestamp", unix_ms(now)},
+              {"message", std::move(message)}};
+}
+
+json state_message(const StationState& s) {
+  json gnss{{"fix", to_string(s.fix)}};
+  if (s.satellites_used) {
+    gnss["satellites_used"] = *s.satellites_used;
+  }
+  if (s.hdop) {
+    gnss["hdop"] = *s.hdop;
+  }
+  return json{{"station_id", s.station_id},
+              {"timestamp_its", timestamp_its(s.time)},
+              {"basic_container",
+               {{"station_type", s.station_type},
+                {"reference_position", reference_position(s.kinematics)}}},
+              {"high_frequency_container", high_frequency(s.kinematics)},
+              {"gnss", std::move(gnss)}};
+}
+
+json cam_message(const ReceivedCam& c) {
+  return json{{"protocol_version", 2},
+              {"station_id", c.station_id},
+              {"generation_delta_time", c.generation_delta_time},
+              {"basic_container",
+               {{"station_type", c.station_type},
+                {"reference_position", reference_position(c.kinematics)}}},
+              {"high_frequency_container", high_frequency(c.kinematics)},
+              {"received_at", unix_ms(c.received_at)}};
+}
+
+json denm_message(const DenmView& d) {
+  json mc{{"action_id",
+           {{"originating_station_id", d.action_id.originating_station_id},
+            {"sequence_number", d.action_id.sequence_number}}},
+          {"detection_time", timestamp_its(d.detection_time)},
+          {"reference_time", timestamp_its(d.reference_time)},
+          {"event_position",
+           {{"latitude", latitude(d.event_latitude_deg)},
+            {"longitude", longitude(d.event_longitude_deg)}}},
+          {"relevance_distance", static_cast<int>(d.relevance_distance)},
+          {"relevance_traffic_direction", static_cast<int>(d.relevance_traffic_direction)},
+          {"validity_duration", d.validity_duration_s}};
+  if (d.termination) {
+    mc["termination"] = *d.termination;
+  }
+  return json{{"protocol_version", 2},
+              {"station_id", d.action_id.originating_station_id},
+              {"management_container", std::move(mc)},
+              {"situation_container",
+               {{"event_type", {{"cause", d.cause_code}, {"subcause", d.sub_cause_code}}}}}};
+}
+
+json lcrw_message(const LcrwWarning& w) {
+  return json{{"station_id", w.station_id},
+              {"other_station_id", w.other_station_id},
+              {"event", to_string(w.event)},
+              {"collision_case", to_string(w.collision_case)},
+              {"severity", to_string(w.severity)},
+              {"clear_reason", to_string(w.clear_reason)},
+              {"ttc_s", finite_or_null(w.ttc_s)},
+              {"distance_m", finite_or_null(w.distance_m)},
+              {"relative_speed_mps", finite_or_null(w.relative_speed_mps)},
+              {"lateral_offset_m", finite_or_null(w.lateral_offset_m)},
+              {"raised_at", unix_ms(w.raised_at)},
+              {"updated_at", unix_ms(w.updated_at)},
+              {"own_state_time", unix_ms(w.own_state_time)},
+              {"other_state_time", unix_ms(w.other_state_time)}};
+}
+
+}  // namespace tb::its::apps::mqtt

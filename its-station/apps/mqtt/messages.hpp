@@ -1,0 +1,105 @@
+#pragma once
+/// @file What a station publishes over MQTT: the topic tree and the JSON payloads.
+///
+/// Every payload is an envelope as open ITS MQTT clients use it (type, origin, version,
+/// source_uuid, timestamp in ms since the Unix epoch, message); ETSI messages carry CDD field
+/// names in CDD integer units (TS 102 894-2), the LCRW warning SI values with unit suffixes.
+/// The tree is documented in its-station/README.md, "Applications and MQTT".
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "common/clock/clock.hpp"
+#include "its-station/apps/den/den_port.hpp"
+#include "its-station/apps/lcrw/lcrw.hpp"
+
+namespace tb::its::apps::mqtt {
+
+inline constexpr const char* kEnvelopeVersion = "1.0.0";
+
+/// Topics under <prefix>/<station id>/; a station publishes nothing outside its own prefix
+/// (the broker's ACL enforces it).
+class Topics {
+ public:
+  Topics(std::string prefix, std::uint32_t station_id);
+  const std::string& root() const { return root_; }
+  std::string status() const { return root_ + "/status"; }
+  std::string state() const { return root_ + "/state"; }
+  std::string cam_in(std::uint32_t source) const;
+  std::string denm_in(std::uint32_t originating) const;
+  std::string denm_out() const { return root_ + "/out/denm"; }
+  std::string lcrw() const { return root_ + "/app/lcrw"; }
+
+ private:
+  std::string root_;
+};
+
+/// CDD GNSS fix quality as the station's positioning reports it (gpsd's mode).
+enum class GnssFix { kNoFix, k2D, k3D };
+std::string_view to_string(GnssFix f);
+
+/// Position and motion in SI units; optional fields are omitted from the JSON when empty.
+struct Kinematics {
+  double latitude_deg = 0.0;
+  double longitude_deg = 0.0;
+  std::optional<double> altitude_m;
+  std::optional<double> heading_deg;  ///< ETSI, clockwise from north
+  std::optional<double> speed_mps;
+  bool reversing = false;
+  std::optional<double> longitudinal_accel_mps2;
+  std::optional<double> length_m;
+  std::optional<double> width_m;
+};
+
+struct StationState {
+  std::uint32_t station_id = 0;
+  int station_type = 5;  ///< CDD StationType, 5 = passengerCar
+  Kinematics kinematics;
+  GnssFix fix = GnssFix::kNoFix;
+  std::optional<int> satellites_used;
+  std::optional<double> hdop;
+  clock::WallTime time{};  ///< the fix / vehicle data time
+};
+
+struct ReceivedCam {
+  std::uint32_t station_id = 0;
+  int station_type = 5;
+  std::uint16_t generation_delta_time = 0;  ///< CDD GenerationDeltaTime
+  Kinematics kinematics;
+  clock::WallTime received_at{};
+};
+
+/// A DENM as the DEN service sent or received it.
+struct DenmView {
+  ActionId action_id;
+  std::uint8_t cause_code = 0;
+  std::uint8_t sub_cause_code = 0;
+  double event_latitude_deg = 0.0;
+  double event_longitude_deg = 0.0;
+  clock::WallTime detection_time{};
+  clock::WallTime reference_time{};
+  std::optional<int> termination;  ///< CDD Termination: 0 isCancellation, 1 isNegation
+  RelevanceDistance relevance_distance = RelevanceDistance::kLessThan100m;
+  RelevanceTrafficDirection relevance_traffic_direction =
+      RelevanceTrafficDirection::kAllTrafficDirections;
+  std::uint32_t validity_duration_s = 600;
+};
+
+/// ms since the Unix epoch (the envelope's timestamp).
+std::int64_t unix_ms(clock::WallTime t);
+/// CDD TimestampIts: ms since 2004-01-01T00:00:00Z (UTC, leap seconds since then ignored as
+/// the ITS stacks of the field do).
+std::int64_t timestamp_its(clock::WallTime t);
+
+nlohmann::json envelope(std::string_view type, std::string_view origin, std::uint32_t source,
+                        clock::WallTime now, nlohmann::json message);
+
+nlohmann::json state_message(const StationState& s);
+nlohmann::json cam_message(const ReceivedCam& c);
+nlohmann::json denm_message(const DenmView& d);
+nlohmann::json lcrw_message(const LcrwWarning& w);
+
+}  // namespace tb::its::apps::mqtt

@@ -1,0 +1,244 @@
+#include "its-station/apps/mqtt/mosquitto_client.hpp"
+
+#include <mosquitto.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <mutex>
+#include <nlohmann/json.hpp>
+
+#include "its-station/apps/mqtt/messages.hpp"
+
+namespace tb::its::apps::mqtt {
+namespace {
+
+void init_library_once() {
+  static std::once_flag once;
+  std::call_once(once, [] { mosquitto_lib_init(); });
+}
+
+}  // namespace
+
+MosquittoClient::MosquittoClient(const clock::Clock& clock, ClientConfig cfg)
+    : clock_(clock), cfg_(std::move(cfg)), outbox_(cfg_.queue_capacity) {
+  init_library_once();
+  mosq_ = mosquitto_new(cfg_.client_id.empty() ? nullptr : cfg_.client_id.c_str(), true, this);
+  if (mosq_ == nullptr) {
+    throw MqttError("mqtt: cannot create a libmosquitto client (client id '" + cfg_.client_id +
+                    "')");
+  }
+  mosquitto_connect_callback_set(mosq_, &MosquittoClient::on_connect);
+  mosquitto_disconnect_callback_set(mosq_, &MosquittoClient::on_disconnect);
+  mosquitto_publish_callback_set(mosq_, &MosquittoClient::on_publish);
+  mosquitto_threaded_set(mosq_, true);  // publish() comes from other threads
+  mosquitto_reconnect_delay_set(mosq_, cfg_.reconnect_min_s, cfg_.reconnect_max_s, true);
+  if (!cfg_.username.empty()) {
+    if (const int rc =
+            mosquitto_username_pw_set(mosq_, cfg_.username.c_str(), cfg_.password.c_str());
+        rc != MOSQ_ERR_SUCCESS) {
+      mosquitto_destroy(mosq_);
+      throw MqttError(std::string("mqtt: bad credentials for user '") + cfg_.username +
+                      "': " + mosquitto_strerror(rc));
+    }
+  }
+  if (!cfg_.status_topic.empty()) {
+    const std::string will = status_payload_locked(false);
+    if (const int rc = mosquitto_will_set(mosq_, cfg_.status_topic.c_str(),
+                                          static_cast<int>(will.size()), will.data(), 1, true);
+        rc != MOSQ_ERR_SUCCESS) {
+      mosquitto_destroy(mosq_);
+      throw MqttError("mqtt: bad status topic '" + cfg_.status_topic +
+                      "': " + mosquitto_strerror(rc));
+    }
+  }
+}
+
+MosquittoClient::~MosquittoClient() {
+  stop();
+  mosquitto_destroy(mosq_);
+}
+
+void MosquittoClient::start() {
+  std::lock_guard lock(mutex_);
+  if (started_) {
+    return;
+  }
+  started_ = true;
+  stopping_ = false;
+  thread_ = std::thread([this] { run(); });
+}
+
+void MosquittoClient::run() {
+  unsigned delay_s = std::max(1u, cfg_.reconnect_min_s);
+  bool reported = false;
+  while (true) {
+    const int rc = mosquitto_connect(mosq_, cfg_.host.c_str(), cfg_.port, cfg_.keepalive_s);
+    if (rc == MOSQ_ERR_SUCCESS) {
+      {
+        std::lock_guard lock(mutex_);
+        if (stopping_) {
+          break;
+        }
+      }
+      delay_s = std::max(1u, cfg_.reconnect_min_s);
+      reported = false;
+      // Returns after mosquitto_disconnect() or an error that reconnecting cannot cure.
+      const int loop_rc = mosquitto_loop_forever(mosq_, 1000, 1);
+      std::lock_guard lock(mutex_);
+      connected_ = false;
+      if (stopping_) {
+        break;
+      }
+      spdlog::warn("mqtt: network loop ended ({}); starting over", mosquitto_strerror(loop_rc));
+    } else if (!reported) {
+      reported = true;
+      spdlog::warn("mqtt: broker {}:{} not reachable ({}); retrying with backoff up to {} s",
+                   cfg_.host, cfg_.port,
+                   rc == MOSQ_ERR_ERRNO ? std::strerror(errno) : mosquitto_strerror(rc),
+                   cfg_.reconnect_max_s);
+    }
+    std::unique_lock lock(mutex_);
+    if (wake_.wait_for(lock, std::chrono::seconds{delay_s}, [&] { return stopping_; })) {
+      break;
+    }
+    delay_s = std::min(delay_s * 2, std::max(delay_s, cfg_.reconnect_max_s));
+  }
+}
+
+void MosquittoClient::stop(std::chrono::milliseconds grace) {
+  std::unique_lock lock(mutex_);
+  if (!started_) {
+    return;
+  }
+  started_ = false;
+  if (connected_ && !cfg_.status_topic.empty()) {
+    const std::string s = status_payload_locked(false);
+    int mid = 0;
+    if (mosquitto_publish(mosq_, &mid, cfg_.status_topic.c_str(), static_cast<int>(s.size()),
+                          s.data(), 1, true) == MOSQ_ERR_SUCCESS) {
+      status_mid_ = mid;
+      acked_.wait_for(lock, grace, [&] { return status_mid_ == -1 || !connected_; });
+    }
+  }
+  stopping_ = true;
+  wake_.notify_all();
+  lock.unlock();
+  mosquitto_disconnect(mosq_);
+  if (thread_.joinable()) {
+    thread_.join();
+  }
+  lock.lock();
+  connected_ = false;
+}
+
+void MosquittoClient::publish(std::string_view topic, std::string payload, Qos qos, bool retain) {
+  std::lock_guard lock(mutex_);
+  if (qos == Qos::kAtMostOnce) {
+    if (connected_) {
+      mosquitto_publish(mosq_, nullptr, std::string(topic).c_str(),
+                        static_cast<int>(payload.size()), payload.data(), 0, retain);
+    }
+    return;
+  }
+  if (outbox_.push(OutMessage{std::string(topic), std::move(payload), qos, retain})) {
+    spdlog::warn("mqtt: queue full ({} messages), dropped the oldest; {} dropped so far",
+                 outbox_.capacity(), outbox_.dropped());
+  }
+  flush_locked();
+}
+
+void MosquittoClient::flush_locked() {
+  while (connected_ && inflight_.size() < cfg_.max_inflight && !outbox_.empty()) {
+    OutMessage m = *outbox_.pop();
+    int mid = 0;
+    const int rc =
+        mosquitto_publish(mosq_, &mid, m.topic.c_str(), static_cast<int>(m.payload.size()),
+                          m.payload.data(), static_cast<int>(m.qos), m.retain);
+    if (rc == MOSQ_ERR_SUCCESS) {
+      inflight_.insert(mid);
+    } else if (rc == MOSQ_ERR_NO_CONN) {
+      outbox_.push_front(std::move(m));
+      connected_ = false;
+    } else {
+      // Not retryable (bad topic, payload too large): retrying would block the queue.
+      spdlog::error("mqtt: cannot publish to '{}': {}; message discarded", m.topic,
+                    mosquitto_strerror(rc));
+    }
+  }
+}
+
+std::string MosquittoClient::status_payload_locked(bool online) const {
+  return nlohmann::json{{"online", online},
+                        {"dropped", outbox_.dropped()},
+                        {"pending", outbox_.size() + inflight_.size()},
+                        {"timestamp", unix_ms(clock_.wall_now())}}
+      .dump();
+}
+
+void MosquittoClient::on_connect(struct mosquitto* mosq, void* self_ptr, int rc) {
+  auto* self = static_cast<MosquittoClient*>(self_ptr);
+  std::lock_guard lock(self->mutex_);
+  self->last_connack_ = rc;
+  if (rc != 0) {
+    spdlog::error("mqtt: broker {}:{} refused the connection: {}", self->cfg_.host, self->cfg_.port,
+                  mosquitto_connack_string(rc));
+    return;
+  }
+  ++self->connections_;
+  self->connected_ = true;
+  spdlog::info("mqtt: connected to {}:{} as '{}'", self->cfg_.host, self->cfg_.port,
+               self->cfg_.username);
+  if (!self->cfg_.status_topic.empty()) {
+    const std::string s = self->status_payload_locked(true);
+    mosquitto_publish(mosq, nullptr, self->cfg_.status_topic.c_str(), static_cast<int>(s.size()),
+                      s.data(), 1, true);
+  }
+  self->flush_locked();
+}
+
+void MosquittoClient::on_disconnect(struct mosquitto*, void* self_ptr, int rc) {
+  auto* self = static_cast<MosquittoClient*>(self_ptr);
+  std::lock_guard lock(self->mutex_);
+  if (self->connected_ && rc != 0) {
+    spdlog::warn("mqtt: lost the broker {}:{}; reconnecting with backoff", self->cfg_.host,
+                 self->cfg_.port);
+  }
+  self->connected_ = false;
+  self->acked_.notify_all();
+}
+
+void MosquittoClient::on_publish(struct mosquitto*, void* self_ptr, int mid) {
+  auto* self = static_cast<MosquittoClient*>(self_ptr);
+  std::lock_guard lock(self->mutex_);
+  self->inflight_.erase(mid);
+  if (mid == self->status_mid_) {
+    self->status_mid_ = -1;
+    self->acked_.notify_all();
+  }
+  self->flush_locked();
+}
+
+bool MosquittoClient::connected() const {
+  std::lock_guard lock(mutex_);
+  return connected_;
+}
+std::uint64_t MosquittoClient::dropped() const {
+  std::lock_guard lock(mutex_);
+  return outbox_.dropped();
+}
+std::size_t MosquittoClient::pending() const {
+  std::lock_guard lock(mutex_);
+  return outbox_.size() + inflight_.size();
+}
+std::uint64_t MosquittoClient::connections() const {
+  std::lock_guard lock(mutex_);
+  return connections_;
+}
+int MosquittoClient::last_connack() const {
+  std::lock_guard lock(mutex_);
+  return last_connack_;
+}
+
+}  // namespace tb::its::apps::mqtt

@@ -1,0 +1,104 @@
+#pragma once
+/// @file An MQTT connection over libmosquitto, for the station's publishers.
+///
+/// Threading: the network loop runs in a thread of this class that drives libmosquitto
+/// (mosquitto_loop_forever), not in the station's Asio loop. It makes the first connection
+/// itself, retrying with exponential backoff (libmosquitto's own thread, mosquitto_loop_start,
+/// never retries a first connection that failed), and leaves later reconnections to
+/// mosquitto_loop_forever with the same backoff. Callbacks run in that thread and share one
+/// mutex with publish(), which any thread may call; nothing here blocks the caller.
+///
+/// Delivery: QoS 1 messages (warnings, DENMs) go into a bounded Outbox and are handed to
+/// libmosquitto only while connected, at most max_inflight unacknowledged at a time; handed
+/// messages are libmosquitto's to retransmit after a reconnect. QoS 0 messages (state, CAMs)
+/// are sent only while connected and otherwise discarded: a stale position is worth nothing.
+
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+#include "common/clock/clock.hpp"
+#include "its-station/apps/mqtt/outbox.hpp"
+#include "its-station/apps/mqtt/sink.hpp"
+
+struct mosquitto;
+
+namespace tb::its::apps::mqtt {
+
+struct ClientConfig {
+  std::string host = "127.0.0.1";
+  int port = 1883;
+  std::string client_id;  ///< empty: the broker assigns one
+  std::string username;
+  std::string password;
+  int keepalive_s = 10;
+  unsigned reconnect_min_s = 1;  ///< first retry delay; doubles up to reconnect_max_s
+  unsigned reconnect_max_s = 30;
+  std::size_t queue_capacity = 1000;
+  std::size_t max_inflight = 20;
+  /// Retained {"online":…} status with a last will; empty: none.
+  std::string status_topic;
+};
+
+class MqttError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class MosquittoClient final : public MqttSink {
+ public:
+  /// @throws MqttError when libmosquitto cannot make a client from @p cfg.
+  MosquittoClient(const clock::Clock& clock, ClientConfig cfg);
+  ~MosquittoClient() override;
+  MosquittoClient(const MosquittoClient&) = delete;
+  MosquittoClient& operator=(const MosquittoClient&) = delete;
+
+  /// Starts the network thread and the first connection attempt; a broker that is down is
+  /// retried in the background. @throws MqttError if the thread cannot start.
+  void start();
+  /// Publishes the offline status (waiting up to @p grace for its acknowledgement),
+  /// disconnects and joins the network thread. Idempotent.
+  void stop(std::chrono::milliseconds grace = std::chrono::milliseconds{1000});
+
+  void publish(std::string_view topic, std::string payload, Qos qos, bool retain) override;
+
+  bool connected() const;
+  /// QoS 1 messages dropped because the queue overflowed while the broker was away.
+  std::uint64_t dropped() const;
+  /// QoS 1 messages not yet acknowledged by the broker (waiting plus in flight).
+  std::size_t pending() const;
+  /// Successful CONNACKs so far.
+  std::uint64_t connections() const;
+  /// The last CONNACK's return code (0 accepted, 5 not authorised, …); -1 before any.
+  int last_connack() const;
+
+ private:
+  static void on_connect(struct mosquitto*, void* self, int rc);
+  static void on_disconnect(struct mosquitto*, void* self, int rc);
+  static void on_publish(struct mosquitto*, void* self, int mid);
+  void run();
+  void flush_locked();
+  std::string status_payload_locked(bool online) const;
+
+  const clock::Clock& clock_;
+  ClientConfig cfg_;
+  struct mosquitto* mosq_ = nullptr;
+  mutable std::mutex mutex_;
+  std::condition_variable acked_;
+  Outbox outbox_;
+  std::set<int> inflight_;
+  int status_mid_ = -1;
+  bool connected_ = false;
+  bool started_ = false;
+  bool stopping_ = false;
+  std::condition_variable wake_;
+  std::thread thread_;
+  std::uint64_t connections_ = 0;
+  int last_connack_ = -1;
+};
+
+}  // namespace tb::its::apps::mqtt

@@ -1,0 +1,56 @@
+#include "its-station/apps/mqtt/publisher.hpp"
+
+namespace tb::its::apps::mqtt {
+namespace {
+// Envelope origins: what this station produced itself, and what it heard over the air.
+constexpr std::string_view kOriginSelf = "self";
+constexpr std::string_view kOriginRemote = "remote";
+constexpr std::string_view kOriginApplication = "on_board_application";
+// Sources silent this long are forgotten, so that the rate limiter's table stays small.
+constexpr auto kForgetSourceAfter = std::chrono::seconds{10};
+}  // namespace
+
+StationPublisher::StationPublisher(const clock::Clock& clock, MqttSink& sink, PublisherConfig cfg)
+    : clock_(clock), sink_(sink), cfg_(std::move(cfg)), topics_(cfg_.prefix, cfg_.station_id) {}
+
+void StationPublisher::send(const std::string& topic, std::string_view type,
+                            std::string_view origin, nlohmann::json message, Qos qos, bool retain) {
+  sink_.publish(
+      topic, envelope(type, origin, cfg_.station_id, clock_.wall_now(), std::move(message)).dump(),
+      qos, retain);
+}
+
+void StationPublisher::publish_state(const StationState& s) {
+  send(topics_.state(), "state", kOriginSelf, state_message(s), Qos::kAtMostOnce, true);
+}
+
+bool StationPublisher::publish_cam(const ReceivedCam& c) {
+  const clock::SteadyTime now = clock_.steady_now();
+  const auto it = last_cam_.find(c.station_id);
+  if (it != last_cam_.end() && now - it->second < cfg_.cam_min_interval) {
+    ++cams_suppressed_;
+    return false;
+  }
+  last_cam_[c.station_id] = now;
+  if (last_cam_.size() > 256) {
+    std::erase_if(last_cam_, [&](const auto& kv) { return now - kv.second > kForgetSourceAfter; });
+  }
+  send(topics_.cam_in(c.station_id), "cam", kOriginRemote, cam_message(c), Qos::kAtMostOnce, false);
+  return true;
+}
+
+void StationPublisher::publish_denm_received(const DenmView& d) {
+  send(topics_.denm_in(d.action_id.originating_station_id), "denm", kOriginRemote, denm_message(d),
+       Qos::kAtLeastOnce, false);
+}
+
+void StationPublisher::publish_denm_sent(const DenmView& d) {
+  send(topics_.denm_out(), "denm", kOriginSelf, denm_message(d), Qos::kAtLeastOnce, false);
+}
+
+void StationPublisher::publish_warning(const LcrwWarning& w) {
+  send(topics_.lcrw(), "lcrw_warning", kOriginApplication, lcrw_message(w), Qos::kAtLeastOnce,
+       false);
+}
+
+}  // namespace tb::its::apps::mqtt

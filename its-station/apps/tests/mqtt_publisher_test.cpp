@@ -1,0 +1,111 @@
+#include "its-station/apps/mqtt/publisher.hpp"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+namespace tb::its::apps::mqtt {
+namespace {
+
+using namespace std::chrono_literals;
+using nlohmann::json;
+
+struct Sent {
+  std::string topic;
+  json payload;
+  Qos qos;
+  bool retain;
+};
+
+class RecordingSink : public MqttSink {
+ public:
+  void publish(std::string_view topic, std::string payload, Qos qos, bool retain) override {
+    sent.push_back(Sent{std::string(topic), json::parse(payload), qos, retain});
+  }
+  std::vector<Sent> sent;
+};
+
+class PublisherTest : public ::testing::Test {
+ protected:
+  clock::ManualClock clk;
+  RecordingSink sink;
+  StationPublisher pub{clk, sink, PublisherConfig{"its", 1001, 200ms}};
+
+  ReceivedCam cam(std::uint32_t from) {
+    ReceivedCam c;
+    c.station_id = from;
+    c.received_at = clk.wall_now();
+    return c;
+  }
+};
+
+TEST_F(PublisherTest, StateIsRetainedQos0UnderOwnPrefix) {
+  StationState s;
+  s.station_id = 1001;
+  s.fix = GnssFix::k2D;
+  pub.publish_state(s);
+  ASSERT_EQ(sink.sent.size(), 1u);
+  EXPECT_EQ(sink.sent[0].topic, "its/1001/state");
+  EXPECT_EQ(sink.sent[0].qos, Qos::kAtMostOnce);
+  EXPECT_TRUE(sink.sent[0].retain);
+  EXPECT_EQ(sink.sent[0].payload["type"], "state");
+  EXPECT_EQ(sink.sent[0].payload["source_uuid"], "station-1001");
+  EXPECT_EQ(sink.sent[0].payload["timestamp"], unix_ms(clk.wall_now()));
+  EXPECT_EQ(sink.sent[0].payload["message"]["gnss"]["fix"], "2d");
+}
+
+TEST_F(PublisherTest, CamsAreRateLimitedPerSource) {
+  EXPECT_TRUE(pub.publish_cam(cam(7)));
+  clk.advance(100ms);
+  EXPECT_FALSE(pub.publish_cam(cam(7)));
+  EXPECT_TRUE(pub.publish_cam(cam(8))) << "another source has its own budget";
+  clk.advance(99ms);
+  EXPECT_FALSE(pub.publish_cam(cam(7)));
+  clk.advance(1ms);
+  EXPECT_TRUE(pub.publish_cam(cam(7)));
+  EXPECT_EQ(pub.cams_suppressed(), 2u);
+  ASSERT_EQ(sink.sent.size(), 3u);
+  EXPECT_EQ(sink.sent[0].topic, "its/1001/in/cam/7");
+  EXPECT_EQ(sink.sent[1].topic, "its/1001/in/cam/8");
+  EXPECT_EQ(sink.sent[0].qos, Qos::kAtMostOnce);
+  EXPECT_FALSE(sink.sent[0].retain);
+  EXPECT_EQ(sink.sent[0].payload["origin"], "remote");
+}
+
+TEST_F(PublisherTest, ZeroIntervalPublishesEveryCam) {
+  StationPublisher all{clk, sink, PublisherConfig{"its", 1001, 0ms}};
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_TRUE(all.publish_cam(cam(7)));
+  }
+}
+
+TEST_F(PublisherTest, WarningsAreQos1AndNotRetained) {
+  LcrwWarning w;
+  w.station_id = 1001;
+  w.other_station_id = 1002;
+  w.ttc_s = 2.5;
+  pub.publish_warning(w);
+  ASSERT_EQ(sink.sent.size(), 1u);
+  EXPECT_EQ(sink.sent[0].topic, "its/1001/app/lcrw");
+  EXPECT_EQ(sink.sent[0].qos, Qos::kAtLeastOnce);
+  EXPECT_FALSE(sink.sent[0].retain);
+  EXPECT_EQ(sink.sent[0].payload["type"], "lcrw_warning");
+  EXPECT_DOUBLE_EQ(sink.sent[0].payload["message"]["ttc_s"].get<double>(), 2.5);
+}
+
+TEST_F(PublisherTest, DenmsByDirection) {
+  DenmView d;
+  d.action_id = {1002, 5};
+  pub.publish_denm_received(d);
+  d.action_id = {1001, 1};
+  pub.publish_denm_sent(d);
+  ASSERT_EQ(sink.sent.size(), 2u);
+  EXPECT_EQ(sink.sent[0].topic, "its/1001/in/denm/1002");
+  EXPECT_EQ(sink.sent[0].payload["origin"], "remote");
+  EXPECT_EQ(sink.sent[1].topic, "its/1001/out/denm");
+  EXPECT_EQ(sink.sent[1].payload["origin"], "self");
+  EXPECT_EQ(sink.sent[1].qos, Qos::kAtLeastOnce);
+}
+
+}  // namespace
+}  // namespace tb::its::apps::mqtt
