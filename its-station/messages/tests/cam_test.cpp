@@ -34,82 +34,18 @@ void expect_round_trip(const Cam& cam) {
   EXPECT_EQ(must_encode(*back), bytes);
 }
 
-Cam all_optional_fields(const Cam& base) {
-  Cam cam = base;
-  auto& hf = cam.cam.camParameters.highFrequencyContainer;
-  hf.accelerationControl = 0;
-  hf.lanePosition = 0;
-  hf.steeringWheelAngle = SteeringWheelAngle{};
-  hf.lateralAcceleration = LateralAcceleration{};
-  hf.verticalAcceleration = VerticalAcceleration{};
-  hf.performanceClass = 0;
-  hf.cenDsrcTollingZone = CenDsrcTollingZone{};
-  cam.cam.camParameters.lowFrequencyContainer.emplace();
-  return cam;
-}
-
 TEST(Cam, RoundTripOfEveryFieldAtItsLowerBound) {
-  Cam cam = all_optional_fields(samples::cam_hf());
-  cam.header.stationID = 0;
-  cam.cam.generationDeltaTime = 0;
-  auto& p = cam.cam.camParameters;
-  p.basicContainer.stationType = 0;
-  p.basicContainer.referencePosition = {
-      -900000000, -1800000000, {0, 0, 0}, {-100000, AltitudeConfidence::alt_000_01}};
-  auto& hf = p.highFrequencyContainer;
-  hf.heading = {0, 1};
-  hf.speed = {0, 1};
-  hf.driveDirection = DriveDirection::forward;
-  hf.vehicleLength = {1, VehicleLengthConfidenceIndication::noTrailerPresent};
-  hf.vehicleWidth = 1;
-  hf.longitudinalAcceleration = {-160, 0};
-  hf.curvature = {-1023, CurvatureConfidence::onePerMeter_0_00002};
-  hf.curvatureCalculationMode = CurvatureCalculationMode::yawRateUsed;
-  hf.yawRate = {-32766, YawRateConfidence::degSec_000_01};
-  hf.accelerationControl = 0;
-  hf.lanePosition = -1;
-  hf.steeringWheelAngle = SteeringWheelAngle{-511, 1};
-  hf.lateralAcceleration = LateralAcceleration{-160, 0};
-  hf.verticalAcceleration = VerticalAcceleration{-160, 0};
-  hf.performanceClass = 0;
-  hf.cenDsrcTollingZone = CenDsrcTollingZone{-900000000, -1800000000, 0};
-  p.lowFrequencyContainer->vehicleRole = VehicleRole::default_;
-  p.lowFrequencyContainer->exteriorLights = 0;
+  Cam cam = samples::cam_at_bounds(false);
   expect_round_trip(cam);
-  p.lowFrequencyContainer->pathHistory.push_back(PathPoint{{-131071, -131071, -12700}, 1});
+  cam.cam.camParameters.lowFrequencyContainer->pathHistory.push_back(
+      PathPoint{{-131071, -131071, -12700}, 1});
   expect_round_trip(cam);
 }
 
 TEST(Cam, RoundTripOfEveryFieldAtItsUpperBound) {
-  Cam cam = all_optional_fields(samples::cam_hf());
-  cam.header.stationID = 4294967295u;
-  cam.cam.generationDeltaTime = 65535;
-  auto& p = cam.cam.camParameters;
-  p.basicContainer.stationType = 255;
-  p.basicContainer.referencePosition = {
-      900000001, 1800000001, {4095, 4095, 3601}, {800001, AltitudeConfidence::unavailable}};
-  auto& hf = p.highFrequencyContainer;
-  hf.heading = {3601, 127};
-  hf.speed = {16383, 127};
-  hf.driveDirection = DriveDirection::unavailable;
-  hf.vehicleLength = {1023, VehicleLengthConfidenceIndication::unavailable};
-  hf.vehicleWidth = 62;
-  hf.longitudinalAcceleration = {161, 102};
-  hf.curvature = {1023, CurvatureConfidence::unavailable};
-  hf.curvatureCalculationMode = CurvatureCalculationMode::unavailable;
-  hf.yawRate = {32767, YawRateConfidence::unavailable};
-  hf.accelerationControl = 0x7F;
-  hf.lanePosition = 14;
-  hf.steeringWheelAngle = SteeringWheelAngle{512, 127};
-  hf.lateralAcceleration = LateralAcceleration{161, 102};
-  hf.verticalAcceleration = VerticalAcceleration{161, 102};
-  hf.performanceClass = 7;
-  hf.cenDsrcTollingZone = CenDsrcTollingZone{900000001, 1800000001, 134217727};
-  p.lowFrequencyContainer->vehicleRole = VehicleRole::reserved3;
-  p.lowFrequencyContainer->exteriorLights = 0xFF;
-  for (std::size_t i = 0; i < kPathHistoryMaxPoints; ++i)
-    p.lowFrequencyContainer->pathHistory.push_back(PathPoint{{131072, 131072, 12800}, 65535});
+  const Cam cam = samples::cam_at_bounds(true);
   expect_round_trip(cam);
+  EXPECT_EQ(cam.cam.camParameters.lowFrequencyContainer->pathHistory.size(), kPathHistoryMaxPoints);
   EXPECT_LE(must_encode(cam).size(), kCamMaxEncodedSize);
 }
 

@@ -33,58 +33,9 @@ void expect_round_trip(const Denm& d) {
   EXPECT_EQ(must_encode(*back), bytes);
 }
 
-Denm everything_at(bool upper) {
-  Denm d = samples::denm_collision_risk();
-  ManagementContainer& m = d.denm.management;
-  m.actionID = {upper ? 4294967295u : 0u, static_cast<SequenceNumber>(upper ? 65535 : 0)};
-  m.detectionTime = upper ? kTimestampItsMax : 0;
-  m.referenceTime = upper ? kTimestampItsMax : 0;
-  m.termination = upper ? Termination::isNegation : Termination::isCancellation;
-  m.eventPosition.latitude = upper ? 900000001 : -900000000;
-  m.eventPosition.longitude = upper ? 1800000001 : -1800000000;
-  m.relevanceDistance = upper ? RelevanceDistance::over10km : RelevanceDistance::lessThan50m;
-  m.relevanceTrafficDirection = upper ? RelevanceTrafficDirection::oppositeTraffic
-                                      : RelevanceTrafficDirection::allTrafficDirections;
-  m.validityDuration = upper ? 86400 : 0;
-  m.transmissionInterval = static_cast<TransmissionInterval>(upper ? 10000 : 1);
-  m.stationType = upper ? 255 : 0;
-  SituationContainer& s = *d.denm.situation;
-  s.informationQuality = upper ? 7 : 0;
-  s.eventType = {static_cast<CauseCodeType>(upper ? 255 : 0),
-                 static_cast<SubCauseCodeType>(upper ? 255 : 0)};
-  s.linkedCause = CauseCode{cause_code::kAccident, 1};
-  EventHistory& h = s.eventHistory.emplace();
-  const std::size_t events = upper ? 23 : 1;
-  for (std::size_t i = 0; i < events; ++i)
-    h.push_back(EventPoint{{upper ? 131072 : -131071, upper ? 131072 : -131071,
-                            static_cast<DeltaAltitude>(upper ? 12800 : -12700)},
-                           static_cast<PathDeltaTime>(upper ? 65535 : 1),
-                           static_cast<InformationQuality>(upper ? 7 : 0)});
-  LocationContainer& l = *d.denm.location;
-  l.eventSpeed = Speed{static_cast<SpeedValue>(upper ? 16383 : 0),
-                       static_cast<SpeedConfidence>(upper ? 127 : 1)};
-  l.eventPositionHeading = Heading{static_cast<HeadingValue>(upper ? 3601 : 0),
-                                   static_cast<HeadingConfidence>(upper ? 127 : 1)};
-  l.traces.clear();
-  const std::size_t traces = upper ? 7 : 1;
-  for (std::size_t t = 0; t < traces; ++t) {
-    PathHistory& ph = l.traces.emplace_back();
-    for (std::size_t i = 0; upper && i < kPathHistoryMaxPoints; ++i)
-      ph.push_back(PathPoint{{131072, -131071, 12800}, 65535});
-  }
-  l.roadType = upper ? RoadType::nonUrban_WithStructuralSeparationToOppositeLanes
-                     : RoadType::urban_NoStructuralSeparationToOppositeLanes;
-  AlacarteContainer& a = d.denm.alacarte.emplace();
-  a.lanePosition = static_cast<LanePosition>(upper ? 14 : -1);
-  a.externalTemperature = static_cast<Temperature>(upper ? 67 : -60);
-  a.positioningSolution =
-      upper ? PositioningSolutionType::dR : PositioningSolutionType::noPositioningSolution;
-  return d;
-}
-
 TEST(Denm, RoundTripOfEveryFieldAtItsBounds) {
-  expect_round_trip(everything_at(false));
-  const Denm upper = everything_at(true);
+  expect_round_trip(samples::denm_at_bounds(false));
+  const Denm upper = samples::denm_at_bounds(true);
   expect_round_trip(upper);
   EXPECT_LE(must_encode(upper).size(), kDenmMaxEncodedSize);
 }
@@ -165,7 +116,7 @@ TEST(Denm, EncoderRejectsOutOfRangeAndEmptySequences) {
 }
 
 TEST(Denm, DecoderRejectsEveryTruncation) {
-  for (const Denm& sample : {samples::denm_collision_risk(), everything_at(true)}) {
+  for (const Denm& sample : {samples::denm_collision_risk(), samples::denm_at_bounds(true)}) {
     const Bytes bytes = must_encode(sample);
     for (std::size_t n = 0; n < bytes.size(); ++n) {
       auto r = decode_denm(std::span<const std::uint8_t>(bytes).first(n));

@@ -108,4 +108,100 @@ inline Denm denm_collision_risk() {
   return d;
 }
 
+/// Every CAM field present, at its lower (or upper) bound; the upper one has 40 path points.
+inline Cam cam_at_bounds(bool upper) {
+  Cam cam = cam_hf();
+  cam.header.stationID = upper ? 4294967295u : 0u;
+  cam.cam.generationDeltaTime = upper ? 65535 : 0;
+  CamParameters& p = cam.cam.camParameters;
+  p.basicContainer.stationType = upper ? 255 : 0;
+  p.basicContainer.referencePosition =
+      upper ? ReferencePosition{900000001,
+                                1800000001,
+                                {4095, 4095, 3601},
+                                {800001, AltitudeConfidence::unavailable}}
+            : ReferencePosition{
+                  -900000000, -1800000000, {0, 0, 0}, {-100000, AltitudeConfidence::alt_000_01}};
+  BasicVehicleContainerHighFrequency& hf = p.highFrequencyContainer;
+  hf.heading = upper ? Heading{3601, 127} : Heading{0, 1};
+  hf.speed = upper ? Speed{16383, 127} : Speed{0, 1};
+  hf.driveDirection = upper ? DriveDirection::unavailable : DriveDirection::forward;
+  hf.vehicleLength = upper ? VehicleLength{1023, VehicleLengthConfidenceIndication::unavailable}
+                           : VehicleLength{1, VehicleLengthConfidenceIndication::noTrailerPresent};
+  hf.vehicleWidth = upper ? 62 : 1;
+  hf.longitudinalAcceleration =
+      upper ? LongitudinalAcceleration{161, 102} : LongitudinalAcceleration{-160, 0};
+  hf.curvature = upper ? Curvature{1023, CurvatureConfidence::unavailable}
+                       : Curvature{-1023, CurvatureConfidence::onePerMeter_0_00002};
+  hf.curvatureCalculationMode =
+      upper ? CurvatureCalculationMode::unavailable : CurvatureCalculationMode::yawRateUsed;
+  hf.yawRate = upper ? YawRate{32767, YawRateConfidence::unavailable}
+                     : YawRate{-32766, YawRateConfidence::degSec_000_01};
+  hf.accelerationControl = upper ? 0x7F : 0;
+  hf.lanePosition = static_cast<LanePosition>(upper ? 14 : -1);
+  hf.steeringWheelAngle = upper ? SteeringWheelAngle{512, 127} : SteeringWheelAngle{-511, 1};
+  hf.lateralAcceleration = upper ? LateralAcceleration{161, 102} : LateralAcceleration{-160, 0};
+  hf.verticalAcceleration = upper ? VerticalAcceleration{161, 102} : VerticalAcceleration{-160, 0};
+  hf.performanceClass = upper ? 7 : 0;
+  hf.cenDsrcTollingZone = upper ? CenDsrcTollingZone{900000001, 1800000001, 134217727}
+                                : CenDsrcTollingZone{-900000000, -1800000000, 0};
+  BasicVehicleContainerLowFrequency& lf = p.lowFrequencyContainer.emplace();
+  lf.vehicleRole = upper ? VehicleRole::reserved3 : VehicleRole::default_;
+  lf.exteriorLights = upper ? 0xFF : 0;
+  for (std::size_t i = 0; upper && i < kPathHistoryMaxPoints; ++i)
+    lf.pathHistory.push_back(PathPoint{{131072, 131072, 12800}, 65535});
+  return cam;
+}
+
+/// Every DENM field present, at its lower (or upper) bound; the upper one has 23 event points
+/// and 7 traces of 40 points.
+inline Denm denm_at_bounds(bool upper) {
+  Denm d = denm_collision_risk();
+  ManagementContainer& m = d.denm.management;
+  m.actionID = {upper ? 4294967295u : 0u, static_cast<SequenceNumber>(upper ? 65535 : 0)};
+  m.detectionTime = upper ? kTimestampItsMax : 0;
+  m.referenceTime = upper ? kTimestampItsMax : 0;
+  m.termination = upper ? Termination::isNegation : Termination::isCancellation;
+  m.eventPosition.latitude = upper ? 900000001 : -900000000;
+  m.eventPosition.longitude = upper ? 1800000001 : -1800000000;
+  m.relevanceDistance = upper ? RelevanceDistance::over10km : RelevanceDistance::lessThan50m;
+  m.relevanceTrafficDirection = upper ? RelevanceTrafficDirection::oppositeTraffic
+                                      : RelevanceTrafficDirection::allTrafficDirections;
+  m.validityDuration = upper ? 86400 : 0;
+  m.transmissionInterval = static_cast<TransmissionInterval>(upper ? 10000 : 1);
+  m.stationType = upper ? 255 : 0;
+  SituationContainer& s = *d.denm.situation;
+  s.informationQuality = upper ? 7 : 0;
+  s.eventType = {static_cast<CauseCodeType>(upper ? 255 : 0),
+                 static_cast<SubCauseCodeType>(upper ? 255 : 0)};
+  s.linkedCause = CauseCode{cause_code::kAccident, 1};
+  EventHistory& h = s.eventHistory.emplace();
+  const std::size_t events = upper ? 23 : 1;
+  for (std::size_t i = 0; i < events; ++i)
+    h.push_back(EventPoint{{upper ? 131072 : -131071, upper ? 131072 : -131071,
+                            static_cast<DeltaAltitude>(upper ? 12800 : -12700)},
+                           static_cast<PathDeltaTime>(upper ? 65535 : 1),
+                           static_cast<InformationQuality>(upper ? 7 : 0)});
+  LocationContainer& l = *d.denm.location;
+  l.eventSpeed = Speed{static_cast<SpeedValue>(upper ? 16383 : 0),
+                       static_cast<SpeedConfidence>(upper ? 127 : 1)};
+  l.eventPositionHeading = Heading{static_cast<HeadingValue>(upper ? 3601 : 0),
+                                   static_cast<HeadingConfidence>(upper ? 127 : 1)};
+  l.traces.clear();
+  const std::size_t traces = upper ? 7 : 1;
+  for (std::size_t t = 0; t < traces; ++t) {
+    PathHistory& ph = l.traces.emplace_back();
+    for (std::size_t i = 0; upper && i < kPathHistoryMaxPoints; ++i)
+      ph.push_back(PathPoint{{131072, -131071, 12800}, 65535});
+  }
+  l.roadType = upper ? RoadType::nonUrban_WithStructuralSeparationToOppositeLanes
+                     : RoadType::urban_NoStructuralSeparationToOppositeLanes;
+  AlacarteContainer& a = d.denm.alacarte.emplace();
+  a.lanePosition = static_cast<LanePosition>(upper ? 14 : -1);
+  a.externalTemperature = static_cast<Temperature>(upper ? 67 : -60);
+  a.positioningSolution =
+      upper ? PositioningSolutionType::dR : PositioningSolutionType::noPositioningSolution;
+  return d;
+}
+
 }  // namespace tb::its::messages::samples

@@ -1,0 +1,315 @@
+// Interoperability with Wireshark: our CAMs and DENMs, wrapped in hand-built GeoNetworking
+// (SHB for CAM, GeoBroadcast for DENM) and BTP-B headers inside Ethernet frames, written to a
+// pcap file and decoded by Debian's tshark. Every field we check must come back with the value
+// sent, and tshark must report no malformed packet and no expert information at all.
+
+#include <gtest/gtest.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "its-station/messages/cam.hpp"
+#include "its-station/messages/denm.hpp"
+#include "its-station/messages/tests/samples.hpp"
+
+namespace tb::its::messages {
+namespace {
+
+using Bytes = std::vector<std::uint8_t>;
+
+void put16(Bytes& b, std::uint32_t v) {
+  b.push_back(static_cast<std::uint8_t>(v >> 8));
+  b.push_back(static_cast<std::uint8_t>(v));
+}
+void put32(Bytes& b, std::uint32_t v) {
+  put16(b, v >> 16);
+  put16(b, v & 0xFFFF);
+}
+
+// EN 302 636-4-1 9.5.2 long position vector: GN_ADDR (M, ST, reserved, MID), TST, lat, lon,
+// PAI + speed, heading.
+void long_position_vector(Bytes& b) {
+  put16(b, 5u << 10);  // manual 0, station type passenger car (5)
+  for (std::uint8_t m : {0x02, 0x00, 0x00, 0x00, 0x00, 0x01})
+    b.push_back(m);
+  put32(b, 123456);         // TST, ms mod 2^32
+  put32(b, 410255000);      // latitude, 0.1 microdegree
+  put32(b, 289742000);      // longitude
+  put16(b, 0x8000 | 1389);  // PAI set, speed 0.01 m/s
+  put16(b, 900);            // heading 0.1 degree
+}
+
+/// Ethernet + GN basic/common header + SHB or GBC (circle) extended header + BTP-B + payload.
+Bytes frame(const Bytes& payload, bool geobroadcast) {
+  Bytes f;
+  f.reserve(128 + payload.size());
+  // Ethernet: broadcast destination, a local source address, ethertype 0x8947.
+  for (std::uint8_t b : {0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0x02, 0x00, 0x00, 0x00, 0x00, 0x01})
+    f.push_back(b);
+  put16(f, 0x8947);
+  const std::uint8_t hop_limit = geobroadcast ? 10 : 1;
+  // Basic header (9.6): version 1, next header common header (1); reserved; lifetime
+  // 60 s (multiplier 6, base 10 s = 2); remaining hop limit.
+  for (std::uint8_t b :
+       {std::uint8_t{0x11}, std::uint8_t{0x00}, std::uint8_t{6 << 2 | 2}, hop_limit})
+    f.push_back(b);
+  // Common header (9.7): next header BTP-B (2); header type/subtype: TSB single hop 5/0 or
+  // GeoBroadcast circle 4/0; traffic class; flags; payload length; maximum hop limit.
+  f.push_back(2 << 4);
+  f.push_back(geobroadcast ? 0x40 : 0x50);
+  f.push_back(0x02);
+  f.push_back(0x00);
+  put16(f, static_cast<std::uint32_t>(payload.size() + 4));
+  f.push_back(hop_limit);
+  f.push_back(0x00);
+  if (geobroadcast) {
+    // GBC extended header (9.8.5): sequence number, reserved, source LPV, area centre,
+    // distances a and b (m), angle, reserved.
+    put16(f, 1);
+    put16(f, 0);
+    long_position_vector(f);
+    put32(f, 410255000);
+    put32(f, 289742000);
+    put16(f, 500);
+    put16(f, 0);
+    put16(f, 0);
+    put16(f, 0);
+  } else {
+    // SHB extended header (9.8.4): source LPV and 4 octets of media-dependent data.
+    long_position_vector(f);
+    put32(f, 0);
+  }
+  // BTP-B (EN 302 636-5-1 7.3): destination port, destination port info.
+  put16(f, geobroadcast ? 2002 : 2001);
+  put16(f, 0);
+  f.insert(f.end(), payload.begin(), payload.end());
+  return f;
+}
+
+/// The classic pcap format: global header, then per packet a 16-byte record header.
+void write_pcap(const std::filesystem::path& path, const std::vector<Bytes>& frames) {
+  std::ofstream out(path, std::ios::binary);
+  auto le32 = [&](std::uint32_t v) {
+    for (int i = 0; i < 4; ++i)
+      out.put(static_cast<char>(v >> (8 * i)));
+  };
+  auto le16 = [&](std::uint16_t v) {
+    out.put(static_cast<char>(v & 0xFF));
+    out.put(static_cast<char>(v >> 8));
+  };
+  le32(0xA1B2C3D4);
+  le16(2);
+  le16(4);
+  le32(0);
+  le32(0);
+  le32(65535);
+  le32(1);  // LINKTYPE_ETHERNET
+  std::uint32_t t = 1700000000;
+  for (const Bytes& f : frames) {
+    le32(t++);
+    le32(0);
+    le32(static_cast<std::uint32_t>(f.size()));
+    le32(static_cast<std::uint32_t>(f.size()));
+    out.write(reinterpret_cast<const char*>(f.data()), static_cast<std::streamsize>(f.size()));
+  }
+  ASSERT_TRUE(out.good());
+}
+
+std::string run(const std::string& cmd) {
+  std::string out;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (p == nullptr)
+    return out;
+  std::array<char, 4096> buf;
+  std::size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0)
+    out.append(buf.data(), n);
+  pclose(p);
+  return out;
+}
+
+std::vector<std::string> lines(const std::string& s) {
+  std::vector<std::string> v;
+  std::istringstream in(s);
+  for (std::string l; std::getline(in, l);)
+    v.push_back(l);
+  return v;
+}
+
+class TsharkInterop : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (std::system("command -v tshark >/dev/null 2>&1") != 0)
+      GTEST_SKIP() << "tshark not installed (scripts/install-deps installs it)";
+    std::string tmpl = (std::filesystem::temp_directory_path() / "asn1-tshark-XXXXXX").string();
+    ASSERT_NE(mkdtemp(tmpl.data()), nullptr);
+    dir_ = tmpl;
+  }
+  void TearDown() override {
+    if (!dir_.empty())
+      std::filesystem::remove_all(dir_);
+  }
+
+  /// Writes the frames and returns, per frame, the requested fields joined by '|' (repeated
+  /// values joined by ';').
+  std::vector<std::string> fields(const std::vector<Bytes>& frames,
+                                  const std::vector<std::string>& names) {
+    write_pcap(pcap(), frames);
+    std::string cmd = "tshark -r '" + pcap().string() +
+                      "' -T fields -E separator='|' -E aggregator=';' -E occurrence=a";
+    for (const std::string& n : names)
+      cmd += " -e " + n;
+    return lines(run(cmd + " 2>/dev/null"));
+  }
+  /// tshark's expert summary and full dissection must not mention anything.
+  void expect_clean() {
+    const std::string expert = run("tshark -r '" + pcap().string() + "' -q -z expert 2>/dev/null");
+    for (const char* word : {"Error", "Warn", "Note", "Chat", "Malformed"})
+      EXPECT_EQ(expert.find(word), std::string::npos) << word << " in:\n" << expert;
+    const std::string full = run("tshark -r '" + pcap().string() + "' -V 2>/dev/null");
+    EXPECT_NE(full.find("Intelligent Transport Systems"), std::string::npos);
+    EXPECT_EQ(full.find("Malformed"), std::string::npos);
+    EXPECT_EQ(full.find("Expert Info"), std::string::npos);
+  }
+  std::filesystem::path pcap() const { return dir_ / "its.pcap"; }
+
+  std::filesystem::path dir_;
+};
+
+Bytes enc(const Cam& c) {
+  auto b = encode(c);
+  EXPECT_TRUE(b) << asn1::to_string(b.error());
+  return b ? *b : Bytes{};
+}
+Bytes enc(const Denm& d) {
+  auto b = encode(d);
+  EXPECT_TRUE(b) << asn1::to_string(b.error());
+  return b ? *b : Bytes{};
+}
+
+std::string join(const PathHistory& h, int which) {
+  std::string s;
+  for (const PathPoint& p : h) {
+    if (which == 2 && !p.pathDeltaTime)
+      continue;
+    if (!s.empty())
+      s += ';';
+    s += std::to_string(which == 0   ? p.pathPosition.deltaLatitude
+                        : which == 1 ? p.pathPosition.deltaLongitude
+                                     : *p.pathDeltaTime);
+  }
+  return s;
+}
+
+std::string expected_cam_fields(const Cam& c) {
+  const auto& p = c.cam.camParameters;
+  const auto& rp = p.basicContainer.referencePosition;
+  const auto& hf = p.highFrequencyContainer;
+  std::string s =
+      "2001|2|" + std::to_string(c.header.stationID) + "|" +
+      std::to_string(c.cam.generationDeltaTime) + "|" +
+      std::to_string(p.basicContainer.stationType) + "|" + std::to_string(rp.latitude) + "|" +
+      std::to_string(rp.longitude) + "|" + std::to_string(rp.altitude.altitudeValue) + "|" +
+      std::to_string(hf.heading.headingValue) + "|" + std::to_string(hf.speed.speedValue) + "|" +
+      std::to_string(hf.vehicleLength.vehicleLengthValue) + "|" + std::to_string(hf.vehicleWidth) +
+      "|" + std::to_string(hf.longitudinalAcceleration.longitudinalAccelerationValue) + "|" +
+      std::to_string(hf.curvature.curvatureValue) + "|" + std::to_string(hf.yawRate.yawRateValue) +
+      "|";
+  if (p.lowFrequencyContainer) {
+    const auto& lf = *p.lowFrequencyContainer;
+    s += std::string((lf.exteriorLights & exterior_lights::kLowBeamHeadlightsOn) ? "1" : "0") +
+         "|" + ((lf.exteriorLights & exterior_lights::kLeftTurnSignalOn) ? "1" : "0") + "|" +
+         join(lf.pathHistory, 0) + "|" + join(lf.pathHistory, 1) + "|" + join(lf.pathHistory, 2);
+  } else {
+    s += "||||";
+  }
+  return s;
+}
+
+TEST_F(TsharkInterop, CamsDecodeToTheValuesSentWithoutWarnings) {
+  const std::vector<Cam> cams = {samples::cam_hf(), samples::cam_lf(), samples::cam_with_path(20),
+                                 samples::cam_at_bounds(true), samples::cam_at_bounds(false)};
+  std::vector<Bytes> frames;
+  for (const Cam& c : cams)
+    frames.push_back(frame(enc(c), false));
+  const auto got = fields(frames, {"btpb.dstport",
+                                   "its.messageID",
+                                   "its.stationID",
+                                   "cam.generationDeltaTime",
+                                   "cam.stationType",
+                                   "its.latitude",
+                                   "its.longitude",
+                                   "its.altitudeValue",
+                                   "its.headingValue",
+                                   "its.speedValue",
+                                   "its.vehicleLengthValue",
+                                   "cam.vehicleWidth",
+                                   "its.longitudinalAccelerationValue",
+                                   "its.curvatureValue",
+                                   "its.yawRateValue",
+                                   "its.ExteriorLights.lowBeamHeadlightsOn",
+                                   "its.ExteriorLights.leftTurnSignalOn",
+                                   "its.deltaLatitude",
+                                   "its.deltaLongitude",
+                                   "its.pathDeltaTime"});
+  ASSERT_EQ(got.size(), cams.size());
+  for (std::size_t i = 0; i < cams.size(); ++i)
+    EXPECT_EQ(got[i], expected_cam_fields(cams[i])) << "CAM " << i;
+  // The optional HF fields of the sample with them.
+  const auto opt = fields(frames, {"its.steeringWheelAngleValue", "its.lateralAccelerationValue",
+                                   "its.ExteriorLights.parkingLightsOn"});
+  ASSERT_EQ(opt.size(), cams.size());
+  EXPECT_EQ(opt[1], "-20|-12|0");
+  EXPECT_EQ(opt[3], "512|161|1");
+  expect_clean();
+}
+
+TEST_F(TsharkInterop, DenmsDecodeToTheValuesSentWithoutWarnings) {
+  const std::vector<Denm> denms = {samples::denm_collision_risk(), samples::denm_at_bounds(true),
+                                   samples::denm_at_bounds(false)};
+  std::vector<Bytes> frames;
+  for (const Denm& d : denms)
+    frames.push_back(frame(enc(d), true));
+  const auto got =
+      fields(frames, {"btpb.dstport", "its.messageID", "its.stationID", "its.originatingStationID",
+                      "its.sequenceNumber", "denm.detectionTime", "denm.referenceTime",
+                      "denm.validityDuration", "denm.transmissionInterval", "denm.stationType",
+                      "denm.informationQuality", "its.informationQuality", "its.causeCode",
+                      "its.subCauseCode", "denm.roadType"});
+  ASSERT_EQ(got.size(), denms.size());
+  for (std::size_t i = 0; i < denms.size(); ++i) {
+    const auto& d = denms[i].denm;
+    const auto& m = d.management;
+    std::string want =
+        "2002|1|" + std::to_string(denms[i].header.stationID) + "|" +
+        std::to_string(m.actionID.originatingStationID) + "|" +
+        std::to_string(m.actionID.sequenceNumber) + "|" + std::to_string(m.detectionTime) + "|" +
+        std::to_string(m.referenceTime) + "|" + std::to_string(m.validityDuration) + "|" +
+        std::to_string(*m.transmissionInterval) + "|" + std::to_string(m.stationType) + "|";
+    // informationQuality: the situation's (a DENM field), then each event point's (a CDD one).
+    std::string quality = std::to_string(d.situation->informationQuality) + "|";
+    if (d.situation->eventHistory)
+      for (const EventPoint& e : *d.situation->eventHistory)
+        quality += (quality.back() == '|' ? "" : ";") + std::to_string(e.informationQuality);
+    std::string causes = std::to_string(d.situation->eventType.causeCode);
+    std::string subs = std::to_string(d.situation->eventType.subCauseCode);
+    if (d.situation->linkedCause) {
+      causes += ";" + std::to_string(d.situation->linkedCause->causeCode);
+      subs += ";" + std::to_string(d.situation->linkedCause->subCauseCode);
+    }
+    want += quality + "|" + causes + "|" + subs + "|" +
+            std::to_string(static_cast<int>(*d.location->roadType));
+    EXPECT_EQ(got[i], want) << "DENM " << i;
+  }
+  expect_clean();
+}
+
+}  // namespace
+}  // namespace tb::its::messages
