@@ -1,8 +1,13 @@
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+
 #include <boost/asio/io_context.hpp>
 
 #include "its-station/link/packet_socket_link.hpp"
+#include "its-station/link/pcap_writer.hpp"
 #include "its-station/link/test_link.hpp"
 
 namespace tb::its::link {
@@ -60,6 +65,47 @@ TEST(PacketSocketLink, OverlongInterfaceNameIsRejectedBeforeAnySyscall) {
   ASSERT_FALSE(link);
   EXPECT_EQ(link.error().kind, OpenErrorKind::kNoSuchInterface);
   EXPECT_NE(link.error().message().find("Invalid argument"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace tb::its::link
+
+namespace tb::its::link {
+namespace {
+
+std::vector<std::uint8_t> read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+TEST(PcapWriter, WritesTheClassicHeaderAndOneRecordPerFrame) {
+  const std::string path = ::testing::TempDir() + "/gn_link_test.pcap";
+  {
+    auto w = PcapWriter::create(path);
+    ASSERT_TRUE(w) << w.error();
+    const std::uint8_t payload[] = {0x11, 0x22};
+    // 1.5 s after the Unix epoch.
+    ASSERT_TRUE(w->write(clock::WallTime{std::chrono::milliseconds{1500}}, kBroadcastMac,
+                         {2, 0, 0, 0, 0, 1}, kEtherTypeGeoNetworking, payload));
+    ASSERT_TRUE(w->flush());
+  }
+  const std::vector<std::uint8_t> expected = {
+      0xd4, 0xc3, 0xb2, 0xa1, 0x02, 0x00, 0x04, 0x00,  // magic, version 2.4
+      0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,  // zone, sigfigs
+      0xff, 0xff, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00,  // snaplen 65535, Ethernet
+      0x01, 0x00, 0x00, 0x00, 0x20, 0xa1, 0x07, 0x00,  // 1 s, 500000 µs
+      0x10, 0x00, 0x00, 0x00, 0x10, 0x00, 0x00, 0x00,  // 16 bytes captured, 16 on the wire
+      0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0x02, 0x00, 0x00, 0x00, 0x00, 0x01,  // dst, src
+      0x89, 0x47, 0x11, 0x22};                                                 // type, data
+  EXPECT_EQ(read_file(path), expected);
+  std::remove(path.c_str());
+}
+
+TEST(PcapWriter, UnwritablePathIsAnErrorNamingIt) {
+  auto w = PcapWriter::create("/nonexistent-dir/x.pcap");
+  ASSERT_FALSE(w);
+  EXPECT_NE(w.error().find("'/nonexistent-dir/x.pcap'"), std::string::npos);
+  EXPECT_NE(w.error().find("No such file"), std::string::npos);
 }
 
 }  // namespace
