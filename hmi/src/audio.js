@@ -1,0 +1,48 @@
+// The audible alert: a WebAudio beep pattern while a warning is active. Browsers start audio
+// only after a user gesture, so the page unlocks it on the first click or key.
+let ctx = null;
+let beeps = 0;
+
+export function unlockAudio() {
+  const AC = window.AudioContext || window.webkitAudioContext;
+  if (!AC) {
+    return false;
+  }
+  ctx = ctx ?? new AC();
+  if (ctx.state === 'suspended') {
+    ctx.resume();
+  }
+  return true;
+}
+
+export function audioState() {
+  return ctx ? ctx.state : 'locked';
+}
+
+export function beepCount() {
+  return beeps;
+}
+
+// Two short 880 Hz tones; critical warnings use a higher, harsher tone.
+export function beep(critical = false) {
+  if (!ctx) {
+    unlockAudio();
+  }
+  if (!ctx) {
+    return;
+  }
+  const t0 = ctx.currentTime;
+  for (const offset of [0, 0.18]) {
+    const osc = ctx.createOscillator();
+    const gain = ctx.createGain();
+    osc.type = critical ? 'square' : 'sine';
+    osc.frequency.value = critical ? 1320 : 880;
+    gain.gain.setValueAtTime(0.0001, t0 + offset);
+    gain.gain.exponentialRampToValueAtTime(0.4, t0 + offset + 0.01);
+    gain.gain.exponentialRampToValueAtTime(0.0001, t0 + offset + 0.14);
+    osc.connect(gain).connect(ctx.destination);
+    osc.start(t0 + offset);
+    osc.stop(t0 + offset + 0.15);
+  }
+  beeps += 1;
+}

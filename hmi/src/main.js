@@ -1,0 +1,239 @@
+// The driver's HMI: wiring between MQTT over WebSockets, the model and the page.
+import mqtt from 'mqtt';
+
+import { beep, beepCount, audioState, unlockAudio } from './audio.js';
+import { causeText, fixText, offsetM } from './etsi.js';
+import { drawMap } from './map.js';
+import {
+  createModel,
+  expire,
+  formatTtc,
+  handleMessage,
+  selectStation,
+  subscriptions,
+  topWarning,
+} from './model.js';
+
+const $ = (id) => document.getElementById(id);
+
+// Served by Mosquitto's http_dir on its WebSocket listener, the page finds the broker at its own
+// address; ?broker=, ?user=, ?password=, ?station=, ?prefix= override (and are remembered).
+function settings() {
+  const q = new URLSearchParams(location.search);
+  const saved = JSON.parse(localStorage.getItem('hmi.settings') || '{}');
+  const scheme = location.protocol === 'https:' ? 'wss' : 'ws';
+  const sameHost = location.host ? `${scheme}://${location.host}/` : 'ws://127.0.0.1:9001/';
+  return {
+    broker: q.get('broker') ?? saved.broker ?? sameHost,
+    user: q.get('user') ?? saved.user ?? 'hmi',
+    password: q.get('password') ?? saved.password ?? 'hmi',
+    station: q.get('station') ?? saved.station ?? null,
+    prefix: q.get('prefix') ?? saved.prefix ?? 'its',
+  };
+}
+
+const cfg = settings();
+const model = createModel(cfg.prefix);
+let client = null;
+let subscribed = [];
+let lastBeep = 0;
+
+function save() {
+  localStorage.setItem('hmi.settings', JSON.stringify({ ...cfg }));
+}
+
+function setConnection(state, detail = '') {
+  const el = $('conn');
+  el.dataset.state = state;
+  el.textContent = { connected: 'Connected', connecting: 'Connecting…', reconnecting: 'Reconnecting…', offline: 'Offline', error: 'Error' }[state] + (detail ? ` — ${detail}` : '');
+}
+
+function resubscribe() {
+  if (!client) {
+    return;
+  }
+  const want = subscriptions(model);
+  const drop = subscribed.filter((t) => !want.includes(t));
+  if (drop.length) {
+    client.unsubscribe(drop);
+  }
+  const add = want.filter((t) => !subscribed.includes(t));
+  if (add.length) {
+    client.subscribe(add, { qos: 1 });
+  }
+  subscribed = want;
+}
+
+function connect() {
+  if (client) {
+    client.end(true);
+  }
+  subscribed = [];
+  setConnection('connecting');
+  client = mqtt.connect(cfg.broker, {
+    username: cfg.user,
+    password: cfg.password,
+    reconnectPeriod: 2000,
+    connectTimeout: 5000,
+    clean: true,
+  });
+  client.on('connect', () => {
+    setConnection('connected', cfg.broker);
+    subscribed = [];
+    resubscribe();
+  });
+  client.on('reconnect', () => setConnection('reconnecting'));
+  client.on('offline', () => setConnection('offline'));
+  client.on('error', (e) => setConnection('error', e.message));
+  client.on('message', (topic, payload) => {
+    const what = handleMessage(model, topic, payload.toString());
+    if (what) {
+      render(what);
+    }
+  });
+}
+
+function chooseStation(id) {
+  selectStation(model, id || null);
+  cfg.station = model.station;
+  save();
+  resubscribe();
+  render('all');
+}
+
+function renderStations() {
+  const sel = $('station');
+  const ids = [...model.stations.keys()].sort((a, b) => Number(a) - Number(b));
+  if (model.station !== null && !ids.includes(model.station)) {
+    ids.push(model.station);
+  }
+  const current = [...sel.options].map((o) => o.value).join(',');
+  if (current !== ['', ...ids].join(',')) {
+    sel.replaceChildren(new Option('— choose a station —', ''), ...ids.map((id) => new Option(`Station ${id}`, id)));
+  }
+  sel.value = model.station ?? '';
+  const st = model.station !== null ? model.stations.get(model.station) : null;
+  const el = $('station-online');
+  if (!st || st.online === null) {
+    el.textContent = '';
+    el.dataset.state = '';
+  } else {
+    el.textContent = st.online ? 'station online' : 'station offline';
+    el.dataset.state = st.online ? 'online' : 'offline';
+    if (st.dropped > 0) {
+      el.textContent += ` · ${st.dropped} warnings lost`;
+    }
+  }
+}
+
+function renderOwn() {
+  const own = model.own;
+  $('speed').textContent = own?.speed != null ? (own.speed * 3.6).toFixed(0) : '–';
+  $('heading').textContent = own?.heading != null ? `${own.heading.toFixed(0)}°` : '–';
+  const fix = own ? own.fix : null;
+  $('fix').textContent = fix ? fixText(fix) + (own.satellites != null ? ` · ${own.satellites} sats` : '') : '–';
+  $('fix').dataset.fix = fix ?? '';
+}
+
+function renderWarning() {
+  const w = topWarning(model);
+  const banner = $('lcrw-banner');
+  if (!w) {
+    banner.hidden = true;
+    document.body.classList.remove('alarm');
+    return;
+  }
+  banner.hidden = false;
+  banner.dataset.severity = w.severity;
+  document.body.classList.add('alarm');
+  $('lcrw-ttc').textContent = formatTtc(w.ttc_s);
+  $('lcrw-case').textContent = w.collision_case === 'frontal' ? 'Head-on collision risk' : 'Rear-end collision risk';
+  $('lcrw-detail').textContent =
+    `vehicle ${w.other_station_id} · ${w.distance_m != null ? w.distance_m.toFixed(0) : '–'} m · closing ${w.relative_speed_mps != null ? (w.relative_speed_mps * 3.6).toFixed(0) : '–'} km/h`;
+  const now = performance.now();
+  const period = w.severity === 'critical' ? 500 : 1000;
+  if (now - lastBeep >= period) {
+    lastBeep = now;
+    beep(w.severity === 'critical');
+  }
+}
+
+function renderDenms() {
+  const list = $('denm-list');
+  if (model.denms.length === 0) {
+    list.replaceChildren(Object.assign(document.createElement('li'), { className: 'empty', textContent: 'No events' }));
+    return;
+  }
+  list.replaceChildren(
+    ...model.denms.map((d) => {
+      const li = document.createElement('li');
+      li.dataset.cause = d.cause;
+      li.classList.toggle('terminated', d.terminated);
+      let where = '';
+      if (model.own?.lat != null && d.lat != null) {
+        const o = offsetM(model.own.lat, model.own.lon, d.lat, d.lon);
+        where = ` · ${Math.hypot(o.east, o.north).toFixed(0)} m away`;
+      }
+      const time = new Date(d.receivedAt).toLocaleTimeString();
+      li.textContent = `${time} ${causeText(d.cause, d.subcause)} — ${d.direction === 'out' ? 'sent by this car' : `from station ${d.originator}`}${where}${d.terminated ? ' (ended)' : ''}`;
+      return li;
+    }),
+  );
+}
+
+function render(what) {
+  if (what === 'stations' || what === 'all') {
+    renderStations();
+  }
+  if (what === 'own' || what === 'all') {
+    renderOwn();
+    renderStations();
+  }
+  if (what === 'warning' || what === 'all') {
+    renderWarning();
+  }
+  if (what === 'denm' || what === 'all') {
+    renderDenms();
+  }
+}
+
+function frame() {
+  if (expire(model)) {
+    renderWarning();
+  }
+  if (model.warnings.size > 0) {
+    renderWarning(); // keeps the beep going
+  }
+  drawMap($('map'), model);
+  $('sound').textContent = audioState() === 'running' ? 'Sound on' : 'Tap for sound';
+  requestAnimationFrame(frame);
+}
+
+function init() {
+  $('station').addEventListener('change', (e) => chooseStation(e.target.value));
+  $('sound').addEventListener('click', () => unlockAudio());
+  document.addEventListener('pointerdown', () => unlockAudio(), { once: true });
+  document.addEventListener('keydown', () => unlockAudio(), { once: true });
+  const form = $('settings-form');
+  form.broker.value = cfg.broker;
+  form.user.value = cfg.user;
+  form.password.value = cfg.password;
+  form.addEventListener('submit', (e) => {
+    e.preventDefault();
+    cfg.broker = form.broker.value.trim();
+    cfg.user = form.user.value;
+    cfg.password = form.password.value;
+    save();
+    connect();
+  });
+  if (cfg.station !== null) {
+    selectStation(model, cfg.station);
+  }
+  render('all');
+  connect();
+  requestAnimationFrame(frame);
+  // For tests and debugging in the browser console.
+  window.__hmi = { model, beepCount, audioState };
+}
+
+init();

@@ -1,0 +1,192 @@
+// Integration: the HMI in headless Chromium against a real Mosquitto configured by
+// docker/mosquitto/gen-broker-config, serving hmi/dist on its WebSocket listener. A station
+// (mqtt.js over TCP, with its generated credentials) publishes state, a CAM, a DENM and an LCRW
+// warning; the page must show them, the banner with the right TTC. Screenshots go to
+// tests/artifacts/hmi/. Run via ctest (hmi.browser) or `node hmi/tests/hmi_browser_test.mjs`
+// after hmi/build.sh.
+import { spawn, spawnSync } from 'node:child_process';
+import { existsSync, mkdirSync, mkdtempSync, readFileSync, rmSync } from 'node:fs';
+import net from 'node:net';
+import { tmpdir } from 'node:os';
+import { dirname, join, resolve } from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+import mqtt from 'mqtt';
+import { chromium } from 'playwright-core';
+
+const here = dirname(fileURLToPath(import.meta.url));
+const root = process.env.TESTBED_ROOT ?? resolve(here, '..', '..');
+const dist = join(root, 'hmi', 'dist');
+const artifacts = join(root, 'tests', 'artifacts', 'hmi');
+const CHROMIUM = process.env.CHROMIUM ?? '/usr/bin/chromium';
+
+let passed = 0;
+let failed = 0;
+function check(name, ok, detail = '') {
+  if (ok) {
+    passed += 1;
+    console.log(`ok - ${name}`);
+  } else {
+    failed += 1;
+    console.log(`not ok - ${name}${detail ? `: ${detail}` : ''}`);
+  }
+}
+
+function freePort() {
+  return new Promise((res, rej) => {
+    const s = net.createServer();
+    s.once('error', rej);
+    s.listen(0, '127.0.0.1', () => {
+      const { port } = s.address();
+      s.close(() => res(port));
+    });
+  });
+}
+
+async function waitForPort(port, ms) {
+  const end = Date.now() + ms;
+  while (Date.now() < end) {
+    const ok = await new Promise((res) => {
+      const c = net.connect(port, '127.0.0.1', () => { c.destroy(); res(true); });
+      c.once('error', () => res(false));
+    });
+    if (ok) return true;
+    await new Promise((r) => setTimeout(r, 50));
+  }
+  return false;
+}
+
+const envelope = (type, message) => JSON.stringify({ type, origin: 'self', version: '1.0.0', source_uuid: 'station-1001', timestamp: Date.now(), message });
+
+async function main() {
+  if (!existsSync(join(dist, 'index.html'))) {
+    throw new Error(`${dist}/index.html missing: run hmi/build.sh first`);
+  }
+  if (!existsSync(CHROMIUM)) {
+    throw new Error(`${CHROMIUM} not found: install Debian's chromium (scripts/install-deps)`);
+  }
+  mkdirSync(artifacts, { recursive: true });
+  const work = mkdtempSync(join(tmpdir(), 'hmi-browser-'));
+  spawnSync('chmod', ['0777', work]); // mosquitto drops root for its own user
+  const cleanups = [() => rmSync(work, { recursive: true, force: true })];
+  try {
+    const tcp = await freePort();
+    const ws = await freePort();
+    const gen = spawnSync(join(root, 'docker', 'mosquitto', 'gen-broker-config'), [
+      '--stations', '1001,1002', '--out', join(work, 'broker'), '--bind', '127.0.0.1',
+      '--tcp-port', String(tcp), '--ws-port', String(ws), '--http-dir', dist,
+    ], { encoding: 'utf8' });
+    if (gen.status !== 0) throw new Error(`gen-broker-config failed: ${gen.stderr}`);
+    const creds = JSON.parse(readFileSync(join(work, 'broker', 'credentials.json'), 'utf8'));
+
+    const broker = spawn('mosquitto', ['-c', join(work, 'broker', 'mosquitto.conf')], { stdio: ['ignore', 'ignore', 'pipe'] });
+    let brokerLog = '';
+    broker.stderr.on('data', (d) => { brokerLog += d; });
+    cleanups.unshift(() => broker.kill('SIGTERM'));
+    if (!(await waitForPort(tcp, 5000)) || !(await waitForPort(ws, 5000))) {
+      throw new Error(`mosquitto did not start: ${brokerLog}`);
+    }
+
+    const page_url = `http://127.0.0.1:${ws}/index.html?station=1001`;
+    const html = await fetch(page_url).then((r) => r.text()).catch((e) => String(e));
+    check('broker serves the HMI over HTTP on the WebSocket listener', html.includes('lcrw-banner'));
+
+    const station = await mqtt.connectAsync(`mqtt://127.0.0.1:${tcp}`, {
+      username: creds.stations['1001'].username,
+      password: creds.stations['1001'].password,
+      clientId: 'station-1001-test',
+    });
+    cleanups.unshift(() => station.end(true));
+    const pub = (topic, payload, opts = { qos: 1 }) => station.publishAsync(topic, payload, opts);
+    await pub('its/1001/status', JSON.stringify({ online: true, dropped: 0, pending: 0, timestamp: Date.now() }), { qos: 1, retain: true });
+    await pub('its/1001/state', envelope('state', {
+      station_id: 1001,
+      basic_container: { station_type: 5, reference_position: { latitude: 480000000, longitude: 110000000 } },
+      high_frequency_container: { heading: 900, speed: 1389, drive_direction: 0, vehicle_length: 43, vehicle_width: 18 },
+      gnss: { fix: '3d', satellites_used: 9 },
+    }), { qos: 1, retain: true });
+
+    const userData = mkdtempSync(join(tmpdir(), 'hmi-chromium-'));
+    cleanups.push(() => rmSync(userData, { recursive: true, force: true }));
+    const context = await chromium.launchPersistentContext(userData, {
+      executablePath: CHROMIUM,
+      headless: true,
+      viewport: { width: 1100, height: 760 },
+      args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+        '--disable-background-networking', '--disable-component-update', '--disable-sync',
+        '--autoplay-policy=no-user-gesture-required'],
+    });
+    cleanups.unshift(() => context.close());
+    const page = context.pages()[0] ?? (await context.newPage());
+    const errors = [];
+    page.on('pageerror', (e) => errors.push(String(e)));
+    await page.goto(page_url);
+
+    await page.waitForSelector('#conn[data-state="connected"]', { timeout: 10000 }).catch(() => {});
+    check('page connects to the broker over WebSockets', (await page.getAttribute('#conn', 'data-state')) === 'connected',
+      await page.textContent('#conn'));
+    await page.waitForFunction(() => document.getElementById('speed').textContent === '50', null, { timeout: 10000 }).catch(() => {});
+    check('speed shown in km/h', (await page.textContent('#speed')) === '50', await page.textContent('#speed'));
+    check('heading shown', (await page.textContent('#heading')) === '90°', await page.textContent('#heading'));
+    check('GNSS fix shown', (await page.textContent('#fix')).startsWith('3D fix'), await page.textContent('#fix'));
+    check('station online shown', (await page.textContent('#station-online')).includes('online'));
+
+    // A neighbour 40 m east, heading west, and its collision-risk DENM.
+    await pub('its/1001/in/cam/1002', envelope('cam', {
+      station_id: 1002, generation_delta_time: 1,
+      basic_container: { station_type: 5, reference_position: { latitude: 480000000, longitude: 110005360 } },
+      high_frequency_container: { heading: 2700, speed: 1389, drive_direction: 0, vehicle_length: 43, vehicle_width: 18 },
+    }), { qos: 0 });
+    await pub('its/1001/in/denm/1002', envelope('denm', {
+      station_id: 1002,
+      management_container: { action_id: { originating_station_id: 1002, sequence_number: 1 }, event_position: { latitude: 480000000, longitude: 110005360 } },
+      situation_container: { event_type: { cause: 97, subcause: 1 } },
+    }));
+    await page.waitForFunction(() => document.getElementById('denm-list').textContent.includes('Collision risk'), null, { timeout: 10000 }).catch(() => {});
+    check('DENM listed', (await page.textContent('#denm-list')).includes('Collision risk (longitudinal)'), await page.textContent('#denm-list'));
+    const neighbours = await page.evaluate(() => window.__hmi.model.neighbours.size);
+    check('neighbour from CAM on the map', neighbours === 1, `neighbours=${neighbours}`);
+
+    check('no banner before a warning', await page.isHidden('#lcrw-banner'));
+    const warning = (event, ttc) => envelope('lcrw_warning', {
+      station_id: 1001, other_station_id: 1002, event, collision_case: 'frontal', severity: 'warning',
+      clear_reason: event === 'cleared' ? 'risk_ended' : 'none', ttc_s: ttc, distance_m: 36.0,
+      relative_speed_mps: 15.0, lateral_offset_m: 0.2, raised_at: Date.now(), updated_at: Date.now(),
+    });
+    await pub('its/1001/app/lcrw', warning('raised', 2.4));
+    // LCRW refreshes an active warning at every evaluation; so does the test while it looks.
+    const refresh = setInterval(() => { pub('its/1001/app/lcrw', warning('updated', 2.4)).catch(() => {}); }, 300);
+    try {
+      await page.waitForSelector('#lcrw-banner', { state: 'visible', timeout: 10000 }).catch(() => {});
+      check('warning banner shown', await page.isVisible('#lcrw-banner'));
+      check('banner shows the TTC', (await page.textContent('#lcrw-ttc')) === '2.4 s', await page.textContent('#lcrw-ttc'));
+      check('banner names the case', (await page.textContent('#lcrw-case')).includes('Head-on'), await page.textContent('#lcrw-case'));
+      check('banner names the other vehicle', (await page.textContent('#lcrw-detail')).includes('vehicle 1002'));
+      await page.waitForFunction(() => window.__hmi.beepCount() > 0, null, { timeout: 5000 }).catch(() => {});
+      check('audible alert played', (await page.evaluate(() => window.__hmi.beepCount())) > 0,
+        `audio=${await page.evaluate(() => window.__hmi.audioState())}`);
+      await page.screenshot({ path: join(artifacts, 'warning.png') });
+    } finally {
+      clearInterval(refresh);
+    }
+
+    await pub('its/1001/app/lcrw', warning('cleared', null));
+    await page.waitForSelector('#lcrw-banner', { state: 'hidden', timeout: 10000 }).catch(() => {});
+    check('banner cleared with the warning', await page.isHidden('#lcrw-banner'));
+    await page.screenshot({ path: join(artifacts, 'cleared.png') });
+    check('no script errors in the page', errors.length === 0, errors.join('; '));
+  } finally {
+    for (const c of cleanups) {
+      try { await c(); } catch { /* best effort */ }
+    }
+  }
+}
+
+try {
+  await main();
+} catch (e) {
+  failed += 1;
+  console.log(`not ok - setup: ${e.message}`);
+}
+console.log(`${passed} passed, ${failed} failed`);
+process.exit(failed === 0 ? 0 : 1);
