@@ -1,0 +1,184 @@
+// sim-server: the world of a scenario — every vehicle's physics at a fixed step — served over
+// TCP to sim-clients (sim-server/README.md, PROTOCOL.md).
+
+#include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/post.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <boost/asio/steady_timer.hpp>
+
+#include <csignal>
+#include <fstream>
+#include <sstream>
+
+#include "common/clock/asio_runtime.hpp"
+#include "common/scenario/loader.hpp"
+#include "common/trace/tracer.hpp"
+#include "sim-server/physics/world.hpp"
+#include "sim-server/server/hub.hpp"
+#include "sim-server/server/sim_loop.hpp"
+#include "sim-server/server/tcp_server.hpp"
+
+namespace {
+
+constexpr int kExitRuntimeError = 1;
+
+const char* map_name(tb::scenario::MapType t) {
+  switch (t) {
+    case tb::scenario::MapType::kStraight:
+      return "straight";
+    case tb::scenario::MapType::kRing:
+      return "ring";
+    case tb::scenario::MapType::kCrossing:
+      return "crossing";
+  }
+  return "?";
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"sim-server: Bullet vehicle dynamics for every car of a scenario, over TCP"};
+  std::string scenario_file, trace_file, bind = "0.0.0.0", log_level = "info";
+  std::uint16_t port = 2000;
+  bool fast = false;
+  std::optional<double> duration;
+  std::size_t queue = tb::server::TcpOptions{}.max_queued_frames;
+  bool mesh_cast = false;
+  app.add_option("--scenario", scenario_file, "scenario file (JSON)")->required();
+  app.add_option("--port", port, "TCP port to listen on (0: any free port)")->capture_default_str();
+  app.add_option("--bind", bind, "address to listen on")->capture_default_str();
+  app.add_flag("--fast", fast, "step as fast as possible instead of in real time");
+  app.add_option("--duration", duration,
+                 "stop after this many seconds of sim time "
+                 "(default: the scenario's duration, else run until "
+                 "stopped)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--trace", trace_file, "write trace records (JSON lines) to this file");
+  app.add_option("--queue", queue,
+                 "State frames queued per client before it is dropped as too "
+                 "slow")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000));
+  app.add_flag("--mesh-raycast", mesh_cast,
+               "wheels ray-test the road mesh instead of the flat ground (for non-flat maps)");
+  app.add_option("--log-level", log_level, "trace, debug, info, warn, error")
+      ->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  spdlog::set_level(spdlog::level::from_str(log_level));
+
+  tb::scenario::Scenario scenario;
+  try {
+    scenario = tb::scenario::load_file(scenario_file);
+  } catch (const tb::scenario::ScenarioError& e) {
+    spdlog::error("{}", e.what());
+    return tb::scenario::kExitBadScenario;
+  }
+  const std::string scenario_text = read_text(scenario_file);
+  if (scenario_text.size() > tb::wire::sim::kMaxScenarioText ||
+      scenario.vehicles.size() > tb::wire::sim::kMaxVehicles) {
+    spdlog::error("{}: too large for the protocol ({} bytes, {} vehicles; limits {} and {})",
+                  scenario_file, scenario_text.size(), scenario.vehicles.size(),
+                  tb::wire::sim::kMaxScenarioText, tb::wire::sim::kMaxVehicles);
+    return tb::scenario::kExitBadScenario;
+  }
+  if (!duration)
+    duration = scenario.duration_s;
+  if (!trace_file.empty()) {
+    try {
+      tb::trace::configure(trace_file, "sim-server");
+    } catch (const std::exception& e) {
+      spdlog::error("--trace: {}", e.what());
+      return kExitRuntimeError;
+    }
+  } else if (const auto path = tb::trace::configure_from_env("sim-server"); !path.empty()) {
+    spdlog::info("tracing to {}", path);
+  }
+
+  std::unique_ptr<tb::server::physics::World> world;
+  try {
+    world = std::make_unique<tb::server::physics::World>(
+        scenario, tb::server::physics::WorldOptions{
+                      .step_s = 1.0 / scenario.rates.physics_hz,
+                      .ground_cast = mesh_cast ? tb::server::physics::GroundCast::kMesh
+                                               : tb::server::physics::GroundCast::kFlat});
+  } catch (const std::exception& e) {
+    spdlog::error("{}: cannot build the world: {}", scenario_file, e.what());
+    return tb::scenario::kExitBadScenario;
+  }
+
+  boost::asio::io_context io;
+  tb::clock::AsioRuntime runtime(io);
+  tb::server::Hub hub(*world, scenario, scenario_text, runtime);
+  std::unique_ptr<tb::server::TcpServer> server;
+  try {
+    server =
+        std::make_unique<tb::server::TcpServer>(io, hub, tb::server::TcpOptions{bind, port, queue});
+  } catch (const std::exception& e) {
+    spdlog::error("cannot listen on {}:{}: {}", bind, port, e.what());
+    return kExitRuntimeError;
+  }
+
+  bool stopping = false;
+  boost::asio::steady_timer deadline(io);
+  std::chrono::steady_clock::time_point give_up;
+  std::function<void()> wait_for_clients = [&] {
+    if (server->live_connections() == 0 || std::chrono::steady_clock::now() > give_up) {
+      io.stop();
+      return;
+    }
+    deadline.expires_after(std::chrono::milliseconds(10));
+    deadline.async_wait([&](boost::system::error_code ec) {
+      if (!ec)
+        wait_for_clients();
+    });
+  };
+  boost::asio::signal_set signals(io, SIGINT, SIGTERM);
+  auto shutdown = [&](const std::string& why) {
+    if (stopping)
+      return;
+    stopping = true;
+    spdlog::info("shutting down: {}", why);
+    server->stop();
+    hub.shutdown(why);
+    signals.cancel();
+    // Give the clients' last bytes a moment to leave, but never let a client that does not read
+    // them keep the process alive.
+    give_up = std::chrono::steady_clock::now() + std::chrono::seconds(1);
+    wait_for_clients();
+  };
+  tb::server::SimLoop loop(
+      runtime, *world, &hub, {fast, duration},
+      [&io](std::function<void()> fn) { boost::asio::post(io, std::move(fn)); },
+      [&] { shutdown("scenario finished"); });
+  signals.async_wait([&](boost::system::error_code ec, int sig) {
+    if (!ec) {
+      loop.stop();
+      shutdown(sig == SIGINT ? "SIGINT" : "SIGTERM");
+    }
+  });
+
+  spdlog::info("scenario '{}' ({}): {} vehicle(s), map {}, physics {} Hz{}", scenario.name,
+               scenario_file, world->size(), map_name(scenario.map.type), scenario.rates.physics_hz,
+               fast ? ", fast" : ", real time");
+  spdlog::info("listening on {}:{}", bind, server->port());
+  loop.start();
+  io.run();
+  const auto& st = hub.stats();
+  spdlog::info(
+      "stopped after {} steps ({:.2f} s sim time); {} connection(s), {} closed for bad input, "
+      "{} dropped as too slow, {} control value(s) clamped, {} watchdog stop(s), {} late "
+      "step(s), {} resync(s)",
+      world->tick(), world->sim_time_ns() * 1e-9, st.connections, st.protocol_errors, st.slow_drops,
+      st.clamped_values, st.watchdog_stops, loop.late_steps(), loop.resyncs());
+  tb::trace::global().flush();
+  return 0;
+}

@@ -1,0 +1,283 @@
+#include "sim-server/server/hub.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+#include <numbers>
+
+namespace tb::server {
+
+namespace sim = wire::sim;
+
+namespace {
+
+SharedBytes share(Bytes b) {
+  return std::make_shared<const Bytes>(std::move(b));
+}
+
+sim::DriverKind kind_of(const scenario::Driver& d) {
+  if (std::holds_alternative<scenario::TimelineDriver>(d))
+    return sim::DriverKind::kTimeline;
+  if (std::holds_alternative<scenario::LaneFollowDriver>(d))
+    return sim::DriverKind::kLaneFollow;
+  return sim::DriverKind::kHuman;
+}
+
+}  // namespace
+
+Hub::Hub(physics::World& world, const scenario::Scenario& scenario, std::string scenario_json,
+         const clock::Clock& clock, std::string server_name)
+    : world_(world),
+      scenario_(scenario),
+      scenario_json_(std::move(scenario_json)),
+      clock_(clock),
+      server_name_(std::move(server_name)),
+      vehicles_(world.size()) {
+  for (std::size_t v = 0; v < vehicles_.size(); ++v) {
+    // A car spawned with speed rolls on until before_step() finds nobody drives it.
+    vehicles_[v].lights = world_.states()[v].lights;
+  }
+}
+
+std::string Hub::label(const Client& c) const {
+  return c.name.empty() ? c.peer : fmt::format("'{}' ({})", c.name, c.peer);
+}
+
+Hub::ClientId Hub::connect(ClientLink& link, std::string peer) {
+  const ClientId id = next_id_++;
+  Client& c = clients_[id];
+  c.link = &link;
+  c.peer = std::move(peer);
+  ++stats_.connections;
+  spdlog::info("client {} connected from {}", id, c.peer);
+  return id;
+}
+
+void Hub::receive(ClientId id, std::span<const std::uint8_t> bytes) {
+  while (!bytes.empty()) {
+    auto it = clients_.find(id);
+    if (it == clients_.end())
+      return;
+    Client& c = it->second;
+    auto r = c.parser.parse(bytes);
+    if (!r) {
+      close_client(id, sim::CloseReason::kProtocolError,
+                   fmt::format("bad frame: {}", sim::to_string(r.error())));
+      return;
+    }
+    if (*r == sim::FrameParser::Status::kNeedMore)
+      return;
+    const sim::Frame& f = c.parser.frame();
+    auto m = sim::decode_client(f);
+    if (!m) {
+      close_client(
+          id, sim::CloseReason::kProtocolError,
+          fmt::format("malformed {}: {}", sim::to_string(f.type), sim::to_string(m.error())));
+      return;
+    }
+    if (auto ok = c.conversation.check(*m); !ok) {
+      close_client(id, sim::CloseReason::kProtocolError,
+                   fmt::format("{} {}", sim::to_string(f.type), sim::to_string(ok.error())));
+      return;
+    }
+    handle(id, c, *m);
+  }
+}
+
+void Hub::handle(ClientId id, Client& c, const sim::ClientMessage& m) {
+  if (const auto* hello = std::get_if<sim::Hello>(&m)) {
+    c.name = hello->client_name;
+    c.conversation.on_hello();
+    spdlog::info("client {} is {}", id, label(c));
+    c.link->send(share(sim::encode(welcome())));
+  } else if (const auto* a = std::get_if<sim::Attach>(&m)) {
+    attach(id, c, *a);
+  } else if (const auto* in = std::get_if<sim::ControlsMsg>(&m)) {
+    wire::Controls controls = in->controls;
+    if (const int n = sim::clamp(controls); n > 0) {
+      stats_.clamped_values += static_cast<std::uint64_t>(n);
+      spdlog::debug("client {}: {} control value(s) clamped for vehicle {}", id, n, in->vehicle);
+    }
+    VehicleSlot& slot = vehicles_[in->vehicle];
+    if (slot.stopping)
+      spdlog::info("vehicle {} driven again by {}", scenario_.vehicles[in->vehicle].id, label(c));
+    slot.stopping = false;
+    slot.last_controls = clock_.steady_now();
+    slot.lights = in->lights;
+    world_.set_controls(in->vehicle, controls, in->lights);
+  } else if (const auto* d = std::get_if<sim::Detach>(&m)) {
+    c.conversation.on_released(d->vehicle);
+    release(d->vehicle, fmt::format("detached by {}", label(c)));
+  }
+}
+
+void Hub::attach(ClientId id, Client& c, const sim::Attach& a) {
+  sim::AttachResult res{a.role, a.vehicle, sim::AttachStatus::kOk, ""};
+  if (a.role == sim::Role::kWatcher) {
+    c.streaming = true;
+    spdlog::info("client {} watches", label(c));
+    c.link->send(share(sim::encode(res)));
+    return;
+  }
+  if (a.vehicle >= vehicles_.size()) {
+    res.status = sim::AttachStatus::kUnknownVehicle;
+    res.reason = fmt::format("no vehicle {} (the scenario has {})", a.vehicle, vehicles_.size());
+  } else if (const ClientId other = vehicles_[a.vehicle].driver; other != 0 && other != id) {
+    res.status = sim::AttachStatus::kAlreadyDriven;
+    res.reason = fmt::format("vehicle '{}' is driven by {}", scenario_.vehicles[a.vehicle].id,
+                             label(clients_.at(other)));
+  }
+  if (res.status != sim::AttachStatus::kOk) {
+    spdlog::info("client {}: attach to vehicle {} refused: {}", label(c), a.vehicle, res.reason);
+    c.link->send(share(sim::encode(res)));
+    return;
+  }
+  VehicleSlot& slot = vehicles_[a.vehicle];
+  const bool changed = slot.driver != id;
+  slot.driver = id;
+  // The watchdog runs from the attachment: a driver that never sends controls is silent too.
+  slot.last_controls = clock_.steady_now();
+  c.conversation.on_driving(a.vehicle);
+  c.streaming = true;
+  spdlog::info("client {} drives vehicle '{}'", label(c), scenario_.vehicles[a.vehicle].id);
+  c.link->send(share(sim::encode(res)));
+  if (changed)
+    broadcast(share(sim::encode(sim::DriverChanged{a.vehicle, c.name})));
+}
+
+void Hub::release(std::size_t vehicle, std::string_view why) {
+  VehicleSlot& slot = vehicles_[vehicle];
+  if (slot.driver == 0)
+    return;
+  slot.driver = 0;
+  spdlog::info("vehicle '{}' has no driver ({}): braking to a stop", scenario_.vehicles[vehicle].id,
+               why);
+  stop_vehicle(vehicle);
+  broadcast(share(sim::encode(sim::DriverChanged{static_cast<std::uint16_t>(vehicle), ""})));
+}
+
+void Hub::stop_vehicle(std::size_t vehicle) {
+  VehicleSlot& slot = vehicles_[vehicle];
+  slot.stopping = true;
+  wire::Controls c = world_.controls(vehicle);
+  // Keep the steering: straightening the wheels mid-curve would steer off the road.
+  c.throttle = 0.0f;
+  c.brake = kStopBrake;
+  c.handbrake = false;
+  world_.set_controls(vehicle, c, slot.lights | wire::kHazard);
+}
+
+void Hub::before_step() {
+  const auto now = clock_.steady_now();
+  for (std::size_t v = 0; v < vehicles_.size(); ++v) {
+    VehicleSlot& slot = vehicles_[v];
+    if (slot.stopping) {
+      // Also covers cars nobody has driven yet; re-applied in case set_controls was bypassed.
+      if (world_.controls(v).brake < kStopBrake)
+        stop_vehicle(v);
+      continue;
+    }
+    if (slot.driver != 0 && now - slot.last_controls > kDriverTimeout) {
+      ++stats_.watchdog_stops;
+      const auto it = clients_.find(slot.driver);
+      spdlog::warn(
+          "vehicle '{}': no controls from {} for {} ms: braking to a stop",
+          scenario_.vehicles[v].id, it == clients_.end() ? "?" : label(it->second),
+          std::chrono::duration_cast<std::chrono::milliseconds>(now - slot.last_controls).count());
+      stop_vehicle(v);
+    }
+  }
+}
+
+void Hub::after_step() {
+  bool any = false;
+  for (const auto& [id, c] : clients_)
+    any = any || c.streaming;
+  if (!any)
+    return;
+  const auto states = world_.states();
+  broadcast(share(sim::encode_state(world_.tick(), world_.sim_time_ns(),
+                                    states.empty() ? 0 : states.front().step_wall_ns, states,
+                                    clock::to_unix_ns(clock_.wall_now()))));
+}
+
+void Hub::broadcast(const SharedBytes& frame) {
+  std::vector<ClientId> slow;
+  for (auto& [id, c] : clients_) {
+    if (!c.streaming)
+      continue;
+    if (c.link->send(frame))
+      ++stats_.frames_sent;
+    else
+      slow.push_back(id);
+  }
+  for (ClientId id : slow) {
+    ++stats_.slow_drops;
+    close_client(id, sim::CloseReason::kTooSlow, "send queue full: the client reads too slowly");
+  }
+}
+
+void Hub::close_client(ClientId id, sim::CloseReason reason, const std::string& text) {
+  auto it = clients_.find(id);
+  if (it == clients_.end())
+    return;
+  Client& c = it->second;
+  if (reason == sim::CloseReason::kProtocolError) {
+    ++stats_.protocol_errors;
+    spdlog::warn("client {} ({}): closing: {}", id, label(c), text);
+  } else {
+    spdlog::info("client {} ({}): closing: {}", id, label(c), text);
+  }
+  // Best effort: a full queue refuses this too, and the connection closes without it.
+  c.link->send(share(sim::encode(sim::Closing{reason, text})));
+  c.link->close();
+  disconnect(id);
+}
+
+void Hub::disconnect(ClientId id) {
+  auto it = clients_.find(id);
+  if (it == clients_.end())
+    return;
+  const std::string who = label(it->second);
+  clients_.erase(it);
+  spdlog::info("client {} ({}) gone", id, who);
+  for (std::size_t v = 0; v < vehicles_.size(); ++v) {
+    if (vehicles_[v].driver == id)
+      release(v, fmt::format("{} disconnected", who));
+  }
+}
+
+void Hub::shutdown(std::string_view why) {
+  while (!clients_.empty())
+    close_client(clients_.begin()->first, sim::CloseReason::kShutdown, std::string(why));
+}
+
+sim::Welcome Hub::welcome() const {
+  sim::Welcome w;
+  w.server_name = server_name_;
+  w.step_ns = std::llround(world_.step_s() * 1e9);
+  w.scenario_json = scenario_json_;
+  for (std::size_t i = 0; i < scenario_.vehicles.size() && i < vehicles_.size(); ++i) {
+    const auto& v = scenario_.vehicles[i];
+    sim::VehicleInfo info;
+    info.index = static_cast<std::uint16_t>(i);
+    info.id = v.id;
+    info.station_id = v.station_id;
+    info.station_type = static_cast<std::uint8_t>(v.station_type);
+    info.color = v.color;
+    info.driver_kind = kind_of(v.driver);
+    info.length_m = static_cast<float>(v.model.length_m);
+    info.width_m = static_cast<float>(v.model.width_m);
+    info.height_m = static_cast<float>(v.model.height_m);
+    info.wheelbase_m = static_cast<float>(v.model.wheelbase_m);
+    info.track_m = static_cast<float>(v.model.track_m);
+    info.wheel_radius_m = static_cast<float>(v.model.wheel_radius_m);
+    info.max_steer_rad = static_cast<float>(v.model.max_steer_deg * std::numbers::pi / 180.0);
+    if (const ClientId d = vehicles_[i].driver; d != 0)
+      info.driver = clients_.at(d).name;
+    w.vehicles.push_back(std::move(info));
+  }
+  return w;
+}
+
+}  // namespace tb::server

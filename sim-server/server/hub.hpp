@@ -1,0 +1,120 @@
+#pragma once
+/// @file The server's side of the sim protocol for every connected client, without sockets.
+///
+/// The Hub turns client bytes into attachments and controls of the World's vehicles and the
+/// World's states into one shared State frame per step. Sockets live behind ClientLink
+/// (tcp_server.hpp in the program, a fake in the tests); time comes from a clock::Clock.
+///
+/// Safety rules (issue 3): a malformed, oversized or out-of-order message closes only that
+/// client; a vehicle whose driver leaves or is silent for more than kDriverTimeout brakes to a
+/// stop; a second driver for a vehicle is refused with a reason; out-of-range controls are
+/// clamped and counted; a client whose send queue is full is dropped.
+
+#include <chrono>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "common/clock/clock.hpp"
+#include "common/scenario/scenario.hpp"
+#include "common/wire/sim_protocol.hpp"
+#include "sim-server/physics/world.hpp"
+
+namespace tb::server {
+
+using Bytes = std::vector<std::uint8_t>;
+using SharedBytes = std::shared_ptr<const Bytes>;
+
+/// One client's byte stream towards it.
+class ClientLink {
+ public:
+  virtual ~ClientLink() = default;
+  /// Queues a frame without blocking; false when the queue is full.
+  virtual bool send(SharedBytes frame) = 0;
+  /// Sends what is queued (best effort), then closes. The link must not call back into the hub
+  /// from here.
+  virtual void close() = 0;
+};
+
+struct HubStats {
+  std::uint64_t connections = 0;
+  std::uint64_t protocol_errors = 0;  ///< connections closed for bad input
+  std::uint64_t slow_drops = 0;       ///< connections closed because their queue was full
+  std::uint64_t clamped_values = 0;   ///< control values outside their range, clamped
+  std::uint64_t watchdog_stops = 0;   ///< vehicles braked because their driver fell silent
+  std::uint64_t frames_sent = 0;      ///< State frames queued, over all clients
+};
+
+class Hub {
+ public:
+  using ClientId = std::uint64_t;
+  /// Silence after which a driven vehicle brakes to a stop (issue 3).
+  static constexpr std::chrono::milliseconds kDriverTimeout{500};
+  /// Brake pedal of a vehicle nobody drives: a firm stop (about 5 m/s²) that following traffic
+  /// can react to, rather than an emergency stop.
+  static constexpr float kStopBrake = 0.5f;
+
+  /// @p scenario_json is the scenario file's text, sent to clients in Welcome.
+  Hub(physics::World& world, const scenario::Scenario& scenario, std::string scenario_json,
+      const clock::Clock& clock, std::string server_name = "sim-server");
+
+  /// A new connection; @p peer names it in logs. The link must outlive the client's id.
+  ClientId connect(ClientLink& link, std::string peer);
+  /// Bytes the client sent. May close the client (its link's close() is called, the id is
+  /// forgotten).
+  void receive(ClientId id, std::span<const std::uint8_t> bytes);
+  /// The connection is gone (peer closed, I/O error). Unknown ids are ignored.
+  void disconnect(ClientId id);
+
+  /// Before each physics step: vehicles without a live driver get brake-to-stop controls.
+  void before_step();
+  /// After each physics step: the State frame to every attached client.
+  void after_step();
+  /// Sends Closing(shutdown) to everyone and closes every link.
+  void shutdown(std::string_view why);
+
+  const HubStats& stats() const { return stats_; }
+  std::size_t clients() const { return clients_.size(); }
+  /// The id of the client driving @p vehicle, or 0.
+  ClientId driver_of(std::size_t vehicle) const { return vehicles_.at(vehicle).driver; }
+
+ private:
+  struct Client {
+    ClientLink* link = nullptr;
+    std::string peer;
+    std::string name;
+    wire::sim::FrameParser parser{wire::sim::Sender::kClient};
+    wire::sim::Conversation conversation;
+    bool streaming = false;  ///< attached as watcher or driver
+  };
+  struct VehicleSlot {
+    ClientId driver = 0;
+    clock::SteadyTime last_controls{};
+    bool stopping = true;  ///< brake-to-stop in force
+    std::uint16_t lights = 0;
+  };
+
+  void handle(ClientId id, Client& c, const wire::sim::ClientMessage& m);
+  void attach(ClientId id, Client& c, const wire::sim::Attach& a);
+  void release(std::size_t vehicle, std::string_view why);
+  void close_client(ClientId id, wire::sim::CloseReason reason, const std::string& text);
+  void broadcast(const SharedBytes& frame);
+  void stop_vehicle(std::size_t vehicle);
+  wire::sim::Welcome welcome() const;
+  std::string label(const Client& c) const;
+
+  physics::World& world_;
+  const scenario::Scenario& scenario_;
+  std::string scenario_json_;
+  const clock::Clock& clock_;
+  std::string server_name_;
+  std::map<ClientId, Client> clients_;
+  std::vector<VehicleSlot> vehicles_;
+  ClientId next_id_ = 1;
+  HubStats stats_;
+};
+
+}  // namespace tb::server

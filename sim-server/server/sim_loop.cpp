@@ -1,0 +1,95 @@
+#include "sim-server/server/sim_loop.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+
+#include "common/trace/tracer.hpp"
+
+namespace tb::server {
+
+SimLoop::SimLoop(clock::Runtime& runtime, physics::World& world, Hub* hub, Options options,
+                 Post post, std::function<void()> on_finished)
+    : rt_(runtime),
+      world_(world),
+      hub_(hub),
+      options_(options),
+      post_(std::move(post)),
+      on_finished_(std::move(on_finished)),
+      step_(std::chrono::nanoseconds(std::llround(world.step_s() * 1e9))) {}
+
+SimLoop::~SimLoop() {
+  *alive_ = false;
+  stop();
+}
+
+void SimLoop::start() {
+  if (running_)
+    return;
+  running_ = true;
+  start_ = rt_.steady_now();
+  scheduled_ = 0;
+  schedule_next();
+}
+
+void SimLoop::stop() {
+  running_ = false;
+  if (timer_) {
+    rt_.cancel(*timer_);
+    timer_.reset();
+  }
+}
+
+void SimLoop::schedule_next() {
+  if (!running_)
+    return;
+  if (options_.fast) {
+    post_([this, alive = std::weak_ptr<bool>(alive_)] {
+      if (alive.lock() && running_)
+        step();
+    });
+    return;
+  }
+  ++scheduled_;
+  auto due = start_ + scheduled_ * step_;
+  const auto now = rt_.steady_now();
+  if (now - due > kMaxLag) {
+    ++resyncs_;
+    spdlog::warn("physics fell {} ms behind real time: restarting the schedule",
+                 std::chrono::duration_cast<std::chrono::milliseconds>(now - due).count());
+    start_ = now;
+    scheduled_ = 0;
+    due = now;
+  }
+  timer_ = rt_.schedule_at(due, [this, due] {
+    timer_.reset();
+    if (rt_.steady_now() - due > step_)
+      ++late_steps_;
+    step();
+  });
+}
+
+void SimLoop::step() {
+  if (!running_)
+    return;
+  if (hub_)
+    hub_->before_step();
+  auto& tracer = trace::global();
+  const std::uint64_t tick = world_.tick() + 1;
+  // p1 of the delay table: the physics step itself.
+  tracer.record("sim.step.start", {{"tick", tick}});
+  world_.step(clock::to_unix_ns(rt_.wall_now()));
+  tracer.record("sim.step.end", {{"tick", tick}, {"vehicles", world_.size()}});
+  if (hub_)
+    hub_->after_step();
+  if (options_.duration_s && world_.sim_time_ns() >= std::llround(*options_.duration_s * 1e9)) {
+    running_ = false;
+    spdlog::info("scenario duration reached after {} steps", world_.tick());
+    if (on_finished_)
+      on_finished_();
+    return;
+  }
+  schedule_next();
+}
+
+}  // namespace tb::server

@@ -1,0 +1,64 @@
+#pragma once
+/// @file Paces the physics: one World step every step_s of real time, or back to back.
+///
+/// Real-time steps are scheduled against absolute instants (start + n·step), so that late
+/// callbacks do not accumulate drift: a late step is followed by the next one on time, and a
+/// step that overran makes the following ones run at once until the schedule is met again.
+/// Only when the loop falls more than kMaxLag behind (a suspended process, a debugger) does it
+/// give up on catching up and restart the schedule from now, logging how much it skipped.
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <optional>
+
+#include "common/clock/runtime.hpp"
+#include "sim-server/physics/world.hpp"
+#include "sim-server/server/hub.hpp"
+
+namespace tb::server {
+
+class SimLoop {
+ public:
+  struct Options {
+    bool fast = false;                 ///< as fast as possible instead of real time
+    std::optional<double> duration_s;  ///< stop after this much sim time
+  };
+  /// Runs @p fn soon, after pending I/O (asio::post in the program). Fast mode uses it, since
+  /// a timer due "now" would starve the sockets.
+  using Post = std::function<void(std::function<void()>)>;
+
+  static constexpr std::chrono::seconds kMaxLag{1};
+
+  SimLoop(clock::Runtime& runtime, physics::World& world, Hub* hub, Options options, Post post,
+          std::function<void()> on_finished = {});
+  ~SimLoop();
+
+  void start();
+  void stop();
+  bool running() const { return running_; }
+  /// Steps that started later than their scheduled instant by more than one step.
+  std::uint64_t late_steps() const { return late_steps_; }
+  std::uint64_t resyncs() const { return resyncs_; }
+
+ private:
+  void step();
+  void schedule_next();
+
+  clock::Runtime& rt_;
+  physics::World& world_;
+  Hub* hub_;
+  Options options_;
+  Post post_;
+  std::function<void()> on_finished_;
+  clock::Duration step_;
+  clock::SteadyTime start_{};
+  std::uint64_t scheduled_ = 0;  ///< steps since start_
+  std::uint64_t late_steps_ = 0;
+  std::uint64_t resyncs_ = 0;
+  bool running_ = false;
+  std::optional<clock::TimerId> timer_;
+  std::shared_ptr<bool> alive_ = std::make_shared<bool>(true);
+};
+
+}  // namespace tb::server
