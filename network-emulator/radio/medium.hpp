@@ -1,0 +1,59 @@
+#pragma once
+/// @file The shared medium: hands every frame a station transmits to each other station the
+/// channel model lets it reach, after the model's delay. Pure logic; the I/O behind FrameSink
+/// is a veth's AF_PACKET socket (veth_medium.hpp) or, in tests, a vector.
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <set>
+#include <span>
+#include <vector>
+
+#include "common/clock/runtime.hpp"
+#include "network-emulator/radio/channel.hpp"
+
+namespace tb::emu::radio {
+
+/// The medium's way to put a frame into one station's receiver.
+class FrameSink {
+ public:
+  virtual ~FrameSink() = default;
+  virtual void transmit(std::span<const std::uint8_t> frame) = 0;
+};
+
+class Medium {
+ public:
+  Medium(clock::Runtime& runtime, Channel& channel) : runtime_(runtime), channel_(channel) {}
+  ~Medium();
+  Medium(const Medium&) = delete;
+  Medium& operator=(const Medium&) = delete;
+
+  /// @p sink must outlive the medium (or detach()).
+  void attach(StationId id, FrameSink& sink);
+  void detach(StationId id);
+
+  /// A frame @p from put on the air. Frames with no delay are handed over before this returns;
+  /// delayed ones keep their order per receiver, as a radio does not reorder (a later frame
+  /// with less jitter waits for the one before it).
+  void on_frame(StationId from, std::span<const std::uint8_t> frame);
+
+  std::uint64_t frames_in() const { return frames_in_; }
+  std::uint64_t deliveries() const { return deliveries_; }
+  std::size_t pending() const { return timers_.size(); }
+
+ private:
+  struct Receiver {
+    FrameSink* sink = nullptr;
+    clock::SteadyTime last_due{};
+  };
+
+  clock::Runtime& runtime_;
+  Channel& channel_;
+  std::map<StationId, Receiver> receivers_;
+  std::set<clock::TimerId> timers_;
+  std::uint64_t frames_in_ = 0;
+  std::uint64_t deliveries_ = 0;
+};
+
+}  // namespace tb::emu::radio

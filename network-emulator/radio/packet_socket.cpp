@@ -1,0 +1,135 @@
+#include "network-emulator/radio/packet_socket.hpp"
+
+#include <arpa/inet.h>
+#include <linux/if_packet.h>
+#include <net/ethernet.h>
+#include <net/if.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <system_error>
+
+#include <spdlog/spdlog.h>
+#include <boost/asio/post.hpp>
+
+namespace tb::emu::radio {
+
+namespace {
+[[noreturn]] void fail(const std::string& what) {
+  throw std::system_error(errno, std::generic_category(), what);
+}
+}  // namespace
+
+PacketSocket::PacketSocket(const std::string& ifname, std::uint16_t ethertype, int rcvbuf_bytes)
+    : ifname_(ifname) {
+  ifindex_ = static_cast<int>(if_nametoindex(ifname.c_str()));
+  if (ifindex_ == 0)
+    fail("no interface " + ifname);
+  fd_ = ::socket(AF_PACKET, SOCK_RAW | SOCK_NONBLOCK | SOCK_CLOEXEC, htons(ethertype));
+  if (fd_ < 0)
+    fail("AF_PACKET socket for " + ifname + " (needs CAP_NET_RAW)");
+  // Frames we send ourselves must not come back as received ones (Linux ≥ 4.20).
+  int one = 1;
+  setsockopt(fd_, SOL_PACKET, PACKET_IGNORE_OUTGOING, &one, sizeof one);
+  // The medium sends into a veth: its peer's receive path runs in softirq anyway, the qdisc
+  // only adds a lock and a queue.
+  setsockopt(fd_, SOL_PACKET, PACKET_QDISC_BYPASS, &one, sizeof one);
+  if (rcvbuf_bytes > 0 &&
+      setsockopt(fd_, SOL_SOCKET, SO_RCVBUFFORCE, &rcvbuf_bytes, sizeof rcvbuf_bytes) != 0)
+    setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &rcvbuf_bytes, sizeof rcvbuf_bytes);
+  sockaddr_ll addr{};
+  addr.sll_family = AF_PACKET;
+  addr.sll_protocol = htons(ethertype);
+  addr.sll_ifindex = ifindex_;
+  if (::bind(fd_, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
+    const int e = errno;
+    ::close(fd_);
+    errno = e;
+    fail("cannot bind AF_PACKET socket to " + ifname);
+  }
+}
+
+PacketSocket::~PacketSocket() {
+  if (fd_ >= 0)
+    ::close(fd_);
+}
+
+int PacketSocket::release() {
+  const int fd = fd_;
+  fd_ = -1;
+  return fd;
+}
+
+bool PacketSocket::send(std::span<const std::uint8_t> frame) {
+  // Bound sockets send on their interface; the frame carries its own Ethernet header.
+  return ::send(fd_, frame.data(), frame.size(), 0) == static_cast<ssize_t>(frame.size());
+}
+
+long PacketSocket::receive(std::span<std::uint8_t> buf, bool wait) {
+  for (;;) {
+    sockaddr_ll from{};
+    socklen_t len = sizeof from;
+    const ssize_t n = ::recvfrom(fd_, buf.data(), buf.size(), (wait ? 0 : MSG_DONTWAIT) | MSG_TRUNC,
+                                 reinterpret_cast<sockaddr*>(&from), &len);
+    if (n < 0)
+      return (errno == EAGAIN || errno == EWOULDBLOCK) ? 0 : -1;
+    // Kernels without PACKET_IGNORE_OUTGOING still show our own transmissions.
+    if (from.sll_pkttype == PACKET_OUTGOING)
+      continue;
+    if (static_cast<std::size_t>(n) > buf.size()) {
+      errno = EMSGSIZE;
+      return -1;
+    }
+    return n;
+  }
+}
+
+VethPort::VethPort(boost::asio::io_context& io, StationId id, const std::string& ifname,
+                   std::uint16_t ethertype, Medium& medium)
+    : id_(id),
+      socket_(ifname, ethertype, 8 << 20),
+      descriptor_(io),
+      medium_(medium),
+      buffer_(65536) {}
+
+void VethPort::start() {
+  descriptor_.assign(::dup(socket_.fd()));
+  wait();
+}
+
+void VethPort::wait() {
+  descriptor_.async_wait(boost::asio::posix::stream_descriptor::wait_read,
+                         [this](const boost::system::error_code& ec) {
+                           if (ec)
+                             return;  // cancelled at shutdown
+                           drain();
+                           wait();
+                         });
+}
+
+void VethPort::drain() {
+  // A bounded batch per wake-up keeps one busy station from starving the others.
+  for (int i = 0; i < 64; ++i) {
+    const long n = socket_.receive(buffer_);
+    if (n == 0)
+      return;
+    if (n < 0) {
+      if (receive_errors_++ == 0)
+        spdlog::warn("radio: receive on {} failed: {}", socket_.ifname(),
+                     std::system_category().message(errno));
+      continue;
+    }
+    ++received_;
+    medium_.on_frame(id_,
+                     std::span<const std::uint8_t>(buffer_.data(), static_cast<std::size_t>(n)));
+  }
+}
+
+void VethPort::transmit(std::span<const std::uint8_t> frame) {
+  if (!socket_.send(frame) && send_errors_++ == 0)
+    spdlog::warn("radio: sending into {} failed: {} (counted, reported once)", socket_.ifname(),
+                 std::system_category().message(errno));
+}
+
+}  // namespace tb::emu::radio

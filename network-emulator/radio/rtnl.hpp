@@ -1,0 +1,61 @@
+#pragma once
+/// @file Link management over rtnetlink (libnl-route-3): the veth pairs of the stand-in medium.
+/// No shelling out to `ip`.
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+struct nl_sock;
+
+namespace tb::emu::radio {
+
+using MacAddress = std::array<std::uint8_t, 6>;
+std::string to_string(const MacAddress& mac);
+
+/// A netlink request the kernel refused; what() names the operation, the interface and the
+/// kernel's answer.
+class NetlinkError : public std::runtime_error {
+ public:
+  NetlinkError(const std::string& what, int nl_error);
+  int nl_error() const { return nl_error_; }
+
+ private:
+  int nl_error_;
+};
+
+struct LinkInfo {
+  int index = 0;
+  std::string name;
+  std::string alias;  ///< IFLA_IFALIAS, "" when unset
+};
+
+/// A NETLINK_ROUTE socket of the namespace of the thread that made it.
+class RouteSocket {
+ public:
+  RouteSocket();
+  ~RouteSocket();
+  RouteSocket(const RouteSocket&) = delete;
+  RouteSocket& operator=(const RouteSocket&) = delete;
+
+  std::vector<LinkInfo> links();
+  /// A veth pair: @p name here, @p peer_name created directly in the namespace @p peer_netns_fd
+  /// (so that it can be called wlan0 whatever this namespace holds) with @p peer_mac; both down.
+  /// @p alias labels the local end so that a later run can tell its leftovers. @throws
+  /// NetlinkError.
+  void add_veth(const std::string& name, const std::string& alias, const std::string& peer_name,
+                int peer_netns_fd, const MacAddress& peer_mac);
+  /// Sets IFF_UP. @throws NetlinkError.
+  void set_up(const std::string& name);
+  /// Deletes the link (a veth takes its peer along). Returns false if it did not exist.
+  /// @throws NetlinkError for other failures.
+  bool remove(const std::string& name);
+
+ private:
+  nl_sock* sock_ = nullptr;
+};
+
+}  // namespace tb::emu::radio

@@ -1,0 +1,93 @@
+#include "network-emulator/radio/veth_radios.hpp"
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <charconv>
+
+#include <spdlog/spdlog.h>
+
+namespace tb::emu::radio {
+
+namespace {
+constexpr std::string_view kAliasTag = "tb-radio-medium pid=";
+
+std::string owner_alias() {
+  return std::string(kAliasTag) + std::to_string(::getpid());
+}
+
+bool owner_alive(const std::string& alias) {
+  if (!alias.starts_with(kAliasTag))
+    return false;
+  int pid = 0;
+  const char* first = alias.data() + kAliasTag.size();
+  const auto [ptr, ec] = std::from_chars(first, alias.data() + alias.size(), pid);
+  if (ec != std::errc{} || pid <= 0)
+    return false;
+  return ::kill(pid, 0) == 0 || errno == EPERM;
+}
+}  // namespace
+
+MacAddress station_mac(StationId id) {
+  return {0x02,
+          0x00,
+          static_cast<std::uint8_t>(id >> 24),
+          static_cast<std::uint8_t>(id >> 16),
+          static_cast<std::uint8_t>(id >> 8),
+          static_cast<std::uint8_t>(id)};
+}
+
+VethRadios::VethRadios(const std::vector<StationSpec>& stations, const std::string& prefix)
+    : prefix_(prefix), stations_(stations) {
+  RouteSocket rtnl;
+  try {
+    for (const StationSpec& s : stations_) {
+      const NetnsFd ns = NetnsFd::open(s.netns);
+      const std::string name = host_ifname(s.id);
+      rtnl.add_veth(name, owner_alias(), kStationIfname, ns.fd(), station_mac(s.id));
+      created_.push_back(name);
+      rtnl.set_up(name);
+      in_netns(ns, [] { RouteSocket(/*station's namespace*/).set_up(kStationIfname); });
+      spdlog::debug("radio: station {}: {} ↔ {}:{} ({})", s.id, name, ns.path(), kStationIfname,
+                    to_string(station_mac(s.id)));
+    }
+  } catch (...) {
+    remove_all();
+    throw;
+  }
+}
+
+VethRadios::~VethRadios() {
+  remove_all();
+}
+
+void VethRadios::remove_all() noexcept {
+  try {
+    RouteSocket rtnl;
+    for (const std::string& name : created_) {
+      try {
+        rtnl.remove(name);
+      } catch (const std::exception& e) {
+        spdlog::error("radio: {}", e.what());
+      }
+    }
+  } catch (const std::exception& e) {
+    spdlog::error("radio: cannot remove {} veth pairs: {}", created_.size(), e.what());
+  }
+  created_.clear();
+}
+
+std::vector<std::string> VethRadios::remove_leftovers(const std::string& prefix) {
+  RouteSocket rtnl;
+  std::vector<std::string> removed;
+  for (const LinkInfo& l : rtnl.links()) {
+    if (!l.name.starts_with(prefix) || owner_alive(l.alias))
+      continue;
+    if (rtnl.remove(l.name))
+      removed.push_back(l.name);
+  }
+  return removed;
+}
+
+}  // namespace tb::emu::radio

@@ -1,0 +1,56 @@
+#pragma once
+/// @file The stand-in radios: one veth pair per station, `wlan0` inside the station's namespace,
+/// the other end (PREFIX + station id) in the emulator's namespace for the userspace medium.
+
+#include <string>
+#include <vector>
+
+#include "network-emulator/radio/channel.hpp"
+#include "network-emulator/radio/netns.hpp"
+#include "network-emulator/radio/rtnl.hpp"
+
+namespace tb::emu::radio {
+
+/// A station and the namespace its radio goes into.
+struct StationSpec {
+  StationId id = 0;
+  std::string netns;  ///< name under /run/netns or an absolute path (NetnsFd::open)
+};
+
+/// The station's radio MAC: locally administered, unicast, 02:00 then the StationID big-endian,
+/// so that a frame's source address names its station in captures.
+MacAddress station_mac(StationId id);
+
+inline constexpr const char* kDefaultPrefix = "tbrm";
+inline constexpr const char* kStationIfname = "wlan0";
+
+/// Creates the pairs in the constructor and deletes them in the destructor (the peer in the
+/// station's namespace goes with its pair).
+class VethRadios {
+ public:
+  /// @p prefix names the host ends (PREFIX + station id, at most 15 characters) and is what a
+  /// later run looks for to clean up after a crash. @throws NetlinkError or std::system_error
+  /// naming the station; whatever was made before the failure is removed again.
+  VethRadios(const std::vector<StationSpec>& stations, const std::string& prefix = kDefaultPrefix);
+  ~VethRadios();
+  VethRadios(const VethRadios&) = delete;
+  VethRadios& operator=(const VethRadios&) = delete;
+
+  /// Host-side interface name of @p id.
+  std::string host_ifname(StationId id) const { return prefix_ + std::to_string(id); }
+  const std::vector<StationSpec>& stations() const { return stations_; }
+
+  /// Deletes interfaces named PREFIX* in this namespace whose owner (recorded in the interface
+  /// alias as "tb-radio-medium pid=N") is no longer running, or that carry no owner at all.
+  /// Returns their names.
+  static std::vector<std::string> remove_leftovers(const std::string& prefix = kDefaultPrefix);
+
+ private:
+  void remove_all() noexcept;
+
+  std::string prefix_;
+  std::vector<StationSpec> stations_;
+  std::vector<std::string> created_;
+};
+
+}  // namespace tb::emu::radio
