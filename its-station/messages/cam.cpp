@@ -242,12 +242,13 @@ void get(UperReader& r, Cam& cam) {
 
 Expected<std::size_t, CodecError> encode(const Cam& cam, std::span<std::uint8_t> out) {
   if (cam.header.messageID != kMessageIdCam)
-    return Unexpected(CodecError{Error::kWrongMessageId, "messageID", cam.header.messageID, 8});
+    return Unexpected<CodecError>{
+        CodecError{Error::kWrongMessageId, "messageID", cam.header.messageID, 8}};
   UperWriter w(out);
   put(w, cam);
   const std::size_t n = w.finish();
   if (!w.ok())
-    return Unexpected(w.error());
+    return Unexpected<CodecError>{w.error()};
   return n;
 }
 
@@ -255,7 +256,7 @@ Expected<std::vector<std::uint8_t>, CodecError> encode(const Cam& cam) {
   std::vector<std::uint8_t> out(kCamMaxEncodedSize);
   auto n = encode(cam, out);
   if (!n)
-    return Unexpected(n.error());
+    return Unexpected<CodecError>{n.error()};
   out.resize(*n);
   return out;
 }
@@ -264,11 +265,11 @@ Expected<std::size_t, CodecError> decode(std::span<const std::uint8_t> bytes, Ca
   UperReader r(bytes);
   get(r, out);
   if (!r.ok())
-    return Unexpected(r.error());
+    return Unexpected<CodecError>{r.error()};
   if (r.octets_consumed() != bytes.size())
-    return Unexpected(CodecError{Error::kTrailingData, "CAM",
-                                 static_cast<std::int64_t>(bytes.size() - r.octets_consumed()),
-                                 r.octets_consumed() * 8});
+    return Unexpected<CodecError>{CodecError{
+        Error::kTrailingData, "CAM", static_cast<std::int64_t>(bytes.size() - r.octets_consumed()),
+        r.octets_consumed() * 8}};
   return r.octets_consumed();
 }
 
@@ -276,7 +277,7 @@ Expected<Cam, CodecError> decode_cam(std::span<const std::uint8_t> bytes) {
   Cam cam;
   auto n = decode(bytes, cam);
   if (!n)
-    return Unexpected(n.error());
+    return Unexpected<CodecError>{n.error()};
   return cam;
 }
 

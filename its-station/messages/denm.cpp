@@ -263,17 +263,18 @@ void get(UperReader& r, Denm& d) {
 
 Expected<std::size_t, CodecError> encode(const Denm& denm, std::span<std::uint8_t> out) {
   if (denm.header.messageID != kMessageIdDenm)
-    return Unexpected(CodecError{Error::kWrongMessageId, "messageID", denm.header.messageID, 8});
+    return Unexpected<CodecError>{
+        CodecError{Error::kWrongMessageId, "messageID", denm.header.messageID, 8}};
   if (denm.denm.location && denm.denm.location->traces.empty())
-    return Unexpected(CodecError{Error::kSizeOutOfRange, "traces", 0, 0});
+    return Unexpected<CodecError>{CodecError{Error::kSizeOutOfRange, "traces", 0, 0}};
   if (denm.denm.situation && denm.denm.situation->eventHistory &&
       denm.denm.situation->eventHistory->empty())
-    return Unexpected(CodecError{Error::kSizeOutOfRange, "eventHistory", 0, 0});
+    return Unexpected<CodecError>{CodecError{Error::kSizeOutOfRange, "eventHistory", 0, 0}};
   UperWriter w(out);
   put(w, denm);
   const std::size_t n = w.finish();
   if (!w.ok())
-    return Unexpected(w.error());
+    return Unexpected<CodecError>{w.error()};
   return n;
 }
 
@@ -281,7 +282,7 @@ Expected<std::vector<std::uint8_t>, CodecError> encode(const Denm& denm) {
   std::vector<std::uint8_t> out(kDenmMaxEncodedSize);
   auto n = encode(denm, out);
   if (!n)
-    return Unexpected(n.error());
+    return Unexpected<CodecError>{n.error()};
   out.resize(*n);
   return out;
 }
@@ -290,11 +291,11 @@ Expected<std::size_t, CodecError> decode(std::span<const std::uint8_t> bytes, De
   UperReader r(bytes);
   get(r, out);
   if (!r.ok())
-    return Unexpected(r.error());
+    return Unexpected<CodecError>{r.error()};
   if (r.octets_consumed() != bytes.size())
-    return Unexpected(CodecError{Error::kTrailingData, "DENM",
-                                 static_cast<std::int64_t>(bytes.size() - r.octets_consumed()),
-                                 r.octets_consumed() * 8});
+    return Unexpected<CodecError>{CodecError{
+        Error::kTrailingData, "DENM", static_cast<std::int64_t>(bytes.size() - r.octets_consumed()),
+        r.octets_consumed() * 8}};
   return r.octets_consumed();
 }
 
@@ -302,7 +303,7 @@ Expected<Denm, CodecError> decode_denm(std::span<const std::uint8_t> bytes) {
   Denm denm;
   auto n = decode(bytes, denm);
   if (!n)
-    return Unexpected(n.error());
+    return Unexpected<CodecError>{n.error()};
   return denm;
 }
 

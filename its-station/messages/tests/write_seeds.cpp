@@ -1,0 +1,57 @@
+// Writes the fuzz seed corpora (tests/fuzz/cam, tests/fuzz/denm) from the sample messages, so
+// that the committed seeds stay the encodings of the golden and boundary samples.
+// Usage: its_messages_write_seeds <repository root>
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "its-station/messages/tests/samples.hpp"
+
+namespace {
+
+bool write(const std::filesystem::path& path, const std::vector<std::uint8_t>& bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(bytes.data()),
+            static_cast<std::streamsize>(bytes.size()));
+  return out.good();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace tb::its::messages;
+  if (argc != 2) {
+    std::cerr << "usage: " << argv[0] << " <repository root>\n";
+    return 2;
+  }
+  const std::filesystem::path root = argv[1];
+  const std::pair<const char*, Cam> cams[] = {
+      {"cam_hf.uper", samples::cam_hf()},
+      {"cam_lf.uper", samples::cam_lf()},
+      {"cam_path20.uper", samples::cam_with_path(20)},
+      {"cam_upper.uper", samples::cam_at_bounds(true)},
+      {"cam_lower.uper", samples::cam_at_bounds(false)},
+  };
+  const std::pair<const char*, Denm> denms[] = {
+      {"denm_collision_risk.uper", samples::denm_collision_risk()},
+      {"denm_upper.uper", samples::denm_at_bounds(true)},
+      {"denm_lower.uper", samples::denm_at_bounds(false)},
+  };
+  bool ok = true;
+  for (const auto& [name, cam] : cams) {
+    auto bytes = encode(cam);
+    ok = ok && bytes && write(root / "tests/fuzz/cam" / name, *bytes);
+  }
+  for (const auto& [name, denm] : denms) {
+    auto bytes = encode(denm);
+    ok = ok && bytes && write(root / "tests/fuzz/denm" / name, *bytes);
+  }
+  if (!ok) {
+    std::cerr << "cannot write the seeds under " << root << "\n";
+    return 1;
+  }
+  return 0;
+}
