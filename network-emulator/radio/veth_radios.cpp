@@ -5,6 +5,8 @@
 
 #include <cerrno>
 #include <charconv>
+#include <stdexcept>
+#include <system_error>
 
 #include <spdlog/spdlog.h>
 
@@ -43,7 +45,12 @@ VethRadios::VethRadios(const std::vector<StationSpec>& stations, const std::stri
   RouteSocket rtnl;
   try {
     for (const StationSpec& s : stations_) {
-      const NetnsFd ns = NetnsFd::open(s.netns);
+      NetnsFd ns;
+      try {
+        ns = NetnsFd::open(s.netns);
+      } catch (const std::system_error& e) {
+        throw std::runtime_error("station " + std::to_string(s.id) + ": " + e.what());
+      }
       const std::string name = host_ifname(s.id);
       rtnl.add_veth(name, owner_alias(), kStationIfname, ns.fd(), station_mac(s.id));
       created_.push_back(name);

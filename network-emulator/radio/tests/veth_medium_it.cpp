@@ -1,0 +1,429 @@
+// Integration test of the veth stand-in medium: three network namespaces, radio-medium from
+// $TESTBED_BIN, frames sent on wlan0 inside the namespaces with AF_PACKET. Runs as root.
+
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <net/if.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "common/wire/vehicle_state.hpp"
+#include "network-emulator/radio/netns.hpp"
+#include "network-emulator/radio/packet_socket.hpp"
+#include "network-emulator/radio/rtnl.hpp"
+#include "network-emulator/radio/veth_radios.hpp"
+
+namespace tb::emu::radio {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+using Clock = std::chrono::steady_clock;
+
+const std::string kTag = std::to_string(::getpid() % 100000);
+// Interface names hold 15 characters: "tbi" + 2 digits + station id.
+const std::string kPrefix = "tbi" + std::to_string(::getpid() % 100);
+
+// A named namespace made with `ip netns add` (the launcher's job in real runs), always removed.
+class TestNetns {
+ public:
+  explicit TestNetns(std::string name) : name_(std::move(name)) {
+    std::system(("ip netns del " + name_ + " 2>/dev/null").c_str());
+    if (std::system(("ip netns add " + name_).c_str()) != 0)
+      throw std::runtime_error("ip netns add " + name_ + " failed (needs root)");
+  }
+  ~TestNetns() { std::system(("ip netns del " + name_ + " 2>/dev/null").c_str()); }
+  const std::string& name() const { return name_; }
+  bool has(const std::string& ifname) const {
+    return in_netns(NetnsFd::open(name_), [&] { return if_nametoindex(ifname.c_str()) != 0; });
+  }
+
+ private:
+  std::string name_;
+};
+
+// radio-medium as a child process; waits for its "ready" line, SIGTERMs it at the end.
+class MediumProcess {
+ public:
+  MediumProcess(const std::vector<std::string>& args) {
+    const char* bin = std::getenv("TESTBED_BIN");
+    if (!bin)
+      throw std::runtime_error("TESTBED_BIN is not set (run through ctest)");
+    int out[2];
+    if (::pipe2(out, O_CLOEXEC) != 0)
+      throw std::runtime_error("pipe");
+    pid_ = ::fork();
+    if (pid_ == 0) {
+      ::dup2(out[1], STDOUT_FILENO);
+      std::vector<std::string> all{std::string(bin) + "/radio-medium"};
+      all.insert(all.end(), args.begin(), args.end());
+      std::vector<char*> argv;
+      for (auto& a : all)
+        argv.push_back(a.data());
+      argv.push_back(nullptr);
+      ::execv(argv[0], argv.data());
+      ::_exit(127);
+    }
+    ::close(out[1]);
+    stdout_ = out[0];
+  }
+  ~MediumProcess() {
+    if (pid_ > 0)
+      stop();
+    if (stdout_ >= 0)
+      ::close(stdout_);
+  }
+  // True once the program said it is ready; false if it exited or took longer than 10 s.
+  bool wait_ready() {
+    std::string seen;
+    const auto deadline = Clock::now() + 10s;
+    while (Clock::now() < deadline) {
+      pollfd p{stdout_, POLLIN, 0};
+      if (::poll(&p, 1, 100) > 0) {
+        char buf[256];
+        const ssize_t n = ::read(stdout_, buf, sizeof buf);
+        if (n <= 0)
+          return false;
+        seen.append(buf, static_cast<std::size_t>(n));
+        if (seen.find("radio-medium: ready") != std::string::npos)
+          return true;
+      }
+    }
+    return false;
+  }
+  // SIGTERM (or @p sig) and the exit status; SIGKILL after 10 s.
+  int stop(int sig = SIGTERM) {
+    ::kill(pid_, sig);
+    int status = 0;
+    const auto deadline = Clock::now() + 10s;
+    while (::waitpid(pid_, &status, WNOHANG) == 0) {
+      if (Clock::now() > deadline) {
+        ::kill(pid_, SIGKILL);
+        ::waitpid(pid_, &status, 0);
+        break;
+      }
+      std::this_thread::sleep_for(5ms);
+    }
+    pid_ = -1;
+    return status;
+  }
+
+ private:
+  pid_t pid_ = -1;
+  int stdout_ = -1;
+};
+
+// A station's end: AF_PACKET on wlan0 inside its namespace.
+class Station {
+ public:
+  Station(StationId id, const std::string& netns) : id_(id) {
+    socket_ = in_netns(NetnsFd::open(netns), [] {
+      return std::make_unique<PacketSocket>(kStationIfname, kEthertypeGeoNetworking, 16 << 20);
+    });
+  }
+  void send(std::uint32_t seq) {
+    std::vector<std::uint8_t> f(100, 0);
+    std::fill_n(f.begin(), 6, 0xff);
+    const MacAddress src = station_mac(id_);
+    std::copy(src.begin(), src.end(), f.begin() + 6);
+    f[12] = 0x89;
+    f[13] = 0x47;
+    std::memcpy(&f[14], &id_, 4);
+    std::memcpy(&f[18], &seq, 4);
+    ASSERT_TRUE(socket_->send(f)) << "send on station " << id_ << ": " << std::strerror(errno);
+  }
+  // Reads every frame waiting, or waits up to @p wait for the first.
+  void poll_frames(std::chrono::milliseconds wait = 0ms) {
+    std::array<std::uint8_t, 2048> buf{};
+    pollfd p{socket_->fd(), POLLIN, 0};
+    if (::poll(&p, 1, static_cast<int>(wait.count())) <= 0)
+      return;
+    for (;;) {
+      const long n = socket_->receive(buf);
+      if (n <= 0)
+        return;
+      if (n < 22)
+        continue;
+      StationId from;
+      std::uint32_t seq;
+      std::memcpy(&from, &buf[14], 4);
+      std::memcpy(&seq, &buf[18], 4);
+      auto& r = from_[from];
+      if (seq != r.next)
+        ++r.out_of_order;
+      r.next = seq + 1;
+      ++r.count;
+    }
+  }
+  std::uint64_t count_from(StationId id) const {
+    auto it = from_.find(id);
+    return it == from_.end() ? 0 : it->second.count;
+  }
+  std::uint64_t out_of_order_from(StationId id) const {
+    auto it = from_.find(id);
+    return it == from_.end() ? 0 : it->second.out_of_order;
+  }
+  StationId id() const { return id_; }
+
+ private:
+  struct FromStats {
+    std::uint64_t count = 0;
+    std::uint32_t next = 0;
+    std::uint64_t out_of_order = 0;
+  };
+  StationId id_;
+  std::unique_ptr<PacketSocket> socket_;
+  std::map<StationId, FromStats> from_;
+};
+
+// Sends @p n frames from @p tx, never more than a window ahead of the slowest receiver that
+// should hear it: a test of the medium's losslessness, not of socket buffer sizes.
+void send_paced(Station& tx, std::uint32_t n, std::vector<Station*> all,
+                const std::vector<Station*>& expected_rx) {
+  constexpr std::uint64_t kWindow = 128;
+  std::map<Station*, std::uint64_t> base;
+  for (Station* s : expected_rx)
+    base[s] = s->count_from(tx.id());
+  const auto deadline = Clock::now() + 60s;
+  for (std::uint32_t seq = 0; seq < n; ++seq) {
+    for (;;) {
+      std::uint64_t slowest = seq;
+      for (Station* s : expected_rx)
+        slowest = std::min(slowest, s->count_from(tx.id()) - base[s]);
+      if (seq - slowest < kWindow)
+        break;
+      for (Station* s : all)
+        s->poll_frames(1ms);
+      ASSERT_LT(Clock::now(), deadline) << "stalled at frame " << seq;
+    }
+    tx.send(seq);
+  }
+  // Everything due has arrived, and a little longer for frames that must not.
+  const auto until = Clock::now() + 5s;
+  for (;;) {
+    bool all_in = true;
+    for (Station* s : expected_rx)
+      all_in &= s->count_from(tx.id()) - base[s] >= n;
+    if (all_in || Clock::now() > until)
+      break;
+    for (Station* s : all)
+      s->poll_frames(1ms);
+  }
+  for (int i = 0; i < 20; ++i)
+    for (Station* s : all)
+      s->poll_frames(5ms);
+}
+
+std::vector<std::string> host_links_with_prefix() {
+  std::vector<std::string> out;
+  for (const auto& l : RouteSocket().links())
+    if (l.name.starts_with(kPrefix))
+      out.push_back(l.name);
+  return out;
+}
+
+fs::path write_scenario(const std::string& channel) {
+  const fs::path dir = fs::temp_directory_path() / ("radio-it-" + kTag);
+  fs::create_directories(dir);
+  const fs::path file = dir / "scenario.json";
+  std::ofstream(file) << R"({
+  "name": "radio-it",
+  "map": { "type": "straight", "lanes": 2, "lane_width": 3.5, "length": 2000 },
+  "origin": { "lat": 41.1, "lon": 29.0, "alt": 60 },
+  "start_time": "2025-06-02T09:00:00Z",
+  "channel": )" << channel
+                      << R"(,
+  "vehicles": [
+    { "id": "a", "station_id": 11, "spawn": { "x": 10, "y": 0, "heading_deg": 90 }, "driver": "human" },
+    { "id": "b", "station_id": 12, "spawn": { "x": 210, "y": 0, "heading_deg": 90 }, "driver": "human" },
+    { "id": "c", "station_id": 13, "spawn": { "x": 460, "y": 0, "heading_deg": 90 }, "driver": "human" }
+  ]
+})";
+  return file;
+}
+
+unsigned short free_udp_port() {
+  const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
+  socklen_t len = sizeof a;
+  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
+  ::close(fd);
+  return ntohs(a.sin_port);
+}
+
+class VethMediumIT : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (::geteuid() != 0)
+      GTEST_SKIP() << "needs root (network namespaces, veth)";
+    for (const char* s : {"a", "b", "c"})
+      ns_.push_back(std::make_unique<TestNetns>("tbrit" + kTag + s));
+  }
+  void TearDown() override {
+    // Whatever happened, no interface of ours is left behind.
+    EXPECT_TRUE(host_links_with_prefix().empty());
+    for (const auto& n : ns_)
+      EXPECT_FALSE(n->has(kStationIfname)) << n->name();
+  }
+  std::vector<std::string> args(const fs::path& scenario, const fs::path& stats,
+                                unsigned short port) {
+    return {
+        "--scenario",  scenario.string(),
+        "--mode",      "veth",
+        "--prefix",    kPrefix,
+        "--stations",  "11=" + ns_[0]->name() + ",12=" + ns_[1]->name() + ",c=" + ns_[2]->name(),
+        "--stats",     stats.string(),
+        "--positions", "udp://127.0.0.1:" + std::to_string(port),
+        "--log-level", "warn"};
+  }
+  std::vector<std::unique_ptr<TestNetns>> ns_;
+};
+
+nlohmann::json read_json(const fs::path& f) {
+  std::ifstream in(f);
+  return nlohmann::json::parse(in);
+}
+
+const nlohmann::json& link(const nlohmann::json& stats, StationId from, StationId to) {
+  for (const auto& l : stats["links"])
+    if (l["from"] == from && l["to"] == to)
+      return l;
+  throw std::runtime_error("no link " + std::to_string(from) + "→" + std::to_string(to));
+}
+
+void expect_links_add_up(const nlohmann::json& stats) {
+  for (const auto& l : stats["links"]) {
+    std::uint64_t dropped = 0;
+    for (const auto& [reason, n] : l["dropped"].items())
+      dropped += n.get<std::uint64_t>();
+    EXPECT_EQ(l["sent"].get<std::uint64_t>(), l["delivered"].get<std::uint64_t>() + dropped)
+        << l.dump();
+  }
+}
+
+TEST_F(VethMediumIT, RangeModelReachesStationsInRangeAndNoneBeyond) {
+  const fs::path scenario = write_scenario(R"({ "model": "range", "range_m": 300 })");
+  const fs::path stats = scenario.parent_path() / "range-stats.json";
+  const unsigned short port = free_udp_port();
+  MediumProcess medium(args(scenario, stats, port));
+  ASSERT_TRUE(medium.wait_ready());
+  Station a(11, ns_[0]->name()), b(12, ns_[1]->name()), c(13, ns_[2]->name());
+  std::vector<Station*> all{&a, &b, &c};
+
+  // a at 10 m, b at 210 m, c at 460 m: a–b 200 m and b–c 250 m in range, a–c 450 m not.
+  send_paced(a, 300, all, {&b});
+  send_paced(b, 300, all, {&a, &c});
+  EXPECT_EQ(b.count_from(11), 300u);
+  EXPECT_EQ(c.count_from(11), 0u);
+  EXPECT_EQ(a.count_from(12), 300u);
+  EXPECT_EQ(c.count_from(12), 300u);
+  EXPECT_EQ(a.count_from(11), 0u);  // a station never hears itself
+
+  // A vehicle state moves c to 110 m: from then on it hears a.
+  wire::VehicleState s;
+  s.station_id = 13;
+  s.sim_time_ns = 1'000'000'000;
+  s.position = {110.0, 0.0, 0.0};
+  const auto bytes = wire::encode(s);
+  const int udp = ::socket(AF_INET, SOCK_DGRAM, 0);
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  to.sin_port = htons(port);
+  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ASSERT_EQ(
+      ::sendto(udp, bytes.data(), bytes.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to),
+      static_cast<ssize_t>(bytes.size()));
+  ::close(udp);
+  std::uint32_t probes = 0;
+  const auto deadline = Clock::now() + 5s;
+  while (c.count_from(11) == 0 && Clock::now() < deadline) {
+    a.send(1000 + probes++);
+    for (Station* st : all)
+      st->poll_frames(10ms);
+  }
+  ASSERT_GT(c.count_from(11), 0u) << "the position update never took effect";
+
+  ASSERT_TRUE(WIFEXITED(medium.stop()));
+  const auto j = read_json(stats);
+  expect_links_add_up(j);
+  EXPECT_EQ(link(j, 11, 12)["delivered"], 300u + probes);
+  EXPECT_EQ(link(j, 11, 13)["dropped"]["out_of_range"], 300u + probes - c.count_from(11));
+  EXPECT_EQ(link(j, 12, 11)["delivered"], 300u);
+  EXPECT_EQ(link(j, 12, 13)["delivered"], 300u);
+  EXPECT_EQ(j["totals"]["sent"], 2 * (300u + probes) + 2 * 300u);
+}
+
+TEST_F(VethMediumIT, IdealModelLosesNoneOfTenThousandFrames) {
+  const fs::path scenario = write_scenario(R"({ "model": "ideal" })");
+  const fs::path stats = scenario.parent_path() / "ideal-stats.json";
+  MediumProcess medium(args(scenario, stats, free_udp_port()));
+  ASSERT_TRUE(medium.wait_ready());
+  Station a(11, ns_[0]->name()), b(12, ns_[1]->name()), c(13, ns_[2]->name());
+  std::vector<Station*> all{&a, &b, &c};
+  constexpr std::uint32_t kFrames = 10'000;
+  send_paced(a, kFrames, all, {&b, &c});
+  EXPECT_EQ(b.count_from(11), kFrames);
+  EXPECT_EQ(c.count_from(11), kFrames);
+  EXPECT_EQ(b.out_of_order_from(11), 0u);
+  EXPECT_EQ(c.out_of_order_from(11), 0u);
+
+  ASSERT_TRUE(WIFEXITED(medium.stop()));
+  const auto j = read_json(stats);
+  expect_links_add_up(j);
+  EXPECT_EQ(link(j, 11, 12)["delivered"], kFrames);
+  EXPECT_EQ(link(j, 11, 13)["delivered"], kFrames);
+  EXPECT_EQ(j["totals"]["sent"], 2 * kFrames);
+  EXPECT_EQ(j["totals"]["delivered"], 2 * kFrames);
+}
+
+TEST_F(VethMediumIT, RestartRemovesWhatACrashedRunLeft) {
+  const fs::path scenario = write_scenario(R"({ "model": "ideal" })");
+  const fs::path stats = scenario.parent_path() / "crash-stats.json";
+  {
+    MediumProcess crashed(args(scenario, stats, free_udp_port()));
+    ASSERT_TRUE(crashed.wait_ready());
+    crashed.stop(SIGKILL);
+  }
+  EXPECT_EQ(host_links_with_prefix().size(), 3u) << "SIGKILL leaves the pairs behind";
+  EXPECT_TRUE(ns_[0]->has(kStationIfname));
+  MediumProcess again(args(scenario, stats, free_udp_port()));
+  ASSERT_TRUE(again.wait_ready()) << "a restart must clear the leftovers and start";
+  Station a(11, ns_[0]->name()), b(12, ns_[1]->name());
+  std::vector<Station*> all{&a, &b};
+  send_paced(a, 10, all, {&b});
+  EXPECT_EQ(b.count_from(11), 10u);
+  EXPECT_TRUE(WIFEXITED(again.stop(SIGINT)));
+}
+
+TEST_F(VethMediumIT, MissingNamespaceFailsWithAClearMessageAndLeavesNothing) {
+  const fs::path scenario = write_scenario(R"({ "model": "ideal" })");
+  MediumProcess medium({"--scenario", scenario.string(), "--mode", "veth", "--prefix", kPrefix,
+                        "--stations", "11=" + ns_[0]->name() + ",12=tbrit-does-not-exist",
+                        "--log-level", "warn"});
+  EXPECT_FALSE(medium.wait_ready());
+  const int status = medium.stop();
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 3);
+}
+
+}  // namespace
+}  // namespace tb::emu::radio
