@@ -33,7 +33,7 @@ bool get_header(UperReader& r, ItsPduHeader& h, std::uint8_t expected_id) {
     r.fail_at(Error::kWrongMessageId, "messageID", h.messageID, 8);
     return false;
   }
-  if (h.protocolVersion != kProtocolVersion) {
+  if (h.protocolVersion != kProtocolVersion && h.protocolVersion != kProtocolVersion1) {
     r.fail_at(Error::kUnsupportedVersion, "protocolVersion", h.protocolVersion, 0);
     return false;
   }
@@ -41,7 +41,7 @@ bool get_header(UperReader& r, ItsPduHeader& h, std::uint8_t expected_id) {
 }
 
 // BasicVehicleContainerHighFrequency: no extension marker, seven OPTIONAL components.
-void put(UperWriter& w, const BasicVehicleContainerHighFrequency& hf) {
+void put(UperWriter& w, const BasicVehicleContainerHighFrequency& hf, bool v1) {
   const std::uint64_t present = (std::uint64_t{hf.accelerationControl.has_value()} << 6) |
                                 (std::uint64_t{hf.lanePosition.has_value()} << 5) |
                                 (std::uint64_t{hf.steeringWheelAngle.has_value()} << 4) |
@@ -60,7 +60,11 @@ void put(UperWriter& w, const BasicVehicleContainerHighFrequency& hf) {
   put_acceleration(w, hf.longitudinalAcceleration.longitudinalAccelerationValue,
                    hf.longitudinalAcceleration.longitudinalAccelerationConfidence,
                    "longitudinalAccelerationValue", "longitudinalAccelerationConfidence");
-  w.put_constrained<-1023, 1023>(hf.curvature.curvatureValue, "curvatureValue");
+  // CurvatureValue: (-1023..1023) in CDD version 2, (-30000..30001) in version 1.
+  if (v1)
+    w.put_constrained<-30000, 30001>(hf.curvature.curvatureValue, "curvatureValue");
+  else
+    w.put_constrained<-1023, 1023>(hf.curvature.curvatureValue, "curvatureValue");
   put_enum(w, hf.curvature.curvatureConfidence, 8, false, "curvatureConfidence");
   put_enum(w, hf.curvatureCalculationMode, 3, true, "curvatureCalculationMode");
   w.put_constrained<-32766, 32767>(hf.yawRate.yawRateValue, "yawRateValue");
@@ -86,9 +90,11 @@ void put(UperWriter& w, const BasicVehicleContainerHighFrequency& hf) {
   if (hf.performanceClass)
     w.put_constrained<0, 7>(*hf.performanceClass, "performanceClass");
   if (hf.cenDsrcTollingZone) {
-    // CenDsrcTollingZone ::= SEQUENCE {lat, lon, cenDsrcTollingZoneID OPTIONAL, ...}
+    // CenDsrcTollingZone ::= SEQUENCE {lat, lon, cenDsrcTollingZoneID OPTIONAL, ...}; no
+    // extension marker in CDD version 1.
     const CenDsrcTollingZone& z = *hf.cenDsrcTollingZone;
-    w.put_bool(false);
+    if (!v1)
+      w.put_bool(false);
     w.put_bool(z.cenDsrcTollingZoneID.has_value());
     w.put_constrained<-900000000, 900000001>(z.protectedZoneLatitude, "protectedZoneLatitude");
     w.put_constrained<-1800000000, 1800000001>(z.protectedZoneLongitude, "protectedZoneLongitude");
@@ -97,7 +103,7 @@ void put(UperWriter& w, const BasicVehicleContainerHighFrequency& hf) {
   }
 }
 
-void get(UperReader& r, BasicVehicleContainerHighFrequency& hf) {
+void get(UperReader& r, BasicVehicleContainerHighFrequency& hf, bool v1) {
   const auto present = r.get_bits(7, "basicVehicleContainerHighFrequency");
   get(r, hf.heading);
   get(r, hf.speed);
@@ -111,7 +117,8 @@ void get(UperReader& r, BasicVehicleContainerHighFrequency& hf) {
                    hf.longitudinalAcceleration.longitudinalAccelerationConfidence,
                    "longitudinalAccelerationValue", "longitudinalAccelerationConfidence");
   hf.curvature.curvatureValue =
-      static_cast<CurvatureValue>(r.get_constrained<-1023, 1023>("curvatureValue"));
+      static_cast<CurvatureValue>(v1 ? r.get_constrained<-30000, 30001>("curvatureValue")
+                                     : r.get_constrained<-1023, 1023>("curvatureValue"));
   hf.curvature.curvatureConfidence =
       static_cast<CurvatureConfidence>(r.get_bits(3, "curvatureConfidence"));
   hf.curvatureCalculationMode =
@@ -152,7 +159,7 @@ void get(UperReader& r, BasicVehicleContainerHighFrequency& hf) {
     hf.performanceClass = static_cast<PerformanceClass>(r.get_bits(3, "performanceClass"));
   if (present & 0x01) {
     CenDsrcTollingZone& z = hf.cenDsrcTollingZone.emplace();
-    const bool ext = r.get_bool("cenDsrcTollingZone");
+    const bool ext = !v1 && r.get_bool("cenDsrcTollingZone");
     const bool has_id = r.get_bool("cenDsrcTollingZone");
     z.protectedZoneLatitude =
         static_cast<Latitude>(r.get_constrained<-900000000, 900000001>("protectedZoneLatitude"));
@@ -181,7 +188,7 @@ void put(UperWriter& w, const Cam& cam) {
   // HighFrequencyContainer CHOICE {basicVehicleContainerHighFrequency, rsu…, ...}: extension
   // bit 0, index 0 in one bit.
   w.put_bits(0b00, 2);
-  put(w, p.highFrequencyContainer);
+  put(w, p.highFrequencyContainer, cam.header.protocolVersion == kProtocolVersion1);
   if (p.lowFrequencyContainer) {
     // LowFrequencyContainer CHOICE {basicVehicleContainerLowFrequency, ...}: extension bit 0;
     // a single root alternative takes no index bits.
@@ -217,7 +224,7 @@ void get(UperReader& r, Cam& cam) {
     r.fail_at(Error::kUnsupported, "rsuContainerHighFrequency", 1, hf_at);
     return;
   }
-  get(r, p.highFrequencyContainer);
+  get(r, p.highFrequencyContainer, cam.header.protocolVersion == kProtocolVersion1);
   p.lowFrequencyContainer.reset();
   if (has_lf) {
     const std::size_t lf_at = r.bit_position();
@@ -241,6 +248,10 @@ void get(UperReader& r, Cam& cam) {
 }  // namespace
 
 Expected<std::size_t, CodecError> encode(const Cam& cam, std::span<std::uint8_t> out) {
+  if (cam.header.protocolVersion != kProtocolVersion &&
+      cam.header.protocolVersion != kProtocolVersion1)
+    return Unexpected<CodecError>{
+        CodecError{Error::kUnsupportedVersion, "protocolVersion", cam.header.protocolVersion, 0}};
   if (cam.header.messageID != kMessageIdCam)
     return Unexpected<CodecError>{
         CodecError{Error::kWrongMessageId, "messageID", cam.header.messageID, 8}};

@@ -91,7 +91,8 @@ struct Cam {
 /// bytes; a buffer this big never gives kBufferTooSmall.
 inline constexpr std::size_t kCamMaxEncodedSize = 512;
 
-/// Encodes @p cam into @p out; returns the number of bytes written. Fails with
+/// Encodes @p cam into @p out, by the rules of header.protocolVersion (2, or 1); returns the
+/// number of bytes written. Fails with
 /// kValueOutOfRange (naming the field and value) when a field is outside its ASN.1
 /// constraint, kWrongMessageId unless header.messageID is cam (2), kBufferTooSmall when @p out
 /// is too short. No heap allocation.
@@ -100,8 +101,8 @@ Expected<std::vector<std::uint8_t>, CodecError> encode(const Cam& cam);
 
 /// Decodes one UPER-encoded CAM from @p bytes into @p out; returns the bytes consumed
 /// (the encoding padded to a whole octet). Rejects a messageID other than cam,
-/// protocolVersion other than 1 or 2, values outside their constraints, truncated input and
-/// unsupported choices. Never reads outside @p bytes; no heap allocation.
+/// protocolVersion other than 1 or 2 (see kProtocolVersion1), values outside their constraints,
+/// truncated input and unsupported choices. Never reads outside @p bytes; no heap allocation.
 Expected<std::size_t, CodecError> decode(std::span<const std::uint8_t> bytes, Cam& out);
 Expected<Cam, CodecError> decode_cam(std::span<const std::uint8_t> bytes);
 

@@ -21,8 +21,12 @@ using StationID = std::uint32_t;  // (0..4294967295)
 /// messageID values of ItsPduHeader.
 inline constexpr std::uint8_t kMessageIdDenm = 1;
 inline constexpr std::uint8_t kMessageIdCam = 2;
-/// protocolVersion of EN 302 637-2 V1.4.1 / EN 302 637-3 V1.3.1.
+/// protocolVersion of EN 302 637-2 V1.4.1 / EN 302 637-3 V1.3.1 (CDD version 2).
 inline constexpr std::uint8_t kProtocolVersion = 2;
+/// protocolVersion of the earlier EN 302 637-2 V1.3.x / EN 302 637-3 V1.2.x (CDD version 1),
+/// decoded and encoded too: the same structure but for CurvatureValue's range and the
+/// extension markers of CauseCode and CenDsrcTollingZone.
+inline constexpr std::uint8_t kProtocolVersion1 = 1;
 
 struct ItsPduHeader {
   std::uint8_t protocolVersion = kProtocolVersion;  // (0..255)
@@ -207,8 +211,12 @@ struct VerticalAcceleration {
   friend bool operator==(const VerticalAcceleration&, const VerticalAcceleration&) = default;
 };
 
-using CurvatureValue = std::int16_t;  // 1/10000 m⁻¹, positive to the left, (-1023..1023)
+/// Positive to the left. protocolVersion 2: 1/10000 m⁻¹ in (-1023..1023), 1023 unavailable;
+/// protocolVersion 1: 1/30000 m⁻¹ in (-30000..30001), 30001 unavailable. Held as encoded for
+/// the header's version.
+using CurvatureValue = std::int16_t;
 inline constexpr CurvatureValue kCurvatureValueUnavailable = 1023;
+inline constexpr CurvatureValue kCurvatureValueUnavailableV1 = 30001;
 
 enum class CurvatureConfidence : std::uint8_t {
   onePerMeter_0_00002 = 0,

@@ -156,14 +156,16 @@ inline void get_acceleration(UperReader& r, V& v, C& c, const char* fv, const ch
   c = static_cast<AccelerationConfidence>(r.get_constrained<0, 102>(fc));
 }
 
-// CauseCode ::= SEQUENCE {causeCode (0..255), subCauseCode (0..255), ...}
-inline void put(UperWriter& w, const CauseCode& c) {
-  w.put_bool(false);
+// CauseCode ::= SEQUENCE {causeCode (0..255), subCauseCode (0..255), ...}; CDD version 1
+// (protocolVersion 1) has no extension marker.
+inline void put(UperWriter& w, const CauseCode& c, bool v1) {
+  if (!v1)
+    w.put_bool(false);
   w.put_bits(c.causeCode, 8);
   w.put_bits(c.subCauseCode, 8);
 }
-inline void get(UperReader& r, CauseCode& c, const char* f) {
-  const bool ext = r.get_bool(f);
+inline void get(UperReader& r, CauseCode& c, const char* f, bool v1) {
+  const bool ext = !v1 && r.get_bool(f);
   c.causeCode = static_cast<CauseCodeType>(r.get_bits(8, "causeCode"));
   c.subCauseCode = static_cast<SubCauseCodeType>(r.get_bits(8, "subCauseCode"));
   if (ext)

@@ -75,14 +75,14 @@ void get(UperReader& r, ManagementContainer& m) {
 }
 
 // EventPoint ::= SEQUENCE {eventPosition, eventDeltaTime OPTIONAL, informationQuality}
-void put(UperWriter& w, const SituationContainer& s) {
+void put(UperWriter& w, const SituationContainer& s, bool v1) {
   w.put_bool(false);
   w.put_bool(s.linkedCause.has_value());
   w.put_bool(s.eventHistory.has_value());
   w.put_constrained<0, 7>(s.informationQuality, "informationQuality");
-  put(w, s.eventType);
+  put(w, s.eventType, v1);
   if (s.linkedCause)
-    put(w, *s.linkedCause);
+    put(w, *s.linkedCause, v1);
   if (s.eventHistory) {
     const EventHistory& h = *s.eventHistory;
     // SIZE(1..23)
@@ -97,16 +97,16 @@ void put(UperWriter& w, const SituationContainer& s) {
   }
 }
 
-void get(UperReader& r, SituationContainer& s) {
+void get(UperReader& r, SituationContainer& s, bool v1) {
   const bool ext = r.get_bool("situation");
   const bool has_linked = r.get_bool("situation");
   const bool has_history = r.get_bool("situation");
   s.informationQuality = static_cast<InformationQuality>(r.get_bits(3, "informationQuality"));
-  get(r, s.eventType, "eventType");
+  get(r, s.eventType, "eventType", v1);
   s.linkedCause.reset();
   s.eventHistory.reset();
   if (has_linked)
-    get(r, s.linkedCause.emplace(), "linkedCause");
+    get(r, s.linkedCause.emplace(), "linkedCause", v1);
   if (has_history) {
     EventHistory& h = s.eventHistory.emplace();
     const auto n = static_cast<std::size_t>(r.get_constrained<1, 23>("eventHistory"));
@@ -221,7 +221,7 @@ void put(UperWriter& w, const Denm& d) {
   w.put_bool(m.alacarte.has_value());
   put(w, m.management);
   if (m.situation)
-    put(w, *m.situation);
+    put(w, *m.situation, d.header.protocolVersion == kProtocolVersion1);
   if (m.location)
     put(w, *m.location);
   if (m.alacarte)
@@ -239,7 +239,7 @@ void get(UperReader& r, Denm& d) {
     r.fail_at(Error::kWrongMessageId, "messageID", h.messageID, 8);
     return;
   }
-  if (h.protocolVersion != kProtocolVersion) {
+  if (h.protocolVersion != kProtocolVersion && h.protocolVersion != kProtocolVersion1) {
     r.fail_at(Error::kUnsupportedVersion, "protocolVersion", h.protocolVersion, 0);
     return;
   }
@@ -252,7 +252,7 @@ void get(UperReader& r, Denm& d) {
   m.location.reset();
   m.alacarte.reset();
   if (has_situation)
-    get(r, m.situation.emplace());
+    get(r, m.situation.emplace(), h.protocolVersion == kProtocolVersion1);
   if (has_location)
     get(r, m.location.emplace());
   if (has_alacarte)
@@ -262,6 +262,10 @@ void get(UperReader& r, Denm& d) {
 }  // namespace
 
 Expected<std::size_t, CodecError> encode(const Denm& denm, std::span<std::uint8_t> out) {
+  if (denm.header.protocolVersion != kProtocolVersion &&
+      denm.header.protocolVersion != kProtocolVersion1)
+    return Unexpected<CodecError>{
+        CodecError{Error::kUnsupportedVersion, "protocolVersion", denm.header.protocolVersion, 0}};
   if (denm.header.messageID != kMessageIdDenm)
     return Unexpected<CodecError>{
         CodecError{Error::kWrongMessageId, "messageID", denm.header.messageID, 8}};

@@ -98,11 +98,12 @@ struct Denm {
 inline constexpr std::size_t kDenmMaxEncodedSize = 4096;
 
 /// As for Cam (cam.hpp): encode into @p out and return the bytes written, or an error naming
-/// the field outside its constraint; messageID must be denm (1).
+/// the field outside its constraint; messageID must be denm (1), protocolVersion 2 or 1.
 Expected<std::size_t, CodecError> encode(const Denm& denm, std::span<std::uint8_t> out);
 Expected<std::vector<std::uint8_t>, CodecError> encode(const Denm& denm);
 
-/// Decodes one UPER-encoded DENM; returns the bytes consumed. Never reads outside @p bytes.
+/// Decodes one UPER-encoded DENM of protocolVersion 2 or 1; returns the bytes consumed. Never
+/// reads outside @p bytes.
 Expected<std::size_t, CodecError> decode(std::span<const std::uint8_t> bytes, Denm& out);
 Expected<Denm, CodecError> decode_denm(std::span<const std::uint8_t> bytes);
 

@@ -222,12 +222,43 @@ TEST(Cam, DecoderRejectsOtherMessagesAndVersions) {
   EXPECT_EQ(asn1::to_string(r.error()), "wrong messageID: messageID = 1 (bit 8)");
 
   const Bytes cam = must_encode(samples::cam_hf());
-  for (std::uint64_t version : {0, 1, 3, 255}) {
+  for (std::uint64_t version : {0, 3, 255}) {
     auto v = decode_cam(with_bits(cam, 0, 8, version));
     ASSERT_FALSE(v);
     EXPECT_EQ(v.error().code, Error::kUnsupportedVersion);
     EXPECT_EQ(v.error().value, static_cast<std::int64_t>(version));
   }
+}
+
+TEST(Cam, ProtocolVersion1UsesTheVersion1Dictionary) {
+  // CDD version 1: CurvatureValue (-30000..30001) in 16 bits instead of (-1023..1023) in 11,
+  // and no extension bit in CenDsrcTollingZone.
+  Cam v2 = samples::cam_hf();
+  v2.cam.camParameters.highFrequencyContainer.cenDsrcTollingZone =
+      CenDsrcTollingZone{410255000, 289742000, 77};
+  Cam v1 = v2;
+  v1.header.protocolVersion = kProtocolVersion1;
+  v1.cam.camParameters.highFrequencyContainer.curvature.curvatureValue =
+      kCurvatureValueUnavailableV1;
+  expect_round_trip(v1);
+  const std::string b1 = to_bits(must_encode(v1));
+  const std::string b2 = to_bits(must_encode(v2));
+  EXPECT_EQ(b1.substr(285, 16), bits_of(30001 + 30000, 16));
+  EXPECT_EQ(b2.substr(285, 11), bits_of(1023, 11));
+  // Everything after the curvature is shifted by 5 bits; the tolling zone lacks its first bit.
+  EXPECT_EQ(b1.substr(301, 21), b2.substr(296, 21));
+  EXPECT_EQ(b1.substr(327, 1 + 31 + 32 + 27), b2.substr(322 + 1, 1 + 31 + 32 + 27));
+
+  v1.cam.camParameters.highFrequencyContainer.curvature.curvatureValue = -30000;
+  expect_round_trip(v1);
+  v1.cam.camParameters.highFrequencyContainer.curvature.curvatureValue = -30001;
+  auto bad = encode(v1);
+  ASSERT_FALSE(bad);
+  EXPECT_STREQ(bad.error().field, "curvatureValue");
+  v2.header.protocolVersion = 3;
+  auto v3 = encode(v2);
+  ASSERT_FALSE(v3);
+  EXPECT_EQ(v3.error().code, Error::kUnsupportedVersion);
 }
 
 TEST(Cam, DecoderRejectsValuesOutsideTheirConstraint) {

@@ -115,6 +115,24 @@ TEST(Denm, EncoderRejectsOutOfRangeAndEmptySequences) {
   }
 }
 
+TEST(Denm, ProtocolVersion1CauseCodesHaveNoExtensionBit) {
+  Denm v1 = samples::denm_at_bounds(true);
+  v1.header.protocolVersion = kProtocolVersion1;
+  expect_round_trip(v1);
+  Denm v2 = samples::denm_collision_risk();
+  v1 = v2;
+  v1.header.protocolVersion = kProtocolVersion1;
+  const std::string b1 = to_bits(must_encode(v1));
+  const std::string b2 = to_bits(must_encode(v2));
+  // eventType starts at bit 362 (golden table): v2 has the extension bit there.
+  EXPECT_EQ(b2.substr(362, 17), "0" + bits_of(97, 8) + bits_of(1, 8));
+  EXPECT_EQ(b1.substr(362, 16), bits_of(97, 8) + bits_of(1, 8));
+  EXPECT_EQ(b1.substr(378, 555 - 379), b2.substr(379, 555 - 379));
+  auto back = decode_denm(must_encode(v1));
+  ASSERT_TRUE(back);
+  EXPECT_EQ(*back, v1);
+}
+
 TEST(Denm, DecoderRejectsEveryTruncation) {
   for (const Denm& sample : {samples::denm_collision_risk(), samples::denm_at_bounds(true)}) {
     const Bytes bytes = must_encode(sample);

@@ -311,5 +311,30 @@ TEST_F(TsharkInterop, DenmsDecodeToTheValuesSentWithoutWarnings) {
   expect_clean();
 }
 
+TEST_F(TsharkInterop, ProtocolVersion1MessagesDecodeWithTheVersion1Dissectors) {
+  Cam cam = samples::cam_lf();
+  cam.header.protocolVersion = kProtocolVersion1;
+  auto& hf = cam.cam.camParameters.highFrequencyContainer;
+  hf.curvature.curvatureValue = -30000;
+  hf.cenDsrcTollingZone = CenDsrcTollingZone{410255000, 289742000, 134217727};
+  Denm denm = samples::denm_at_bounds(true);
+  denm.header.protocolVersion = kProtocolVersion1;
+  const std::vector<Bytes> frames = {frame(enc(cam), false), frame(enc(denm), true)};
+  const auto got =
+      fields(frames, {"its.protocolVersion", "camv1.generationDeltaTime", "itsv1.curvatureValue",
+                      "itsv1.cenDsrcTollingZoneID", "itsv1.deltaLatitude",
+                      "denmv1.validityDuration", "itsv1.causeCode", "itsv1.subCauseCode"});
+  ASSERT_EQ(got.size(), 2u);
+  EXPECT_EQ(got[0], "1|65535|-30000|134217727|-1234;131072;0|||");
+  std::string deltas;
+  for (const PathHistory& h : denm.denm.location->traces)
+    deltas += (deltas.empty() ? "" : ";") + join(h, 0);
+  std::string event_deltas;
+  for (const EventPoint& e : *denm.denm.situation->eventHistory)
+    event_deltas += std::to_string(e.eventPosition.deltaLatitude) + ";";
+  EXPECT_EQ(got[1], "1||||" + event_deltas + deltas + "|86400|255;2|255;1");
+  expect_clean();
+}
+
 }  // namespace
 }  // namespace tb::its::messages
