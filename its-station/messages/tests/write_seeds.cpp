@@ -21,6 +21,12 @@ bool write(const std::filesystem::path& path, const std::vector<std::uint8_t>& b
 
 }  // namespace
 
+template <typename M>
+M as_version1(M m) {
+  m.header.protocolVersion = tb::its::messages::kProtocolVersion1;
+  return m;
+}
+
 int main(int argc, char** argv) {
   using namespace tb::its::messages;
   if (argc != 2) {
@@ -34,11 +40,18 @@ int main(int argc, char** argv) {
       {"cam_path20.uper", samples::cam_with_path(20)},
       {"cam_upper.uper", samples::cam_at_bounds(true)},
       {"cam_lower.uper", samples::cam_at_bounds(false)},
+      {"cam_v1.uper",
+       [] {
+         Cam c = as_version1(samples::cam_at_bounds(true));
+         c.cam.camParameters.highFrequencyContainer.curvature.curvatureValue = -30000;
+         return c;
+       }()},
   };
   const std::pair<const char*, Denm> denms[] = {
       {"denm_collision_risk.uper", samples::denm_collision_risk()},
       {"denm_upper.uper", samples::denm_at_bounds(true)},
       {"denm_lower.uper", samples::denm_at_bounds(false)},
+      {"denm_v1.uper", as_version1(samples::denm_collision_risk())},
   };
   bool ok = true;
   for (const auto& [name, cam] : cams) {
