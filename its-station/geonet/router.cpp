@@ -320,13 +320,15 @@ void Router::on_frame(const link::ReceivedFrame& frame) {
     drop(DropReason::kHopLimitExceedsMaximum);
     return;
   }
-  // LT bounds how long the packet may live after its source stamped its position; a packet
-  // older than that (by the source's TST, clocks being GNSS-synchronised) is stale. A TST in
-  // the future counts as age 0.
+  // LT bounds how long the packet may live after its source stamped its position. The age is
+  // measured in GNSS time, the time base of every TST: our latest fix's time minus the
+  // source's, so that stations agree even when the simulation's clock is not the host's. A
+  // source TST ahead of ours counts as age 0; without a fix of our own only LT = 0 is stale.
   clock::Duration remaining_lifetime = p.basic.lifetime.duration();
   if (p.common.type != PacketType::kBeacon) {
-    const std::int32_t age_ms =
-        std::max(0, timestamp_difference(to_timestamp(runtime_.wall_now()), so.timestamp));
+    std::int32_t age_ms = 0;
+    if (const auto own = position_.current_position())
+      age_ms = std::max(0, timestamp_difference(to_timestamp(own->time), so.timestamp));
     remaining_lifetime -= std::chrono::milliseconds{age_ms};
     if (remaining_lifetime <= clock::Duration::zero()) {
       drop(DropReason::kLifetimeExpired);

@@ -172,10 +172,10 @@ TEST_F(RouterTest, NoBeaconWithoutPositionAndJitteredIntervalsOtherwise) {
 
 TEST_F(RouterTest, ReceivedShbIsDeliveredWithIndicationData) {
   start();
-  set_position(at(0, 0));
   rt.advance(100ms);
+  set_position(at(0, 0));
   PacketSpec s;
-  s.source = remote_pv(2, at(50, 0), now_tst() - 300);  // position 300 ms old
+  s.source = remote_pv(2, at(50, 0), now_tst() - 300);  // 300 ms older than our own fix
   s.lifetime = 1s;
   receive(make_packet(s), mac(2));
   ASSERT_EQ(delivered.size(), 1u);
@@ -214,6 +214,7 @@ TEST_F(RouterTest, ShbWithoutNewerTimestampIsADuplicate) {
 
 TEST_F(RouterTest, EveryDropReasonOfTheReceivePath) {
   start();
+  set_position(at(0, 0));
   PacketSpec s;
   s.source = remote_pv(2, at(50, 0), now_tst());
   const Bytes good = make_packet(s);
@@ -256,6 +257,25 @@ TEST_F(RouterTest, EveryDropReasonOfTheReceivePath) {
   EXPECT_EQ(router->stats().received, 8u);
   EXPECT_EQ(router->stats().dropped(DropReason::kLifetimeExpired), 2u);
   EXPECT_EQ(router->location_table().size(), 0u);  // nothing bad got into the table
+}
+
+TEST_F(RouterTest, AgeIsMeasuredAgainstOurOwnFixNotTheHostClock) {
+  start();
+  // Both stations' fixes carry simulation time, an hour behind the host's clock.
+  const clock::WallTime sim_now = rt.wall_now() - 1h;
+  position.set({sim_now, 48.15, -1.6, 0.0, 0.0, true});
+  PacketSpec s;
+  s.source = remote_pv(2, at(50, 0), to_timestamp(sim_now - 200ms));
+  s.lifetime = 1s;
+  receive(make_packet(s), mac(2));
+  ASSERT_EQ(delivered.size(), 1u);
+  EXPECT_EQ(delivered[0].first.remaining_lifetime, 800ms);
+  // Without a fix of our own the age is unknown: only the lifetime itself counts.
+  position.clear();
+  s.source.timestamp += 100;
+  receive(make_packet(s), mac(2));
+  ASSERT_EQ(delivered.size(), 2u);
+  EXPECT_EQ(delivered[1].first.remaining_lifetime, 1s);
 }
 
 TEST_F(RouterTest, TsbIsDeliveredAndRebroadcastWithOneHopLess) {
