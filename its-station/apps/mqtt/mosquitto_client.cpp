@@ -23,6 +23,11 @@ void init_library_once() {
 
 MosquittoClient::MosquittoClient(const clock::Clock& clock, ClientConfig cfg)
     : clock_(clock), cfg_(std::move(cfg)), outbox_(cfg_.queue_capacity) {
+  if (!cfg_.publish_prefix.empty() && !cfg_.status_topic.empty() &&
+      !cfg_.status_topic.starts_with(cfg_.publish_prefix)) {
+    throw MqttError("mqtt: status topic '" + cfg_.status_topic + "' is outside the prefix '" +
+                    cfg_.publish_prefix + "'");
+  }
   init_library_once();
   mosq_ = mosquitto_new(cfg_.client_id.empty() ? nullptr : cfg_.client_id.c_str(), true, this);
   if (mosq_ == nullptr) {
@@ -135,6 +140,12 @@ void MosquittoClient::stop(std::chrono::milliseconds grace) {
 
 void MosquittoClient::publish(std::string_view topic, std::string payload, Qos qos, bool retain) {
   std::lock_guard lock(mutex_);
+  if (!cfg_.publish_prefix.empty() && !topic.starts_with(cfg_.publish_prefix)) {
+    ++refused_;
+    spdlog::error("mqtt: refusing to publish to '{}': a station publishes only under '{}'", topic,
+                  cfg_.publish_prefix);
+    return;
+  }
   if (qos == Qos::kAtMostOnce) {
     if (connected_) {
       mosquitto_publish(mosq_, nullptr, std::string(topic).c_str(),
@@ -231,6 +242,10 @@ std::uint64_t MosquittoClient::dropped() const {
 std::size_t MosquittoClient::pending() const {
   std::lock_guard lock(mutex_);
   return outbox_.size() + inflight_.size();
+}
+std::uint64_t MosquittoClient::refused() const {
+  std::lock_guard lock(mutex_);
+  return refused_;
 }
 std::uint64_t MosquittoClient::connections() const {
   std::lock_guard lock(mutex_);

@@ -42,6 +42,9 @@ struct ClientConfig {
   std::size_t max_inflight = 20;
   /// Retained {"online":…} status with a last will; empty: none.
   std::string status_topic;
+  /// When set (e.g. "its/1001/"), topics outside it are refused here with an error, as the
+  /// broker's ACL would refuse them silently.
+  std::string publish_prefix;
 };
 
 class MqttError : public std::runtime_error {
@@ -71,6 +74,8 @@ class MosquittoClient final : public MqttSink {
   std::uint64_t dropped() const;
   /// QoS 1 messages not yet acknowledged by the broker (waiting plus in flight).
   std::size_t pending() const;
+  /// Messages refused because their topic is outside publish_prefix.
+  std::uint64_t refused() const;
   /// Successful CONNACKs so far.
   std::uint64_t connections() const;
   /// The last CONNACK's return code (0 accepted, 5 not authorised, …); -1 before any.
@@ -98,6 +103,7 @@ class MosquittoClient final : public MqttSink {
   std::condition_variable wake_;
   std::thread thread_;
   std::uint64_t connections_ = 0;
+  std::uint64_t refused_ = 0;
   int last_connack_ = -1;
 };
 

@@ -1,5 +1,7 @@
 #include "its-station/apps/lcrw/lcrw_denm.hpp"
 
+#include "its-station/apps/lcrw/lcrw_app.hpp"
+
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -126,6 +128,38 @@ TEST_F(LcrwDenmTest, ForwardCaseConcernsUpstreamTraffic) {
   EXPECT_EQ(den.triggered[0].relevance_traffic_direction,
             RelevanceTrafficDirection::kUpstreamTraffic);
   EXPECT_EQ(den.triggered[0].relevance_distance, RelevanceDistance::kLessThan200m);
+}
+
+}  // namespace
+}  // namespace tb::its::apps
+
+namespace tb::its::apps {
+namespace {
+
+TEST(LcrwApplication, ForwardsEventsAndKeepsDenmsInStep) {
+  clock::ManualClock clk;
+  RecordingDen den;
+  const geodesy::LocalFrame frame(geodesy::Geodetic{52.0, 13.0, 40.0});
+  LcrwDenmTrigger trigger(den, frame);
+  std::vector<LcrwWarning> seen;
+  LcrwApplication app(
+      clk, LcrwConfig{}, [&](const LcrwWarning& w) { seen.push_back(w); }, &trigger);
+  VehicleKinematics own;
+  own.station_id = 1;
+  own.speed_mps = 10;
+  own.time = clk.wall_now();
+  VehicleKinematics other = own;
+  other.station_id = 2;
+  other.y = 24;  // stopped, 20 m gap, TTC 2 s
+  other.speed_mps = 0;
+  app.update(own, std::vector{other});
+  ASSERT_EQ(seen.size(), 1u);
+  EXPECT_EQ(seen[0].event, WarningEvent::kRaised);
+  ASSERT_EQ(den.triggered.size(), 1u);
+  app.update(own, {});  // neighbour lost
+  ASSERT_EQ(seen.size(), 2u);
+  EXPECT_EQ(seen[1].clear_reason, ClearReason::kNeighbourLost);
+  EXPECT_EQ(den.terminated.size(), 1u);
 }
 
 }  // namespace

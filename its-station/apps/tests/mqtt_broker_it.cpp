@@ -158,7 +158,10 @@ class Probe {
       : port_(port) {
     mosquitto_lib_init();
     m_ = mosquitto_new(id.c_str(), !persistent_session, this);
-    mosquitto_int_option(m_, MOSQ_OPT_PROTOCOL_VERSION, MQTT_PROTOCOL_V5);
+    // MQTT v5 for the reason codes of refused publishes; v3.1.1 for a persistent session,
+    // which v5 would end at disconnection unless given a session expiry interval.
+    mosquitto_int_option(m_, MOSQ_OPT_PROTOCOL_VERSION,
+                         persistent_session ? MQTT_PROTOCOL_V311 : MQTT_PROTOCOL_V5);
     if (!user.empty()) {
       mosquitto_username_pw_set(m_, user.c_str(), pass.c_str());
     }
@@ -324,6 +327,7 @@ ClientConfig station_config(const Broker& b, std::size_t capacity = 100) {
   c.reconnect_max_s = 2;
   c.queue_capacity = capacity;
   c.status_topic = "its/1001/status";
+  c.publish_prefix = "its/1001/";
   return c;
 }
 

@@ -1,5 +1,7 @@
 #include "its-station/apps/mqtt/publisher.hpp"
 
+#include "its-station/apps/mqtt/mosquitto_client.hpp"
+
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -105,6 +107,34 @@ TEST_F(PublisherTest, DenmsByDirection) {
   EXPECT_EQ(sink.sent[1].topic, "its/1001/out/denm");
   EXPECT_EQ(sink.sent[1].payload["origin"], "self");
   EXPECT_EQ(sink.sent[1].qos, Qos::kAtLeastOnce);
+}
+
+}  // namespace
+}  // namespace tb::its::apps::mqtt
+
+namespace tb::its::apps::mqtt {
+namespace {
+
+TEST(MosquittoClientPrefix, RefusesTopicsOutsideTheStationPrefix) {
+  clock::ManualClock clk;
+  ClientConfig cfg;
+  cfg.publish_prefix = "its/1001/";
+  MosquittoClient client(clk, cfg);  // never started: no broker needed
+  client.publish("its/1002/app/lcrw", "{}", Qos::kAtLeastOnce, false);
+  client.publish("its/1001x/state", "{}", Qos::kAtMostOnce, false);
+  EXPECT_EQ(client.refused(), 2u);
+  EXPECT_EQ(client.pending(), 0u);
+  client.publish("its/1001/app/lcrw", "{}", Qos::kAtLeastOnce, false);
+  EXPECT_EQ(client.refused(), 2u);
+  EXPECT_EQ(client.pending(), 1u) << "queued until a broker is there";
+}
+
+TEST(MosquittoClientPrefix, StatusTopicMustBeUnderThePrefix) {
+  clock::ManualClock clk;
+  ClientConfig cfg;
+  cfg.publish_prefix = "its/1001/";
+  cfg.status_topic = "its/1002/status";
+  EXPECT_THROW(MosquittoClient(clk, cfg), MqttError);
 }
 
 }  // namespace
