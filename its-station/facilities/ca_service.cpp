@@ -1,0 +1,218 @@
+#include "its-station/facilities/ca_service.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include <spdlog/spdlog.h>
+
+#include "common/trace/tracer.hpp"
+#include "its-station/facilities/cdd_convert.hpp"
+#include "its-station/facilities/its_time.hpp"
+
+namespace tb::its::facilities {
+
+messages::Cam build_cam(const CaConfig& config, const PositionFix& fix, const VehicleData* vehicle,
+                        const messages::PathHistory* low_frequency_path) {
+  messages::Cam cam;
+  cam.header.stationID = config.station_id;
+  // EN 302 637-2 B.3: generationDeltaTime is the time of the reference position.
+  cam.cam.generationDeltaTime = generation_delta_time(timestamp_its(fix.time));
+  auto& p = cam.cam.camParameters;
+  p.basicContainer.stationType = config.station_type;
+  p.basicContainer.referencePosition = cdd::reference_position(fix);
+
+  auto& hf = p.highFrequencyContainer;
+  hf.heading = cdd::heading(fix.heading_deg, fix.heading_confidence_deg);
+  hf.speed.speedValue = cdd::speed_value(fix.speed_mps);
+  if (hf.speed.speedValue != messages::kSpeedValueUnavailable)
+    hf.speed.speedConfidence = cdd::speed_confidence(fix.speed_confidence_mps);
+  if (config.vehicle_length_m) {
+    hf.vehicleLength.vehicleLengthValue = static_cast<messages::VehicleLengthValue>(
+        std::clamp<long>(std::lround(*config.vehicle_length_m * 10.0), 1, 1022));
+    hf.vehicleLength.vehicleLengthConfidenceIndication =
+        messages::VehicleLengthConfidenceIndication::noTrailerPresent;
+  }
+  if (config.vehicle_width_m)
+    hf.vehicleWidth = static_cast<messages::VehicleWidth>(
+        std::clamp<long>(std::lround(*config.vehicle_width_m * 10.0), 1, 61));
+
+  if (vehicle) {
+    if (vehicle->reversing)
+      hf.driveDirection = *vehicle->reversing ? messages::DriveDirection::backward
+                                              : messages::DriveDirection::forward;
+    hf.longitudinalAcceleration.longitudinalAccelerationValue =
+        cdd::acceleration_value(vehicle->longitudinal_acceleration_mps2);
+    hf.yawRate = cdd::yaw_rate(vehicle->yaw_rate_dps);
+    const auto speed_for_curvature = vehicle->speed_mps ? vehicle->speed_mps : fix.speed_mps;
+    hf.curvature = cdd::curvature(vehicle->yaw_rate_dps, speed_for_curvature);
+    if (hf.curvature.curvatureValue != messages::kCurvatureValueUnavailable)
+      hf.curvatureCalculationMode = messages::CurvatureCalculationMode::yawRateUsed;
+    if (vehicle->brake_pedal || vehicle->gas_pedal) {
+      messages::AccelerationControl ac = 0;
+      if (vehicle->brake_pedal.value_or(false))
+        ac |= messages::acceleration_control::kBrakePedalEngaged;
+      if (vehicle->gas_pedal.value_or(false))
+        ac |= messages::acceleration_control::kGasPedalEngaged;
+      hf.accelerationControl = ac;
+    }
+    if (vehicle->steering_wheel_angle_deg)
+      hf.steeringWheelAngle = cdd::steering_wheel_angle(vehicle->steering_wheel_angle_deg);
+    if (vehicle->lateral_acceleration_mps2) {
+      messages::LateralAcceleration la;
+      la.lateralAccelerationValue = cdd::acceleration_value(vehicle->lateral_acceleration_mps2);
+      hf.lateralAcceleration = la;
+    }
+  }
+
+  if (low_frequency_path) {
+    messages::BasicVehicleContainerLowFrequency lf;
+    lf.vehicleRole = config.vehicle_role;
+    lf.exteriorLights = vehicle && vehicle->exterior_lights ? *vehicle->exterior_lights : 0;
+    lf.pathHistory = *low_frequency_path;
+    p.lowFrequencyContainer = lf;
+  }
+  return cam;
+}
+
+CaService::CaService(clock::Runtime& runtime, PositionProvider& position,
+                     VehicleDataProvider* vehicle, MessageSender& sender, Ldm& ldm, CaConfig config)
+    : runtime_(runtime),
+      position_(position),
+      vehicle_(vehicle),
+      sender_(sender),
+      ldm_(ldm),
+      config_(config),
+      rules_(config.timing, config.policy) {
+  position_.on_fix([this](const PositionFix& fix) {
+    trace::global().record("its.fix", {{"station", config_.station_id},
+                                       {"fix_ms", clock::to_unix_ns(fix.time) / 1'000'000}});
+    path_.add(fix);
+    if (running_)
+      check(false);
+  });
+  position_.on_availability([this](bool available) {
+    if (!running_)
+      return;
+    if (available) {
+      spdlog::info("CA service: GNSS fix available, CAMs resume");
+      reported_no_fix_ = false;
+    } else if (!reported_no_fix_) {
+      spdlog::warn("CA service: no GNSS fix, no CAMs until it returns");
+      reported_no_fix_ = true;
+    }
+  });
+  if (vehicle_) {
+    vehicle_->on_update([this](const VehicleData&) {
+      if (running_)
+        check(false);
+    });
+  }
+}
+
+CaService::~CaService() {
+  stop();
+}
+
+void CaService::start() {
+  running_ = true;
+  rules_.reset();
+  check(true);
+}
+
+void CaService::stop() {
+  running_ = false;
+  runtime_.cancel(check_timer_);
+}
+
+void CaService::schedule_check() {
+  runtime_.cancel(check_timer_);
+  // Check at T_CheckCamGen, and exactly when a time-based CAM falls due, whichever is first.
+  auto when = runtime_.steady_now() + rules_.timing().T_CheckCamGen;
+  if (auto due = rules_.next_time_due(); due && *due<when&& * due> runtime_.steady_now())
+    when = *due;
+  check_timer_ = runtime_.schedule_at(when, [this] { check(true); });
+}
+
+void CaService::check(bool from_timer) {
+  const auto& fix = position_.current();
+  if (!fix) {
+    ++counters_.suppressed_no_fix;
+    if (!reported_no_fix_) {
+      spdlog::warn("CA service: no GNSS fix, no CAMs until it returns");
+      reported_no_fix_ = true;
+    }
+    // The next CAM after the fix returns is a first CAM again (fresh LF container too).
+    rules_.reset();
+    schedule_check();
+    return;
+  }
+  const auto why = rules_.check(runtime_.steady_now(), *fix);
+  if (why != CamTrigger::kNone)
+    generate(why, *fix);
+  if (from_timer || why != CamTrigger::kNone)
+    schedule_check();
+}
+
+void CaService::generate(CamTrigger why, const PositionFix& fix) {
+  const auto now = runtime_.steady_now();
+  const std::int64_t fix_ms = clock::to_unix_ns(fix.time) / 1'000'000;
+  trace::global().record("its.cam_build",
+                         {{"station", config_.station_id},
+                          {"fix_ms", fix_ms},
+                          {"gdt", unsigned{generation_delta_time(timestamp_its(fix.time))}},
+                          {"trigger", to_string(why)}});
+  std::optional<messages::PathHistory> path;
+  if (rules_.low_frequency_due(now))
+    path = path_.build(fix);
+  const VehicleData* vd = vehicle_ && vehicle_->current() ? &*vehicle_->current() : nullptr;
+  const auto cam = build_cam(config_, fix, vd, path ? &*path : nullptr);
+
+  std::array<std::uint8_t, messages::kCamMaxEncodedSize> buf;
+  auto n = messages::encode(cam, buf);
+  if (!n) {
+    ++counters_.encode_errors;
+    spdlog::error("CA service: cannot encode CAM: {}", asn1::to_string(n.error()));
+    return;
+  }
+  rules_.generated(now, fix, why);
+  if (path)
+    rules_.low_frequency_sent(now);
+  const auto result = sender_.send_single_hop(kBtpPortCam, std::span(buf.data(), *n));
+  if (result != SendResult::kSent) {
+    ++counters_.send_errors;
+    spdlog::warn("CA service: CAM not sent: {}", to_string(result));
+  } else {
+    ++counters_.sent;
+  }
+  trace::global().record("its.cam_tx", {{"station", config_.station_id},
+                                        {"fix_ms", fix_ms},
+                                        {"gdt", unsigned{cam.cam.generationDeltaTime}},
+                                        {"bytes", *n},
+                                        {"lf", path.has_value()}});
+  for (auto& l : sent_listeners_)
+    l(cam, why, fix);
+}
+
+void CaService::receive(std::span<const std::uint8_t> payload, clock::WallTime rx_time) {
+  auto cam = messages::decode_cam(payload);
+  if (!cam) {
+    ++counters_.decode_errors;
+    spdlog::debug("CA service: dropped undecodable CAM: {}", asn1::to_string(cam.error()));
+    return;
+  }
+  if (cam->header.stationID == config_.station_id) {
+    ++counters_.own_dropped;
+    return;
+  }
+  ++counters_.received;
+  trace::global().record("its.cam_rx", {{"station", config_.station_id},
+                                        {"from", cam->header.stationID},
+                                        {"gdt", unsigned{cam->cam.generationDeltaTime}}});
+  ldm_.add_cam(*cam, rx_time);
+  trace::global().record("its.ldm", {{"station", config_.station_id},
+                                     {"from", cam->header.stationID},
+                                     {"gdt", unsigned{cam->cam.generationDeltaTime}}});
+}
+
+}  // namespace tb::its::facilities

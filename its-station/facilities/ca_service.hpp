@@ -1,0 +1,86 @@
+#pragma once
+/// @file Cooperative Awareness basic service, EN 302 637-2 V1.4.1: generates the station's CAMs
+/// from its fixes and vehicle data, and hands received CAMs to the LDM.
+
+#include <cstdint>
+#include <functional>
+#include <span>
+
+#include "common/clock/runtime.hpp"
+#include "its-station/facilities/cam_rules.hpp"
+#include "its-station/facilities/ldm.hpp"
+#include "its-station/facilities/path_history.hpp"
+#include "its-station/facilities/position.hpp"
+#include "its-station/facilities/transport.hpp"
+#include "its-station/facilities/vehicle_data.hpp"
+#include "its-station/messages/cam.hpp"
+
+namespace tb::its::facilities {
+
+struct CaConfig {
+  messages::StationID station_id = 0;
+  messages::StationType station_type = messages::station_type::kPassengerCar;
+  CamTiming timing;
+  scenario::CamPolicy policy;  ///< the standard's rules by default; `fixed` for the thesis
+  std::optional<double> vehicle_length_m;
+  std::optional<double> vehicle_width_m;
+  messages::VehicleRole vehicle_role = messages::VehicleRole::default_;
+};
+
+/// Builds the CAM of @p fix (reference position, heading, speed and generationDeltaTime all
+/// from the fix, so the CAM names the fix it came from), with @p vehicle's signals.
+messages::Cam build_cam(const CaConfig& config, const PositionFix& fix, const VehicleData* vehicle,
+                        const messages::PathHistory* low_frequency_path);
+
+class CaService {
+ public:
+  struct Counters {
+    std::uint64_t sent = 0;
+    std::uint64_t suppressed_no_fix = 0;  ///< generation checks that found no fix
+    std::uint64_t encode_errors = 0;
+    std::uint64_t send_errors = 0;
+    std::uint64_t received = 0;
+    std::uint64_t decode_errors = 0;
+    std::uint64_t own_dropped = 0;  ///< our own CAMs heard back
+  };
+  /// Called for each CAM handed to the network: the CAM, why, the fix it came from.
+  using SentListener = std::function<void(const messages::Cam&, CamTrigger, const PositionFix&)>;
+
+  /// @p vehicle may be null (no CAN data: vehicle fields are "unavailable").
+  CaService(clock::Runtime& runtime, PositionProvider& position, VehicleDataProvider* vehicle,
+            MessageSender& sender, Ldm& ldm, CaConfig config);
+  ~CaService();
+  CaService(const CaService&) = delete;
+  CaService& operator=(const CaService&) = delete;
+
+  void start();
+  void stop();
+
+  /// A BTP-B packet for port 2001 arrived.
+  void receive(std::span<const std::uint8_t> payload, clock::WallTime rx_time);
+
+  void on_sent(SentListener l) { sent_listeners_.push_back(std::move(l)); }
+  const Counters& counters() const { return counters_; }
+  const CamRules& rules() const { return rules_; }
+
+ private:
+  void check(bool from_timer);
+  void generate(CamTrigger why, const PositionFix& fix);
+  void schedule_check();
+
+  clock::Runtime& runtime_;
+  PositionProvider& position_;
+  VehicleDataProvider* vehicle_;
+  MessageSender& sender_;
+  Ldm& ldm_;
+  CaConfig config_;
+  CamRules rules_;
+  PathHistoryRecorder path_;
+  Counters counters_;
+  std::vector<SentListener> sent_listeners_;
+  clock::TimerId check_timer_ = 0;
+  bool running_ = false;
+  bool reported_no_fix_ = false;
+};
+
+}  // namespace tb::its::facilities

@@ -1,0 +1,165 @@
+#include "its-station/facilities/ldm.hpp"
+
+#include "its-station/facilities/cdd_convert.hpp"
+#include "its-station/facilities/its_time.hpp"
+
+namespace tb::its::facilities {
+
+std::string_view to_string(DenmOutcome o) {
+  switch (o) {
+    case DenmOutcome::kNew:
+      return "new";
+    case DenmOutcome::kUpdate:
+      return "update";
+    case DenmOutcome::kRepetition:
+      return "repetition";
+    case DenmOutcome::kOutdated:
+      return "outdated";
+    case DenmOutcome::kTerminated:
+      return "terminated";
+    case DenmOutcome::kUnknownTermination:
+      return "unknown-termination";
+    case DenmOutcome::kExpired:
+      return "expired";
+  }
+  return "?";
+}
+
+Ldm::Ldm(clock::Runtime& runtime, LdmConfig config) : runtime_(runtime), config_(config) {
+  schedule_sweep();
+}
+
+Ldm::~Ldm() {
+  runtime_.cancel(sweep_timer_);
+}
+
+void Ldm::schedule_sweep() {
+  sweep_timer_ = runtime_.schedule_in(config_.sweep_interval, [this] {
+    expire();
+    schedule_sweep();
+  });
+}
+
+std::int64_t Ldm::now_its() const {
+  return timestamp_its(runtime_.wall_now());
+}
+
+void Ldm::add_cam(const messages::Cam& cam, clock::WallTime rx_wall) {
+  const auto& basic = cam.cam.camParameters.basicContainer;
+  const auto lat = cdd::latitude_deg(basic.referencePosition.latitude);
+  const auto lon = cdd::longitude_deg(basic.referencePosition.longitude);
+  if (!lat || !lon)
+    return;
+  const auto& hf = cam.cam.camParameters.highFrequencyContainer;
+  NeighbourSample s;
+  s.received = runtime_.steady_now();
+  s.received_wall = rx_wall;
+  s.generation_delta_time = cam.cam.generationDeltaTime;
+  s.latitude_deg = *lat;
+  s.longitude_deg = *lon;
+  s.heading_deg = cdd::heading_deg(hf.heading.headingValue);
+  s.speed_mps = cdd::speed_mps(hf.speed.speedValue);
+  if (s.speed_mps && hf.driveDirection == messages::DriveDirection::backward)
+    s.speed_mps = -*s.speed_mps;
+
+  auto& n = neighbours_[cam.header.stationID];
+  n.station_id = cam.header.stationID;
+  n.station_type = basic.stationType;
+  n.last_cam = cam;
+  n.history.push_front(s);
+  while (n.history.size() > config_.history_length)
+    n.history.pop_back();
+  for (auto& l : neighbour_listeners_)
+    l(n);
+}
+
+DenmOutcome Ldm::add_denm(const messages::Denm& denm) {
+  const auto& mc = denm.denm.management;
+  const std::int64_t expires =
+      static_cast<std::int64_t>(mc.detectionTime) + std::int64_t{mc.validityDuration} * 1000;
+  const ActionKey key{mc.actionID.originatingStationID, mc.actionID.sequenceNumber};
+  auto notify = [&](const Event& e, DenmOutcome o) {
+    for (auto& l : event_listeners_)
+      l(e, o);
+    return o;
+  };
+  // EN 302 637-3 clause 8.2.2: a DENM whose validity has ended is dropped.
+  if (expires <= now_its())
+    return DenmOutcome::kExpired;
+  auto it = events_.find(key);
+  if (it == events_.end()) {
+    if (mc.termination)
+      return DenmOutcome::kUnknownTermination;
+    Event e{denm, runtime_.steady_now(), expires, false};
+    auto [pos, _] = events_.emplace(key, e);
+    return notify(pos->second, DenmOutcome::kNew);
+  }
+  Event& e = it->second;
+  const auto held = e.denm.denm.management.referenceTime;
+  if (mc.referenceTime < held)
+    return DenmOutcome::kOutdated;
+  if (mc.referenceTime == held)
+    return DenmOutcome::kRepetition;
+  if (e.terminated) {
+    // A newer repetition of the termination keeps the tombstone; anything else about a
+    // terminated event is stale (the originator uses a new action ID for a new event).
+    if (mc.termination) {
+      e.denm = denm;
+      e.expires_its = expires;
+      return DenmOutcome::kRepetition;
+    }
+    return DenmOutcome::kOutdated;
+  }
+  e.denm = denm;
+  e.received = runtime_.steady_now();
+  e.expires_its = expires;
+  if (mc.termination) {
+    e.terminated = true;
+    return notify(e, DenmOutcome::kTerminated);
+  }
+  return notify(e, DenmOutcome::kUpdate);
+}
+
+void Ldm::expire() {
+  const auto now = runtime_.steady_now();
+  for (auto it = neighbours_.begin(); it != neighbours_.end();) {
+    if (now - it->second.latest().received > config_.neighbour_timeout) {
+      const auto id = it->first;
+      it = neighbours_.erase(it);
+      for (auto& l : gone_listeners_)
+        l(id);
+    } else {
+      ++it;
+    }
+  }
+  const auto its = now_its();
+  for (auto it = events_.begin(); it != events_.end();) {
+    if (it->second.expires_its <= its)
+      it = events_.erase(it);
+    else
+      ++it;
+  }
+}
+
+const Neighbour* Ldm::neighbour(messages::StationID id) const {
+  auto it = neighbours_.find(id);
+  return it == neighbours_.end() ? nullptr : &it->second;
+}
+
+std::vector<const Event*> Ldm::active_events() const {
+  std::vector<const Event*> out;
+  const auto its = now_its();
+  for (const auto& [_, e] : events_)
+    if (!e.terminated && e.expires_its > its)
+      out.push_back(&e);
+  return out;
+}
+
+const Event* Ldm::event(const messages::ActionID& id) const {
+  auto it = events_.find({id.originatingStationID, id.sequenceNumber});
+  if (it == events_.end() || it->second.terminated)
+    return nullptr;
+  return &it->second;
+}
+
+}  // namespace tb::its::facilities

@@ -1,0 +1,113 @@
+#pragma once
+/// @file Local dynamic map (EN 302 895, in the small): what the station knows of its
+/// neighbours (from CAMs) and of active events (from DENMs), with expiry, for applications.
+
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <map>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+#include "common/clock/runtime.hpp"
+#include "its-station/messages/cam.hpp"
+#include "its-station/messages/denm.hpp"
+
+namespace tb::its::facilities {
+
+/// One state of a neighbour, decoded from a CAM into SI units.
+struct NeighbourSample {
+  clock::SteadyTime received{};
+  clock::WallTime received_wall{};
+  std::uint16_t generation_delta_time = 0;
+  double latitude_deg = 0.0;
+  double longitude_deg = 0.0;
+  std::optional<double> heading_deg;
+  std::optional<double> speed_mps;  ///< signed: negative when driving backward
+};
+
+struct Neighbour {
+  messages::StationID station_id = 0;
+  messages::StationType station_type = 0;
+  messages::Cam last_cam;               ///< the newest CAM, as received
+  std::deque<NeighbourSample> history;  ///< newest first
+  const NeighbourSample& latest() const { return history.front(); }
+};
+
+/// An event from a DENM, keyed by its action ID.
+struct Event {
+  messages::Denm denm;  ///< the newest version received
+  clock::SteadyTime received{};
+  /// TimestampIts after which the event is no longer valid (detection + validity duration).
+  std::int64_t expires_its = 0;
+  bool terminated = false;  ///< kept as a tombstone until expiry, so late repeats stay dropped
+};
+
+/// What the LDM did with a received DENM (EN 302 637-3 clause 8.2.2 receiving rules).
+enum class DenmOutcome : std::uint8_t {
+  kNew,                 ///< a new event
+  kUpdate,              ///< a newer referenceTime of a known event
+  kRepetition,          ///< the same referenceTime again: dropped
+  kOutdated,            ///< an older referenceTime than held: dropped
+  kTerminated,          ///< cancellation or negation of a known event: removed
+  kUnknownTermination,  ///< terminates nothing we hold: dropped
+  kExpired,             ///< its validity had already ended: dropped
+};
+std::string_view to_string(DenmOutcome o);
+
+struct LdmConfig {
+  /// A neighbour unheard for this long is forgotten (CAMs come at least every T_GenCamMax,
+  /// 1 s; three lost in a row mean the station is out of range).
+  clock::Duration neighbour_timeout = std::chrono::milliseconds{3000};
+  std::size_t history_length = 10;
+  /// Period of the expiry sweep.
+  clock::Duration sweep_interval = std::chrono::milliseconds{200};
+};
+
+class Ldm {
+ public:
+  using NeighbourListener = std::function<void(const Neighbour&)>;
+  using NeighbourGoneListener = std::function<void(messages::StationID)>;
+  using EventListener = std::function<void(const Event&, DenmOutcome)>;
+
+  Ldm(clock::Runtime& runtime, LdmConfig config = {});
+  ~Ldm();
+  Ldm(const Ldm&) = delete;
+  Ldm& operator=(const Ldm&) = delete;
+
+  /// A CAM from another station arrived (decoded). Ignores CAMs without a position.
+  void add_cam(const messages::Cam& cam, clock::WallTime rx_wall);
+  /// A DENM arrived; applies the receiving rules and says what became of it.
+  DenmOutcome add_denm(const messages::Denm& denm);
+
+  /// Removes expired neighbours and events now (also done by the periodic sweep).
+  void expire();
+
+  // Queries for applications.
+  const std::map<messages::StationID, Neighbour>& neighbours() const { return neighbours_; }
+  const Neighbour* neighbour(messages::StationID id) const;
+  /// Active (not terminated, not expired) events.
+  std::vector<const Event*> active_events() const;
+  const Event* event(const messages::ActionID& id) const;
+
+  void on_neighbour(NeighbourListener l) { neighbour_listeners_.push_back(std::move(l)); }
+  void on_neighbour_gone(NeighbourGoneListener l) { gone_listeners_.push_back(std::move(l)); }
+  void on_event(EventListener l) { event_listeners_.push_back(std::move(l)); }
+
+ private:
+  using ActionKey = std::pair<messages::StationID, messages::SequenceNumber>;
+  void schedule_sweep();
+  std::int64_t now_its() const;
+
+  clock::Runtime& runtime_;
+  LdmConfig config_;
+  std::map<messages::StationID, Neighbour> neighbours_;
+  std::map<ActionKey, Event> events_;
+  std::vector<NeighbourListener> neighbour_listeners_;
+  std::vector<NeighbourGoneListener> gone_listeners_;
+  std::vector<EventListener> event_listeners_;
+  clock::TimerId sweep_timer_ = 0;
+};
+
+}  // namespace tb::its::facilities

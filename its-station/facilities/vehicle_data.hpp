@@ -1,0 +1,65 @@
+#pragma once
+/// @file The vehicle's own signals (speed, yaw rate, accelerations, steering, pedals, lights),
+/// as the CA service needs them, and the interface it takes them from.
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <vector>
+
+#include "common/clock/clock.hpp"
+
+namespace tb::its::facilities {
+
+/// Bits of VehicleData::exterior_lights, in the order of CDD ExteriorLights (TS 102 894-2).
+namespace lights {
+inline constexpr std::uint8_t kLowBeam = 1 << 0;
+inline constexpr std::uint8_t kHighBeam = 1 << 1;
+inline constexpr std::uint8_t kLeftTurnSignal = 1 << 2;
+inline constexpr std::uint8_t kRightTurnSignal = 1 << 3;
+inline constexpr std::uint8_t kDaytimeRunning = 1 << 4;
+inline constexpr std::uint8_t kReverse = 1 << 5;
+inline constexpr std::uint8_t kFog = 1 << 6;
+inline constexpr std::uint8_t kParking = 1 << 7;
+}  // namespace lights
+
+/// SI units; signs as in the CDD (positive to the left, forward, up). Unknown = empty.
+struct VehicleData {
+  clock::SteadyTime received{};
+  std::optional<double> speed_mps;  ///< wheel-based, negative when reversing
+  std::optional<double> yaw_rate_dps;
+  std::optional<double> longitudinal_acceleration_mps2;
+  std::optional<double> lateral_acceleration_mps2;
+  std::optional<double> steering_wheel_angle_deg;
+  std::optional<bool> brake_pedal;
+  std::optional<bool> gas_pedal;
+  std::optional<bool> reversing;
+  std::optional<std::uint8_t> exterior_lights;  ///< lights:: bits
+};
+
+/// Source of VehicleData: the CAN reader in the station, a test's hand in unit tests.
+class VehicleDataProvider {
+ public:
+  using Listener = std::function<void(const VehicleData&)>;
+  virtual ~VehicleDataProvider() = default;
+  const std::optional<VehicleData>& current() const { return current_; }
+  void on_update(Listener l) { listeners_.push_back(std::move(l)); }
+
+ protected:
+  void publish(const VehicleData& d) {
+    current_ = d;
+    for (auto& l : listeners_)
+      l(d);
+  }
+
+ private:
+  std::optional<VehicleData> current_;
+  std::vector<Listener> listeners_;
+};
+
+class InjectedVehicleDataProvider final : public VehicleDataProvider {
+ public:
+  void inject(const VehicleData& d) { publish(d); }
+};
+
+}  // namespace tb::its::facilities
