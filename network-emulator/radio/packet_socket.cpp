@@ -4,6 +4,7 @@
 #include <linux/if_packet.h>
 #include <net/ethernet.h>
 #include <net/if.h>
+#include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -70,10 +71,18 @@ long PacketSocket::receive(std::span<std::uint8_t> buf, bool wait) {
   for (;;) {
     sockaddr_ll from{};
     socklen_t len = sizeof from;
-    const ssize_t n = ::recvfrom(fd_, buf.data(), buf.size(), (wait ? 0 : MSG_DONTWAIT) | MSG_TRUNC,
+    const ssize_t n = ::recvfrom(fd_, buf.data(), buf.size(), MSG_DONTWAIT | MSG_TRUNC,
                                  reinterpret_cast<sockaddr*>(&from), &len);
-    if (n < 0)
-      return (errno == EAGAIN || errno == EWOULDBLOCK) ? 0 : -1;
+    if (n < 0) {
+      if (errno != EAGAIN && errno != EWOULDBLOCK)
+        return -1;
+      if (!wait)
+        return 0;
+      pollfd p{fd_, POLLIN, 0};
+      if (::poll(&p, 1, -1) < 0 && errno != EINTR)
+        return -1;
+      continue;
+    }
     // Kernels without PACKET_IGNORE_OUTGOING still show our own transmissions.
     if (from.sll_pkttype == PACKET_OUTGOING)
       continue;

@@ -34,7 +34,8 @@ class PacketSocket {
   /// Sends one whole Ethernet frame. Returns false (and errno) when the kernel refused it.
   bool send(std::span<const std::uint8_t> frame);
   /// Receives one frame that came in (never one this host sent) into @p buf; returns its
-  /// length, 0 when nothing is waiting, -1 on error or when a frame did not fit.
+  /// length, 0 when nothing is waiting (and @p wait is false), -1 on error or when a frame did
+  /// not fit.
   long receive(std::span<std::uint8_t> buf, bool wait = false);
   /// Gives up ownership of the descriptor (to Asio).
   int release();
