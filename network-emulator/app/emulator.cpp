@@ -1,0 +1,150 @@
+#include "network-emulator/app/emulator.hpp"
+
+#include <chrono>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+namespace tb::emu {
+
+Emulator::Emulator(const scenario::Scenario& scenario, const tb::can::Database& dbc,
+                   const std::vector<StationEndpoints>& stations, const StationIoFactory& make_io,
+                   const clock::Clock& clock, trace::Tracer& tracer, std::uint64_t seed)
+    : scenario_(scenario), clock_(clock), tracer_(tracer), frame_(scenario.origin) {
+  for (const StationEndpoints& e : stations) {
+    const scenario::Vehicle* v = scenario.find_station(e.station_id);
+    if (!v)
+      throw std::runtime_error(fmt::format("station {} is not in the scenario", e.station_id));
+    gnss::AgentConfig gc;
+    gc.station_id = e.station_id;
+    gc.rate_hz = scenario.rates.gnss_hz;
+    gc.start_time = scenario.start_time;
+    gc.errors = scenario.gnss;
+    gc.seed = seed;
+    can::FeederConfig cc;
+    cc.dynamics_hz = scenario.rates.can_dynamics_hz;
+    cc.body_hz = scenario.rates.can_body_hz;
+    cc.steering_ratio = v->model.steering_ratio;
+    auto feeder = can::CanFeeder::create(dbc, cc);
+    if (!feeder)
+      throw std::runtime_error(feeder.error().message());
+    stations_.emplace(e.station_id,
+                      std::unique_ptr<Station>(new Station{
+                          e.station_id, e, gnss::GpsAgent(gc, frame_), std::move(*feeder),
+                          make_io(e), PeerHealth(clock), PeerHealth(clock)}));
+  }
+}
+
+void Emulator::handle_datagram(std::span<const std::uint8_t> bytes) {
+  ++counters_.datagrams;
+  auto state = wire::decode(bytes);
+  if (!state) {
+    ++counters_.malformed;
+    const auto kind = static_cast<std::size_t>(state.error());
+    if (kind < counters_.malformed_by_error.size()) {
+      ++counters_.malformed_by_error[kind];
+      if (!logged_malformed_[kind]) {
+        logged_malformed_[kind] = true;
+        spdlog::warn(
+            "dropping malformed vehicle-state datagrams ({} bytes): {} (logged once; "
+            "see the status line for counts)",
+            bytes.size(), wire::to_string(state.error()));
+      }
+    }
+    return;
+  }
+  const auto it = stations_.find(state->station_id);
+  if (it == stations_.end()) {
+    ++counters_.unknown_station;
+    if (!logged_unknown_) {
+      logged_unknown_ = true;
+      spdlog::warn(
+          "dropping states of station {}, which is not a station of this emulator "
+          "(logged once; see the status line for counts)",
+          state->station_id);
+    }
+    return;
+  }
+  ++counters_.states;
+  Station& s = *it->second;
+  tracer_.record("emu.state", {{"station", s.id}, {"tick", state->tick}});
+  if (const auto nmea = s.gps.on_state(*state))
+    send_nmea(s, *state, *nmea);
+  if (const auto frames = s.can.on_state(*state); !frames.empty())
+    send_can(s, *state, frames);
+}
+
+void Emulator::send_nmea(Station& s, const wire::VehicleState& state, std::string_view nmea) {
+  if (!s.io.gnss)
+    return;
+  if (!s.gnss_health.should_send()) {
+    ++counters_.nmea_skipped;
+    return;
+  }
+  const std::error_code ec =
+      s.io.gnss->send({reinterpret_cast<const std::uint8_t*>(nmea.data()), nmea.size()});
+  if (ec) {
+    ++counters_.nmea_failed;
+  } else {
+    ++counters_.nmea_sent;
+    const auto fix_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
+                            s.gps.last_fix().time.time_since_epoch())
+                            .count();
+    tracer_.record("emu.nmea", {{"station", s.id}, {"tick", state.tick}, {"fix_ms", fix_ms}});
+  }
+  report(s, "GNSS", s.gnss_health.record(ec), s.gnss_health);
+}
+
+void Emulator::send_can(Station& s, const wire::VehicleState& state,
+                        std::span<const tb::can::CanFrame> frames) {
+  if (!s.io.can)
+    return;
+  if (!s.can_health.should_send()) {
+    counters_.can_skipped += frames.size();
+    return;
+  }
+  const std::error_code ec = s.io.can->send(frames);
+  if (ec) {
+    counters_.can_failed += frames.size();
+  } else {
+    counters_.can_frames_sent += frames.size();
+    if (tracer_.enabled())
+      for (const auto& f : frames)
+        tracer_.record("emu.can", {{"station", s.id}, {"tick", state.tick}, {"id", f.id()}});
+  }
+  report(s, "CAN", s.can_health.record(ec), s.can_health);
+}
+
+void Emulator::report(Station& s, const char* feed, PeerHealth::Change change,
+                      const PeerHealth& h) {
+  const auto& e = s.endpoints;
+  const std::string where =
+      e.netns.empty() ? e.address : fmt::format("{} in netns {}", e.address, e.netns);
+  if (change == PeerHealth::Change::kPaused)
+    spdlog::warn(
+        "station {}: {} receiver at {} is gone ({}); pausing its feed, retrying every "
+        "second",
+        s.id, feed, where, h.last_error().message());
+  else if (change == PeerHealth::Change::kResumed)
+    spdlog::info("station {}: {} receiver at {} is back; feed resumed", s.id, feed, where);
+}
+
+std::size_t Emulator::paused_stations() const {
+  std::size_t n = 0;
+  for (const auto& [id, s] : stations_)
+    n += (s->gnss_health.paused() || s->can_health.paused()) ? 1 : 0;
+  return n;
+}
+
+std::string Emulator::status_line() const {
+  const Counters& c = counters_;
+  return fmt::format(
+      "states {} (datagrams {}, malformed {}, unknown station {}) | NMEA sent {} failed {} "
+      "skipped {} | CAN frames sent {} failed {} skipped {} | stations {} paused {}",
+      c.states, c.datagrams, c.malformed, c.unknown_station, c.nmea_sent, c.nmea_failed,
+      c.nmea_skipped, c.can_frames_sent, c.can_failed, c.can_skipped, stations_.size(),
+      paused_stations());
+}
+
+}  // namespace tb::emu

@@ -1,0 +1,100 @@
+#pragma once
+/// @file Emulator: vehicle states in, each station's GNSS and CAN feeds out.
+///
+/// One GpsAgent and one CanFeeder per configured station. Everything that touches a socket
+/// sits behind DatagramSink (NMEA) and tb::can::CanBus (CAN), made by an injected factory, so
+/// that tests drive the emulator with byte strings and fake sinks.
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <system_error>
+#include <unordered_map>
+#include <vector>
+
+#include "common/can/can_bus.hpp"
+#include "common/can/dbc.hpp"
+#include "common/clock/clock.hpp"
+#include "common/geodesy/local_frame.hpp"
+#include "common/scenario/scenario.hpp"
+#include "common/trace/tracer.hpp"
+#include "common/wire/vehicle_state.hpp"
+#include "network-emulator/app/peer_health.hpp"
+#include "network-emulator/app/stations_config.hpp"
+#include "network-emulator/can/can_feeder.hpp"
+#include "network-emulator/gnss/gps_agent.hpp"
+
+namespace tb::emu {
+
+/// Sends one datagram without blocking.
+class DatagramSink {
+ public:
+  virtual ~DatagramSink() = default;
+  virtual std::error_code send(std::span<const std::uint8_t> datagram) = 0;
+};
+
+struct StationIo {
+  std::unique_ptr<DatagramSink> gnss;
+  std::unique_ptr<tb::can::CanBus> can;
+};
+using StationIoFactory = std::function<StationIo(const StationEndpoints&)>;
+
+struct Counters {
+  std::uint64_t datagrams = 0;                        ///< received
+  std::uint64_t states = 0;                           ///< decoded, for a configured station
+  std::uint64_t malformed = 0;                        ///< did not decode
+  std::array<std::uint64_t, 5> malformed_by_error{};  ///< indexed by wire::DecodeError
+  std::uint64_t unknown_station = 0;                  ///< decoded, but for no configured station
+  std::uint64_t nmea_sent = 0, nmea_failed = 0, nmea_skipped = 0;
+  std::uint64_t can_frames_sent = 0, can_failed = 0, can_skipped = 0;
+};
+
+class Emulator {
+ public:
+  /// @p scenario, @p dbc, @p clock and @p tracer must outlive the emulator.
+  /// @throws std::runtime_error when the DBC cannot be fed (tb::emu::can::FeederError).
+  Emulator(const scenario::Scenario& scenario, const tb::can::Database& dbc,
+           const std::vector<StationEndpoints>& stations, const StationIoFactory& make_io,
+           const clock::Clock& clock, trace::Tracer& tracer, std::uint64_t seed = 1);
+
+  /// Handles one received datagram (a tb::wire::VehicleState).
+  void handle_datagram(std::span<const std::uint8_t> bytes);
+
+  const Counters& counters() const { return counters_; }
+  std::size_t station_count() const { return stations_.size(); }
+  /// Stations whose GNSS or CAN receiver is paused.
+  std::size_t paused_stations() const;
+  /// One line for the log: totals and stations paused.
+  std::string status_line() const;
+
+ private:
+  struct Station {
+    std::uint32_t id;
+    StationEndpoints endpoints;
+    gnss::GpsAgent gps;
+    can::CanFeeder can;
+    StationIo io;
+    PeerHealth gnss_health;
+    PeerHealth can_health;
+  };
+
+  void send_nmea(Station& s, const wire::VehicleState& state, std::string_view nmea);
+  void send_can(Station& s, const wire::VehicleState& state,
+                std::span<const tb::can::CanFrame> frames);
+  void report(Station& s, const char* feed, PeerHealth::Change change, const PeerHealth& h);
+
+  const scenario::Scenario& scenario_;
+  const clock::Clock& clock_;
+  trace::Tracer& tracer_;
+  geodesy::LocalFrame frame_;
+  std::unordered_map<std::uint32_t, std::unique_ptr<Station>> stations_;
+  Counters counters_;
+  std::array<bool, 5> logged_malformed_{};
+  bool logged_unknown_ = false;
+};
+
+}  // namespace tb::emu

@@ -1,0 +1,280 @@
+// network-emulator: the vehicles' hardware. Receives vehicle states from sim-clients and feeds
+// every station's gpsd (NMEA over UDP) and CAN bus (SocketCAN vcan, or cannelloni over UDP).
+
+#include <sys/resource.h>
+
+#include <chrono>
+#include <csignal>
+#include <cstdlib>
+#include <memory>
+#include <string>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/udp.hpp>
+#include <boost/asio/signal_set.hpp>
+
+#include "common/can/netns.hpp"
+#include "common/can/socketcan_bus.hpp"
+#include "common/can/udp_can_bus.hpp"
+#include "common/clock/asio_runtime.hpp"
+#include "common/scenario/loader.hpp"
+#include "common/trace/tracer.hpp"
+#include "network-emulator/app/emulator.hpp"
+#include "network-emulator/app/stations_config.hpp"
+#include "network-emulator/app/udp_sink.hpp"
+
+namespace {
+
+namespace asio = boost::asio;
+using udp = asio::ip::udp;
+using namespace tb;
+
+constexpr int kExitFailure = 1;
+
+/// A CAN bus that could not be opened: every send reports why, so the station is paused and
+/// logged like one whose receiver went away.
+class BrokenCanBus final : public can::CanBus {
+ public:
+  explicit BrokenCanBus(std::error_code ec) : ec_(ec) {}
+  std::string_view kind() const override { return "broken"; }
+  std::error_code send(std::span<const can::CanFrame>) override { return ec_; }
+  void start_receive(FrameHandler) override {}
+
+ private:
+  std::error_code ec_;
+};
+
+std::optional<udp::endpoint> parse_endpoint(const std::string& text) {
+  const auto colon = text.rfind(':');
+  if (colon == std::string::npos)
+    return std::nullopt;
+  boost::system::error_code ec;
+  auto addr = asio::ip::make_address(text.substr(0, colon), ec);
+  if (ec)
+    return std::nullopt;
+  try {
+    const int port = std::stoi(text.substr(colon + 1));
+    if (port < 0 || port > 65535)
+      return std::nullopt;
+    return udp::endpoint(addr, static_cast<unsigned short>(port));
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
+/// Two sockets per station: lift the soft descriptor limit to the hard one.
+void raise_fd_limit() {
+  rlimit r{};
+  if (::getrlimit(RLIMIT_NOFILE, &r) == 0 && r.rlim_cur < r.rlim_max) {
+    r.rlim_cur = r.rlim_max;
+    ::setrlimit(RLIMIT_NOFILE, &r);
+  }
+}
+
+/// The UDP receiver of vehicle states: one async wait, then drains the socket without blocking.
+class StateReceiver {
+ public:
+  StateReceiver(asio::io_context& io, const udp::endpoint& listen, emu::Emulator& emulator)
+      : socket_(io), emulator_(emulator) {
+    socket_.open(listen.protocol());
+    socket_.set_option(udp::socket::reuse_address(true));
+    // 1000 vehicles at 100 Hz are 100k datagrams/s: a deep buffer rides out scheduling gaps.
+    boost::system::error_code ignored;
+    socket_.set_option(asio::socket_base::receive_buffer_size(8 << 20), ignored);
+    socket_.bind(listen);
+    socket_.non_blocking(true);
+  }
+  udp::endpoint local_endpoint() const { return socket_.local_endpoint(); }
+  void start() {
+    socket_.async_wait(udp::socket::wait_read, [this](const boost::system::error_code& ec) {
+      if (ec == asio::error::operation_aborted)
+        return;
+      drain();
+      start();
+    });
+  }
+
+ private:
+  void drain() {
+    for (int i = 0; i < 4096; ++i) {  // bounded, so that timers still get their turn
+      boost::system::error_code ec;
+      const std::size_t n = socket_.receive(asio::buffer(buffer_), 0, ec);
+      if (ec == asio::error::would_block || ec == asio::error::try_again)
+        return;
+      if (ec) {
+        spdlog::debug("receive: {}", ec.message());
+        continue;
+      }
+      emulator_.handle_datagram({buffer_.data(), n});
+    }
+  }
+
+  udp::socket socket_;
+  emu::Emulator& emulator_;
+  std::array<std::uint8_t, 2048> buffer_{};
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"network-emulator: GPS receivers and CAN buses of the testbed's vehicles"};
+  std::string scenario_file, listen = "0.0.0.0:4700", stations_file, can_mode = "auto";
+  std::string dbc_file = TESTBED_VEHICLE_DBC, trace_file, log_level = "info";
+  std::uint64_t seed = 1;
+  double status_interval = 5.0;
+  app.add_option("--scenario", scenario_file, "scenario file (JSON)")->required();
+  app.add_option("--listen", listen, "UDP address:port for vehicle states")->capture_default_str();
+  app.add_option("--stations", stations_file,
+                 "JSON file: per station address, ports, netns, CAN interface (README)");
+  app.add_option("--can", can_mode, "CAN transport")
+      ->check(CLI::IsMember({"udp", "vcan", "auto"}))
+      ->capture_default_str();
+  app.add_option("--dbc", dbc_file, "CAN database")->capture_default_str();
+  app.add_option("--trace", trace_file, "write trace records (JSON lines) to FILE");
+  app.add_option("--seed", seed, "seed of the GNSS error model")->capture_default_str();
+  app.add_option("--status-interval", status_interval, "seconds between status lines (0: none)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--log-level", log_level, "trace, debug, info, warn, error")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}))
+      ->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  spdlog::set_level(spdlog::level::from_str(log_level));
+  spdlog::set_pattern("[%Y-%m-%d %H:%M:%S.%e] [network-emulator] [%l] %v");
+
+  scenario::Scenario scen;
+  try {
+    scen = scenario::load_file(scenario_file);
+  } catch (const scenario::ScenarioError& e) {
+    spdlog::error("{}", e.what());
+    return scenario::kExitBadScenario;
+  }
+  auto dbc = can::Database::load(dbc_file);
+  if (!dbc) {
+    spdlog::error("{}", dbc.error().message());
+    return scenario::kExitBadScenario;
+  }
+  std::vector<emu::StationEndpoints> stations;
+  try {
+    stations = stations_file.empty() ? emu::default_stations(scen)
+                                     : emu::load_stations(stations_file, scen);
+  } catch (const emu::StationsConfigError& e) {
+    spdlog::error("{}", e.what());
+    return scenario::kExitBadScenario;
+  }
+  const auto listen_ep = parse_endpoint(listen);
+  if (!listen_ep) {
+    spdlog::error("--listen {}: expected ADDRESS:PORT, e.g. 0.0.0.0:4700", listen);
+    return kExitFailure;
+  }
+  try {
+    if (!trace_file.empty())
+      trace::configure(trace_file, "network-emulator");
+    else
+      trace::configure_from_env("network-emulator");
+  } catch (const std::exception& e) {
+    spdlog::error("--trace {}: {}", trace_file, e.what());
+    return kExitFailure;
+  }
+  raise_fd_limit();
+
+  // CAN transport: SocketCAN where the kernel has it (and --can allows), else cannelloni/UDP.
+  bool use_vcan = false;
+  if (can_mode == "vcan" || can_mode == "auto") {
+    const bool available = can::socketcan_available();
+    if (!available && can_mode == "vcan") {
+      spdlog::error("--can vcan: this kernel has no SocketCAN (socket(PF_CAN) fails: {})",
+                    std::error_code(errno, std::generic_category()).message());
+      return kExitFailure;
+    }
+    use_vcan = available;
+  }
+  if (use_vcan)
+    spdlog::info("CAN transport: SocketCAN (each station's vcan interface){}",
+                 can_mode == "auto" ? ", detected" : "");
+  else
+    spdlog::info("CAN transport: CAN frames over UDP in cannelloni's format ({})",
+                 can_mode == "udp" ? "--can udp" : "this kernel has no SocketCAN");
+
+  asio::io_context io;
+  clock::AsioRuntime runtime(io);
+  const emu::StationIoFactory make_io = [&](const emu::StationEndpoints& e) {
+    emu::StationIo out;
+    const auto addr = asio::ip::make_address(e.address);
+    out.gnss = std::make_unique<emu::UdpSink>(io, udp::endpoint(addr, e.gnss_port), e.netns);
+    if (use_vcan) {
+      auto bus = can::SocketCanBus::open(io, e.can_interface, e.netns);
+      if (bus) {
+        out.can = std::move(*bus);
+      } else {
+        spdlog::warn("station {}: cannot open CAN interface {}{}: {}", e.station_id,
+                     e.can_interface, e.netns.empty() ? "" : " in netns " + e.netns,
+                     bus.error().message());
+        out.can = std::make_unique<BrokenCanBus>(bus.error());
+      }
+    } else {
+      try {
+        std::unique_ptr<can::UdpCanBus> bus;
+        const auto ec = can::run_in_netns(
+            e.netns, [&] { bus = can::UdpCanBus::connect(io, udp::endpoint(addr, e.can_port)); });
+        if (ec)
+          out.can = std::make_unique<BrokenCanBus>(ec);
+        else
+          out.can = std::move(bus);
+      } catch (const boost::system::system_error& err) {
+        out.can = std::make_unique<BrokenCanBus>(err.code());
+      }
+    }
+    return out;
+  };
+
+  std::unique_ptr<emu::Emulator> emulator;
+  try {
+    emulator = std::make_unique<emu::Emulator>(scen, *dbc, stations, make_io, runtime,
+                                               trace::global(), seed);
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return scenario::kExitBadScenario;
+  }
+
+  std::unique_ptr<StateReceiver> receiver;
+  try {
+    receiver = std::make_unique<StateReceiver>(io, *listen_ep, *emulator);
+  } catch (const boost::system::system_error& e) {
+    spdlog::error("cannot listen for vehicle states on {}: {}", listen, e.code().message());
+    return kExitFailure;
+  }
+  receiver->start();
+  spdlog::info("scenario {} ({}): {} stations, GNSS {} Hz, CAN {}/{} Hz; listening on {}",
+               scen.name, scenario_file, emulator->station_count(), scen.rates.gnss_hz,
+               scen.rates.can_dynamics_hz, scen.rates.can_body_hz,
+               fmt::format("{}:{}", receiver->local_endpoint().address().to_string(),
+                           receiver->local_endpoint().port()));
+
+  std::function<void()> status;
+  if (status_interval > 0) {
+    const auto every =
+        std::chrono::duration_cast<clock::Duration>(std::chrono::duration<double>(status_interval));
+    status = [&] {
+      spdlog::info("{}", emulator->status_line());
+      trace::global().flush();
+      runtime.schedule_in(every, status);
+    };
+    runtime.schedule_in(every, status);
+  }
+
+  asio::signal_set signals(io, SIGINT, SIGTERM);
+  signals.async_wait([&](const boost::system::error_code& ec, int sig) {
+    if (!ec) {
+      spdlog::info("signal {}: stopping", sig);
+      io.stop();
+    }
+  });
+  io.run();
+  spdlog::info("final: {}", emulator->status_line());
+  trace::global().flush();
+  return EXIT_SUCCESS;
+}

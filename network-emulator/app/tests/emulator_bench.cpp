@@ -1,0 +1,78 @@
+// The emulator's processing per vehicle state (the thesis's p2 without the kernel's share):
+// decode the datagram, run the station's GPS agent and CAN feeder, hand the bytes to the
+// sinks. Sinks here discard; the cost of the send system calls is measured separately.
+
+#include <benchmark/benchmark.h>
+
+#include "common/clock/clock.hpp"
+#include "common/scenario/loader.hpp"
+#include "network-emulator/app/emulator.hpp"
+
+namespace tb::emu {
+namespace {
+
+class NullSink final : public DatagramSink {
+ public:
+  std::error_code send(std::span<const std::uint8_t>) override { return {}; }
+};
+class NullBus final : public tb::can::CanBus {
+ public:
+  std::string_view kind() const override { return "null"; }
+  std::error_code send(std::span<const tb::can::CanFrame>) override { return {}; }
+  void start_receive(FrameHandler) override {}
+};
+
+scenario::Scenario make_scenario(int stations, bool noisy) {
+  std::string v;
+  for (int i = 0; i < stations; ++i)
+    v += (i ? "," : "") + std::string("{\"id\": \"v") + std::to_string(i) +
+         "\", \"station_id\": " + std::to_string(1000 + i) +
+         ", \"spawn\": {\"x\": " + std::to_string(i * 10) + ", \"y\": 0, \"heading_deg\": 90}}";
+  return scenario::parse(std::string("{\"name\": \"bench\", \"map\": {\"type\": \"straight\"}, "
+                                     "\"origin\": {\"lat\": 48, \"lon\": 11}, \"gnss\": ") +
+                             (noisy ? "{\"model\": \"noisy\"}" : "{}") + ", \"vehicles\": [" + v +
+                             "]}",
+                         "bench.json");
+}
+
+/// 1000 stations, states at 100 Hz in sim time, round robin: each iteration is one state.
+void BM_StateUpdate(benchmark::State& st) {
+  const int n = static_cast<int>(st.range(0));
+  const auto scen = make_scenario(n, st.range(1) != 0);
+  const auto dbc = *tb::can::Database::load(TESTBED_VEHICLE_DBC);
+  clock::ManualClock clock;
+  trace::Tracer tracer;
+  Emulator emu(
+      scen, dbc, default_stations(scen),
+      [](const StationEndpoints&) {
+        return StationIo{std::make_unique<NullSink>(), std::make_unique<NullBus>()};
+      },
+      clock, tracer);
+  std::vector<std::array<std::uint8_t, wire::kVehicleStateSize>> datagrams;
+  wire::VehicleState s;
+  s.velocity = {10.0f, 0.0f, 0.0f};
+  s.speed = 10.0f;
+  std::int64_t tick = 0;
+  int i = 0;
+  for (auto _ : st) {
+    if (i == 0)
+      ++tick;
+    s.station_id = static_cast<std::uint32_t>(1000 + i);
+    s.tick = static_cast<std::uint64_t>(tick);
+    s.sim_time_ns = tick * 10'000'000;
+    s.position = {static_cast<double>(i) * 10.0, static_cast<double>(tick) * 0.1, 0.0};
+    const auto d = wire::encode(s);
+    emu.handle_datagram(d);
+    i = (i + 1) % n;
+  }
+  st.counters["nmea/state"] =
+      static_cast<double>(emu.counters().nmea_sent) / static_cast<double>(emu.counters().states);
+  st.counters["frames/state"] = static_cast<double>(emu.counters().can_frames_sent) /
+                                static_cast<double>(emu.counters().states);
+}
+BENCHMARK(BM_StateUpdate)->Args({1000, 0})->Args({1000, 1})->ArgNames({"stations", "noise"});
+
+}  // namespace
+}  // namespace tb::emu
+
+BENCHMARK_MAIN();

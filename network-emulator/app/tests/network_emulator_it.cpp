@@ -1,0 +1,248 @@
+// The network-emulator program end to end: vehicle states over UDP in, NMEA and cannelloni
+// datagrams out to sockets this test owns; a station with no receiver; a bad scenario.
+
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "common/can/cannelloni.hpp"
+#include "common/wire/vehicle_state.hpp"
+#include "network-emulator/app/tests/test_scenario.hpp"
+
+extern char** environ;
+
+namespace tb::emu {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+
+struct Socket {
+  int fd = -1;
+  int port = 0;
+  Socket() {
+    fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
+    socklen_t len = sizeof a;
+    ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
+    port = ntohs(a.sin_port);
+    timeval tv{0, 20'000};
+    ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+  }
+  ~Socket() { ::close(fd); }
+  std::optional<std::string> receive() {
+    char buf[4096];
+    const ssize_t n = ::recv(fd, buf, sizeof buf, 0);
+    if (n <= 0)
+      return std::nullopt;
+    return std::string(buf, static_cast<std::size_t>(n));
+  }
+  void send_to(int to_port, const void* data, std::size_t n) {
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    a.sin_port = htons(static_cast<std::uint16_t>(to_port));
+    ::sendto(fd, data, n, 0, reinterpret_cast<sockaddr*>(&a), sizeof a);
+  }
+};
+
+int free_port() {
+  Socket s;
+  return s.port;
+}
+
+class Program {
+ public:
+  Program(const std::vector<std::string>& args, const fs::path& log) {
+    const char* bin = std::getenv("TESTBED_BIN");
+    const std::string exe = std::string(bin ? bin : "build/bin") + "/network-emulator";
+    std::vector<std::string> a{exe};
+    a.insert(a.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (auto& s : a)
+      argv.push_back(s.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_addopen(&fa, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_adddup2(&fa, 1, 2);
+    if (::posix_spawn(&pid_, exe.c_str(), &fa, nullptr, argv.data(), environ) != 0)
+      pid_ = -1;
+    posix_spawn_file_actions_destroy(&fa);
+  }
+  ~Program() {
+    if (pid_ > 0) {
+      ::kill(pid_, SIGKILL);
+      ::waitpid(pid_, nullptr, 0);
+    }
+  }
+  bool started() const { return pid_ > 0; }
+  /// Waits up to 10 s for the exit code; -1 if it did not end.
+  int wait_exit(bool terminate) {
+    if (terminate)
+      ::kill(pid_, SIGTERM);
+    for (int i = 0; i < 1000; ++i) {
+      int status = 0;
+      if (::waitpid(pid_, &status, WNOHANG) == pid_) {
+        pid_ = -1;
+        return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+      }
+      std::this_thread::sleep_for(10ms);
+    }
+    return -1;
+  }
+
+ private:
+  pid_t pid_ = -1;
+};
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+class NetworkEmulatorIt : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("emu_it_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+    std::ofstream(dir_ / "scenario.json") << testing::kTwoStations;
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+std::array<std::uint8_t, wire::kVehicleStateSize> state(std::uint32_t station, std::int64_t ms) {
+  wire::VehicleState s;
+  s.station_id = station;
+  s.tick = static_cast<std::uint64_t>(ms / 10);
+  s.sim_time_ns = ms * 1'000'000;
+  s.position = {10.0 + 0.1 * static_cast<double>(ms) / 10.0, -1.75, 0.0};
+  s.velocity = {10.0f, 0.0f, 0.0f};
+  s.speed = 10.0f;
+  return wire::encode(s);
+}
+
+TEST_F(NetworkEmulatorIt, FeedsStationsAndSurvivesOneWithoutReceiver) {
+  Socket gnss_a, can_a, can_b, sender;
+  const int gnss_b_port = free_port();  // nobody listens: station 1002's gpsd is "gone"
+  const int listen_port = free_port();
+  std::ofstream(dir_ / "stations.json")
+      << "{\"stations\": [{\"station_id\": 1001, \"gnss_port\": " << gnss_a.port
+      << ", \"can_port\": " << can_a.port
+      << "}, {\"station_id\": 1002, \"gnss_port\": " << gnss_b_port
+      << ", \"can_port\": " << can_b.port << "}]}";
+  const fs::path log = dir_ / "emu.log";
+  Program emu(
+      {"--scenario", (dir_ / "scenario.json").string(), "--stations",
+       (dir_ / "stations.json").string(), "--listen", "127.0.0.1:" + std::to_string(listen_port),
+       "--can", "udp", "--status-interval", "0.2"},
+      log);
+  ASSERT_TRUE(emu.started());
+
+  // Until the program listens, states are lost; send the first one until NMEA comes back.
+  std::optional<std::string> first;
+  for (int i = 0; i < 250 && !first; ++i) {
+    const auto s = state(1001, 0);
+    sender.send_to(listen_port, s.data(), s.size());
+    first = gnss_a.receive();
+  }
+  ASSERT_TRUE(first.has_value()) << read_file(log);
+  EXPECT_EQ(first->substr(0, 17), "$GPRMC,120000.000");
+
+  const std::uint8_t junk[] = {0xDE, 0xAD};
+  sender.send_to(listen_port, junk, sizeof junk);
+  const auto unknown = state(999, 0);
+  sender.send_to(listen_port, unknown.data(), unknown.size());
+
+  std::vector<std::string> nmea;
+  std::map<std::uint32_t, int> frames_a, frames_b;
+  auto drain = [&] {
+    while (auto d = gnss_a.receive())
+      nmea.push_back(*d);
+    for (auto* sock : {&can_a, &can_b})
+      while (auto d = sock->receive()) {
+        const auto p = tb::can::decode_cannelloni(
+            {reinterpret_cast<const std::uint8_t*>(d->data()), d->size()});
+        ASSERT_TRUE(p.has_value());
+        for (const auto& f : p->frames)
+          ++(sock == &can_a ? frames_a : frames_b)[f.id()];
+      }
+  };
+  for (std::int64_t ms = 10; ms < 1500; ms += 10) {
+    for (std::uint32_t id : {1001u, 1002u}) {
+      const auto s = state(id, ms);
+      sender.send_to(listen_port, s.data(), s.size());
+    }
+    if (ms % 100 == 0) {
+      std::this_thread::sleep_for(5ms);  // let the emulator and the kernel keep up
+      drain();
+    }
+  }
+  std::this_thread::sleep_for(300ms);
+  drain();
+
+  // Station 1001: an epoch per 100 ms of sim time (0 was read above), all its CAN messages.
+  EXPECT_EQ(nmea.size(), 14u);
+  EXPECT_EQ(frames_a[256], 150);  // 0 ms (the first state) to 1490 ms
+  EXPECT_EQ(frames_a[512], 15);
+  // Station 1002's gpsd is gone, but its CAN reader is there and got everything.
+  EXPECT_EQ(frames_b[256], 149);
+
+  EXPECT_EQ(emu.wait_exit(true), 0);
+  const std::string text = read_file(log);
+  EXPECT_NE(text.find("CAN transport: CAN frames over UDP in cannelloni's format (--can udp)"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("station 1002: GNSS receiver at 127.0.0.1 is gone"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("dropping malformed vehicle-state datagrams"), std::string::npos) << text;
+  EXPECT_NE(text.find("dropping states of station 999"), std::string::npos) << text;
+  EXPECT_NE(text.find("malformed 1, unknown station 1"), std::string::npos) << text;
+}
+
+TEST_F(NetworkEmulatorIt, BadScenarioExitsWithTwoAndNamesTheField) {
+  std::ofstream(dir_ / "bad.json") << R"({"name": "x", "map": {"type": "moon"},
+    "origin": {"lat": 48, "lon": 11}, "vehicles": []})";
+  const fs::path log = dir_ / "bad.log";
+  Program emu({"--scenario", (dir_ / "bad.json").string()}, log);
+  ASSERT_TRUE(emu.started());
+  EXPECT_EQ(emu.wait_exit(false), 2);
+  const std::string text = read_file(log);
+  EXPECT_NE(text.find("bad.json"), std::string::npos) << text;
+  EXPECT_NE(text.find("/map/type"), std::string::npos) << text;
+}
+
+TEST_F(NetworkEmulatorIt, BadStationsFileExitsWithTwo) {
+  std::ofstream(dir_ / "stations.json") << R"({"stations": [{"station_id": 5}]})";
+  const fs::path log = dir_ / "st.log";
+  Program emu({"--scenario", (dir_ / "scenario.json").string(), "--stations",
+               (dir_ / "stations.json").string()},
+              log);
+  EXPECT_EQ(emu.wait_exit(false), 2);
+  EXPECT_NE(read_file(log).find("station 5 is not in scenario"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace tb::emu
