@@ -38,7 +38,9 @@ GnAddress read_address(ByteReader& r) {
   return a;
 }
 
-void write_lpv(ByteWriter& w, const LongPositionVector& pv) {
+}  // namespace
+
+void write_long_position_vector(ByteWriter& w, const LongPositionVector& pv) {
   write_address(w, pv.address);
   w.be<std::uint32_t>(pv.timestamp);
   w.be<std::int32_t>(pv.latitude);
@@ -50,7 +52,7 @@ void write_lpv(ByteWriter& w, const LongPositionVector& pv) {
   w.be<std::uint16_t>(pv.heading);
 }
 
-LongPositionVector read_lpv(ByteReader& r) {
+LongPositionVector read_long_position_vector(ByteReader& r) {
   LongPositionVector pv;
   pv.address = read_address(r);
   pv.timestamp = r.be<std::uint32_t>();
@@ -66,6 +68,24 @@ LongPositionVector read_lpv(ByteReader& r) {
   pv.heading = r.be<std::uint16_t>();
   return pv;
 }
+
+void write_short_position_vector(ByteWriter& w, const ShortPositionVector& pv) {
+  write_address(w, pv.address);
+  w.be<std::uint32_t>(pv.timestamp);
+  w.be<std::int32_t>(pv.latitude);
+  w.be<std::int32_t>(pv.longitude);
+}
+
+ShortPositionVector read_short_position_vector(ByteReader& r) {
+  ShortPositionVector pv;
+  pv.address = read_address(r);
+  pv.timestamp = r.be<std::uint32_t>();
+  pv.latitude = r.be<std::int32_t>();
+  pv.longitude = r.be<std::int32_t>();
+  return pv;
+}
+
+namespace {
 
 struct TypeCode {
   std::uint8_t ht;
@@ -226,7 +246,7 @@ Expected<Packet, ParseError> parse_packet(std::span<const std::uint8_t> bytes) {
       if (hst != 0)
         return Unexpected{ParseError::kUnknownHeaderType};
       p.common.type = PacketType::kBeacon;
-      p.extended = BeaconHeader{read_lpv(r)};
+      p.extended = BeaconHeader{read_long_position_vector(r)};
       break;
     case 4: {
       if (hst > 2)
@@ -236,7 +256,7 @@ Expected<Packet, ParseError> parse_packet(std::span<const std::uint8_t> bytes) {
       GbcHeader g;
       g.sequence_number = r.be<std::uint16_t>();
       r.skip(2);
-      g.source_position = read_lpv(r);
+      g.source_position = read_long_position_vector(r);
       g.area.shape = static_cast<AreaShape>(hst);
       g.area.latitude = r.be<std::int32_t>();
       g.area.longitude = r.be<std::int32_t>();
@@ -251,7 +271,7 @@ Expected<Packet, ParseError> parse_packet(std::span<const std::uint8_t> bytes) {
       if (hst == 0) {
         p.common.type = PacketType::kSingleHopBroadcast;
         ShbHeader s;
-        s.source_position = read_lpv(r);
+        s.source_position = read_long_position_vector(r);
         s.media_dependent = r.be<std::uint32_t>();
         p.extended = s;
       } else if (hst == 1) {
@@ -259,7 +279,7 @@ Expected<Packet, ParseError> parse_packet(std::span<const std::uint8_t> bytes) {
         TsbHeader t;
         t.sequence_number = r.be<std::uint16_t>();
         r.skip(2);
-        t.source_position = read_lpv(r);
+        t.source_position = read_long_position_vector(r);
         p.extended = t;
       } else {
         return Unexpected{ParseError::kUnknownHeaderType};
@@ -313,18 +333,18 @@ std::size_t serialize(const BasicHeader& basic, const CommonHeader& common,
       [&](const auto& h) {
         using H = std::decay_t<decltype(h)>;
         if constexpr (std::is_same_v<H, BeaconHeader>) {
-          write_lpv(w, h.source_position);
+          write_long_position_vector(w, h.source_position);
         } else if constexpr (std::is_same_v<H, ShbHeader>) {
-          write_lpv(w, h.source_position);
+          write_long_position_vector(w, h.source_position);
           w.be<std::uint32_t>(h.media_dependent);
         } else if constexpr (std::is_same_v<H, TsbHeader>) {
           w.be<std::uint16_t>(h.sequence_number);
           w.be<std::uint16_t>(0);
-          write_lpv(w, h.source_position);
+          write_long_position_vector(w, h.source_position);
         } else {
           w.be<std::uint16_t>(h.sequence_number);
           w.be<std::uint16_t>(0);
-          write_lpv(w, h.source_position);
+          write_long_position_vector(w, h.source_position);
           w.be<std::int32_t>(h.area.latitude);
           w.be<std::int32_t>(h.area.longitude);
           w.be<std::uint16_t>(h.area.distance_a);

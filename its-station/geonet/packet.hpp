@@ -7,6 +7,7 @@
 #include <string>
 #include <variant>
 
+#include "common/util/bytes.hpp"
 #include "common/util/expected.hpp"
 #include "its-station/geonet/timestamp.hpp"
 #include "its-station/link/link_layer.hpp"
@@ -55,8 +56,8 @@ struct LongPositionVector {
 };
 inline constexpr std::size_t kLongPositionVectorSize = 24;
 
-/// Short position vector (clause 9.5.3); carried by GeoUnicast and LS replies, which this stack
-/// does not originate, but kept so that the codec covers both forms.
+/// Short position vector (clause 9.5.3): the destination of GeoUnicast and LS replies, which
+/// this router does not handle yet; the codec below covers it for when it does.
 struct ShortPositionVector {
   GnAddress address;
   Timestamp timestamp = 0;
@@ -65,6 +66,12 @@ struct ShortPositionVector {
   bool operator==(const ShortPositionVector&) const = default;
 };
 inline constexpr std::size_t kShortPositionVectorSize = 20;
+
+/// Position vector codecs; a read past the end leaves @p r failed (check r.ok()).
+void write_long_position_vector(ByteWriter& w, const LongPositionVector& pv);
+LongPositionVector read_long_position_vector(ByteReader& r);
+void write_short_position_vector(ByteWriter& w, const ShortPositionVector& pv);
+ShortPositionVector read_short_position_vector(ByteReader& r);
 
 /// Basic header NH (clause 9.6.2).
 enum class BasicNextHeader : std::uint8_t { kAny = 0, kCommonHeader = 1, kSecuredPacket = 2 };

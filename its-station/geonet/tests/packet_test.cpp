@@ -236,3 +236,43 @@ TEST(GnLifetime, EncodesWithTheSmallestBaseThatFits) {
 
 }  // namespace
 }  // namespace tb::its::geonet
+
+namespace tb::its::geonet {
+namespace {
+
+TEST(GnPositionVector, ShortVectorIsAddressTimestampAndPosition) {
+  // 9c 00 = M 1, ST 7 (light truck) << 10; MID; TST 1; lat −0.0000001°; long 180°.
+  const Bytes golden = {0x9c, 0x00, 0x02, 0x00, 0x00, 0x00, 0x00, 0x2a, 0x00, 0x00,
+                        0x00, 0x01, 0xff, 0xff, 0xff, 0xff, 0x6b, 0x49, 0xd2, 0x00};
+  const ShortPositionVector spv{
+      {true, StationType::kLightTruck, {0x02, 0, 0, 0, 0, 0x2a}}, 1, -1, 1'800'000'000};
+  Bytes out(kShortPositionVectorSize);
+  ByteWriter w{out};
+  write_short_position_vector(w, spv);
+  ASSERT_TRUE(w.ok());
+  EXPECT_EQ(out, golden);
+  ByteReader r{golden};
+  EXPECT_EQ(read_short_position_vector(r), spv);
+  EXPECT_TRUE(r.ok());
+  ByteReader short_input{std::span(golden).first(19)};
+  read_short_position_vector(short_input);
+  EXPECT_FALSE(short_input.ok());
+}
+
+TEST(GnPositionVector, SpeedIsFifteenBitTwosComplementBesidePai) {
+  for (const std::int16_t speed : {0, 1, -1, 16383, -16384}) {
+    LongPositionVector pv;
+    pv.speed = speed;
+    pv.position_accurate = speed < 0;
+    Bytes out(kLongPositionVectorSize);
+    ByteWriter w{out};
+    write_long_position_vector(w, pv);
+    ByteReader r{out};
+    const auto back = read_long_position_vector(r);
+    EXPECT_EQ(back.speed, speed);
+    EXPECT_EQ(back.position_accurate, speed < 0);
+  }
+}
+
+}  // namespace
+}  // namespace tb::its::geonet
