@@ -210,9 +210,11 @@ TEST_F(GpsdFeed, ErrorEstimatesFollowTheConfiguredModel) {
   const auto fixes = read_fixes(1500ms);
   const auto dop = compute_dop(agent.last_fix().sky);
   ASSERT_TRUE(dop.has_value());
-  int checked = 0;
+  int checked = 0, seen = 0;
   for (const auto& [t, fix] : fixes) {
-    if (fix.mode != MODE_3D)
+    // gpsd learns which sentence ends a cycle during the first epochs and may report them
+    // before it has read their GSV; a receiver's first fixes lack epx/epy the same way.
+    if (fix.mode != MODE_3D || ++seen <= 2)
       continue;
     ASSERT_TRUE(std::isfinite(fix.eph));
     ASSERT_TRUE(std::isfinite(fix.epx));
