@@ -1,8 +1,10 @@
 #include "its-station/link/packet_socket_link.hpp"
 
 #include <arpa/inet.h>
+#include <linux/ethtool.h>
 #include <linux/if_arp.h>
 #include <linux/if_packet.h>
+#include <linux/sockios.h>
 #include <net/ethernet.h>
 #include <net/if.h>
 #include <sys/ioctl.h>
@@ -90,6 +92,14 @@ Expected<std::unique_ptr<PacketSocketLink>, OpenError> PacketSocketLink::open(
 
   std::unique_ptr<PacketSocketLink> link{
       new PacketSocketLink(io, guard.release(), interface, static_cast<int>(ifindex), mac)};
+  // The driver name only informs the log, so a driver that does not answer is no error.
+  ethtool_drvinfo info{};
+  info.cmd = ETHTOOL_GDRVINFO;
+  ifreq drv{};
+  std::memcpy(drv.ifr_name, interface.c_str(), interface.size() + 1);
+  drv.ifr_data = reinterpret_cast<char*>(&info);
+  if (::ioctl(link->socket_.native_handle(), SIOCETHTOOL, &drv) == 0)
+    link->driver_.assign(info.driver, ::strnlen(info.driver, sizeof info.driver));
   link->arm();
   return link;
 }

@@ -63,6 +63,10 @@ class PacketSocketLink final : public LinkLayer {
   void set_receive_handler(ReceiveHandler handler) override { handler_ = std::move(handler); }
 
   const std::string& interface() const { return interface_; }
+  /// The interface's kernel driver as ethtool reports it ("veth" for the stand-in,
+  /// "mac80211_hwsim" for a simulated radio), so the program can log which radio it got;
+  /// empty if the driver does not say.
+  const std::string& driver() const { return driver_; }
   const PacketSocketStats& stats() const { return stats_; }
 
  private:
@@ -75,6 +79,7 @@ class PacketSocketLink final : public LinkLayer {
   std::string interface_;
   int ifindex_;
   MacAddress address_;
+  std::string driver_;
   ReceiveHandler handler_;
   PacketSocketStats stats_;
   // An Ethernet II header and a full MTU, plus one byte to detect oversized frames.

@@ -110,6 +110,8 @@ TEST_F(VethPair, TwoStationsExchangeBeaconsShbAndGbcOverAfPacket) {
   auto link_b = open_in(*b_);
   ASSERT_TRUE(link_a && link_b);
   EXPECT_NE(link_a->address(), link_b->address());
+  EXPECT_EQ(link_a->driver(), "veth");
+  EXPECT_EQ(link_a->interface(), "wlan0");
 
   clock::AsioRuntime rt{io};
   geonet::StaticPositionProvider pos_a, pos_b;
