@@ -1,0 +1,75 @@
+#include "sim-client/net/forwarder.hpp"
+
+#include <charconv>
+#include <stdexcept>
+
+#include <spdlog/spdlog.h>
+#include <boost/asio/ip/udp.hpp>
+
+namespace tb::client {
+
+std::pair<std::string, std::uint16_t> split_host_port(const std::string& text,
+                                                      std::uint16_t default_port) {
+  std::string host = text;
+  std::string port;
+  if (!text.empty() && text.front() == '[') {
+    const auto close = text.find(']');
+    if (close == std::string::npos)
+      throw std::invalid_argument("\"" + text + "\": missing ']' after the IPv6 address");
+    host = text.substr(1, close - 1);
+    if (close + 1 < text.size()) {
+      if (text[close + 1] != ':')
+        throw std::invalid_argument("\"" + text + "\": expected ':' after ']'");
+      port = text.substr(close + 2);
+    }
+  } else if (const auto colon = text.rfind(':'); colon != std::string::npos) {
+    host = text.substr(0, colon);
+    port = text.substr(colon + 1);
+  }
+  if (host.empty())
+    throw std::invalid_argument("\"" + text + "\": no host");
+  if (port.empty() && text.find(':') == std::string::npos)
+    return {host, default_port};
+  unsigned value = 0;
+  const auto [end, ec] = std::from_chars(port.data(), port.data() + port.size(), value);
+  if (ec != std::errc{} || end != port.data() + port.size() || value == 0 || value > 65535)
+    throw std::invalid_argument("\"" + text + "\": port \"" + port + "\" is not in 1..65535");
+  return {host, static_cast<std::uint16_t>(value)};
+}
+
+UdpSink::UdpSink(boost::asio::io_context& io, const std::string& host_port) : socket_(io) {
+  const auto [host, port] = split_host_port(host_port, 4700);
+  boost::asio::ip::udp::resolver resolver(io);
+  boost::system::error_code ec;
+  const auto results = resolver.resolve(host, std::to_string(port), ec);
+  if (ec || results.empty())
+    throw std::runtime_error("cannot resolve emulator address \"" + host_port +
+                             "\": " + ec.message());
+  destination_ = *results.begin();
+  socket_.open(destination_.protocol());
+}
+
+bool UdpSink::send(std::span<const std::uint8_t> datagram) {
+  boost::system::error_code ec;
+  socket_.send_to(boost::asio::buffer(datagram.data(), datagram.size()), destination_, 0, ec);
+  return !ec;
+}
+
+void StateForwarder::forward(wire::VehicleState state) {
+  state.send_wall_ns = clock::to_unix_ns(clock_.wall_now());
+  const auto bytes = wire::encode(state);
+  if (!sink_.send(bytes)) {
+    // Logged at the first failure and then every 1000th, so a missing emulator does not flood.
+    if (failed_ % 1000 == 0)
+      spdlog::warn("cannot send vehicle state to the emulator ({} failed so far)", failed_ + 1);
+    ++failed_;
+    return;
+  }
+  ++sent_;
+  tracer_.record_at(state.send_wall_ns, "client.forward",
+                    {{"station", state.station_id},
+                     {"tick", static_cast<unsigned long long>(state.tick)},
+                     {"step_ns", static_cast<long long>(state.step_wall_ns)}});
+}
+
+}  // namespace tb::client

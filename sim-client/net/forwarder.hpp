@@ -1,0 +1,63 @@
+#pragma once
+/// @file Forwarding vehicle states to the network emulator: one UDP datagram per vehicle per
+/// tick (thesis 3.1.4), tb::wire::VehicleState stamped with its send time.
+
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/udp.hpp>
+
+#include "common/clock/clock.hpp"
+#include "common/trace/tracer.hpp"
+#include "common/wire/vehicle_state.hpp"
+
+namespace tb::client {
+
+/// Where forwarded datagrams go; a narrow interface so that tests can capture them.
+class DatagramSink {
+ public:
+  virtual ~DatagramSink() = default;
+  /// Returns false if the datagram could not be sent (it is dropped, never retried).
+  virtual bool send(std::span<const std::uint8_t> datagram) = 0;
+};
+
+/// A connected UDP socket. Send errors (no emulator listening yet: ECONNREFUSED) are counted,
+/// not thrown: the emulator may start after the client.
+class UdpSink final : public DatagramSink {
+ public:
+  /// @throws std::runtime_error naming @p host_port if it cannot be resolved.
+  UdpSink(boost::asio::io_context& io, const std::string& host_port);
+  bool send(std::span<const std::uint8_t> datagram) override;
+  const boost::asio::ip::udp::endpoint& destination() const { return destination_; }
+
+ private:
+  boost::asio::ip::udp::socket socket_;
+  boost::asio::ip::udp::endpoint destination_;
+};
+
+/// Splits "HOST:PORT" ("[v6]:PORT" for IPv6). @throws std::invalid_argument naming the text.
+std::pair<std::string, std::uint16_t> split_host_port(const std::string& text,
+                                                      std::uint16_t default_port);
+
+class StateForwarder {
+ public:
+  StateForwarder(const clock::Clock& clock, DatagramSink& sink,
+                 trace::Tracer& tracer = trace::global())
+      : clock_(clock), sink_(sink), tracer_(tracer) {}
+
+  /// Stamps send_wall_ns, encodes and sends @p state; records `client.forward`.
+  void forward(wire::VehicleState state);
+  std::uint64_t sent() const { return sent_; }
+  std::uint64_t failed() const { return failed_; }
+
+ private:
+  const clock::Clock& clock_;
+  DatagramSink& sink_;
+  trace::Tracer& tracer_;
+  std::uint64_t sent_ = 0;
+  std::uint64_t failed_ = 0;
+};
+
+}  // namespace tb::client

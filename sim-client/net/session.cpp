@@ -1,0 +1,270 @@
+#include "sim-client/net/session.hpp"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "common/scenario/loader.hpp"
+
+namespace tb::client {
+
+namespace sim = wire::sim;
+
+namespace {
+
+std::string_view driver_kind(sim::DriverKind k) {
+  switch (k) {
+    case sim::DriverKind::kHuman:
+      return "human";
+    case sim::DriverKind::kTimeline:
+      return "timeline";
+    case sim::DriverKind::kLaneFollow:
+      return "lane_follow";
+  }
+  return "?";
+}
+
+}  // namespace
+
+std::string_view to_string(SimSession::Phase p) {
+  switch (p) {
+    case SimSession::Phase::kDisconnected:
+      return "disconnected";
+    case SimSession::Phase::kGreeting:
+      return "connecting";
+    case SimSession::Phase::kRunning:
+      return "connected";
+    case SimSession::Phase::kListed:
+      return "listed";
+    case SimSession::Phase::kFailed:
+      return "failed";
+  }
+  return "?";
+}
+
+std::string format_vehicle_list(const sim::Welcome& w) {
+  std::string out = fmt::format("{:>5}  {:<16} {:>10}  {:<12} {}\n", "index", "id", "station",
+                                "driver", "driven by");
+  for (const auto& v : w.vehicles) {
+    out += fmt::format("{:>5}  {:<16} {:>10}  {:<12} {}\n", v.index, v.id, v.station_id,
+                       driver_kind(v.driver_kind), v.driver.empty() ? "-" : v.driver);
+  }
+  return out;
+}
+
+SimSession::SimSession(SessionOptions options, Send send, StateForwarder* forwarder,
+                       trace::Tracer& tracer)
+    : options_(std::move(options)),
+      send_(std::move(send)),
+      forwarder_(forwarder),
+      tracer_(tracer) {}
+
+void SimSession::fail(std::string why) {
+  fatal_ = std::move(why);
+  phase_ = Phase::kFailed;
+}
+
+void SimSession::on_connected() {
+  if (phase_ == Phase::kFailed || phase_ == Phase::kListed)
+    return;
+  parser_ = sim::FrameParser(sim::Sender::kServer);
+  phase_ = Phase::kGreeting;
+  send_(sim::encode(sim::Hello{options_.client_name}));
+}
+
+void SimSession::on_disconnected() {
+  if (phase_ == Phase::kFailed || phase_ == Phase::kListed)
+    return;
+  phase_ = Phase::kDisconnected;
+  for (auto& [i, d] : driven_) {
+    d.attached = false;
+    d.answered = false;
+  }
+}
+
+bool SimSession::on_bytes(std::span<const std::uint8_t> bytes) {
+  while (!bytes.empty()) {
+    const auto status = parser_.parse(bytes);
+    if (!status) {
+      last_error_ = fmt::format("malformed data from the server: {}", to_string(status.error()));
+      return false;
+    }
+    if (*status == sim::FrameParser::Status::kNeedMore)
+      break;
+    const auto msg = sim::decode_server(parser_.frame());
+    if (!msg) {
+      last_error_ = fmt::format("malformed {} message from the server: {}",
+                                to_string(parser_.frame().type), to_string(msg.error()));
+      return false;
+    }
+    if (!handle(*msg))
+      return false;
+  }
+  return true;
+}
+
+bool SimSession::handle(const sim::ServerMessage& m) {
+  if (const auto* w = std::get_if<sim::Welcome>(&m))
+    return on_welcome(*w);
+  if (phase_ != Phase::kRunning) {
+    last_error_ = "the server sent a message before Welcome";
+    return false;
+  }
+  if (const auto* r = std::get_if<sim::AttachResult>(&m)) {
+    on_attach_result(*r);
+    return phase_ != Phase::kFailed;
+  }
+  if (const auto* f = std::get_if<sim::StateFrame>(&m)) {
+    on_state(*f);
+    return true;
+  }
+  if (const auto* d = std::get_if<sim::DriverChanged>(&m)) {
+    if (d->vehicle < welcome_->vehicles.size())
+      welcome_->vehicles[d->vehicle].driver = d->driver;
+    return true;
+  }
+  const auto& c = std::get<sim::Closing>(m);
+  last_error_ =
+      fmt::format("the server closed the connection ({}): {}", to_string(c.reason), c.text);
+  return false;
+}
+
+bool SimSession::on_welcome(const sim::Welcome& w) {
+  if (phase_ != Phase::kGreeting) {
+    last_error_ = "the server sent a second Welcome";
+    return false;
+  }
+  if (options_.list_only) {
+    welcome_ = w;
+    phase_ = Phase::kListed;
+    return false;
+  }
+  const bool same_world = welcome_ && welcome_->scenario_json == w.scenario_json;
+  if (!same_world) {
+    try {
+      scenario_ = scenario::parse(w.scenario_json, "scenario sent by the server");
+      road_map_ = std::make_unique<map::RoadMap>(scenario_->map);
+    } catch (const std::exception& e) {
+      fail(fmt::format("cannot use the server's scenario: {}", e.what()));
+      return false;
+    }
+  }
+  welcome_ = w;
+
+  // Which vehicles to drive: by id, plus every scripted one with --scripted.
+  std::vector<std::uint16_t> wanted;
+  for (const auto& id : options_.vehicles) {
+    const auto it = std::find_if(w.vehicles.begin(), w.vehicles.end(),
+                                 [&](const sim::VehicleInfo& v) { return v.id == id; });
+    if (it == w.vehicles.end()) {
+      std::string known;
+      for (const auto& v : w.vehicles)
+        known += (known.empty() ? "" : ", ") + v.id;
+      fail(fmt::format("--vehicle {}: the server's scenario has no such vehicle (it has {})", id,
+                       known.empty() ? "none" : known));
+      return false;
+    }
+    wanted.push_back(it->index);
+  }
+  if (options_.scripted) {
+    for (const auto& v : w.vehicles) {
+      if (v.driver_kind != sim::DriverKind::kHuman)
+        wanted.push_back(v.index);
+    }
+  }
+  std::sort(wanted.begin(), wanted.end());
+  wanted.erase(std::unique(wanted.begin(), wanted.end()), wanted.end());
+
+  if (!same_world)
+    driven_.clear();
+  for (const std::uint16_t i : wanted) {
+    Driven& d = driven_[i];
+    d.index = i;
+    d.station_id = w.vehicles[i].station_id;
+    if (!d.script && w.vehicles[i].driver_kind != sim::DriverKind::kHuman) {
+      const scenario::Vehicle* v = scenario_->find_vehicle(w.vehicles[i].id);
+      if (v == nullptr) {
+        fail(fmt::format("vehicle {} is in the server's list but not in its scenario",
+                         w.vehicles[i].id));
+        return false;
+      }
+      try {
+        d.script = make_scripted_driver(*v, *road_map_);
+      } catch (const std::exception& e) {
+        fail(fmt::format("vehicle {}: cannot build its scripted driver: {}", v->id, e.what()));
+        return false;
+      }
+    }
+  }
+  phase_ = Phase::kRunning;
+  if (driven_.empty()) {
+    send_(sim::encode(sim::Attach{sim::Role::kWatcher, 0}));
+  }
+  for (auto& [i, d] : driven_)
+    send_(sim::encode(sim::Attach{sim::Role::kDriver, i}));
+  return true;
+}
+
+void SimSession::on_attach_result(const sim::AttachResult& r) {
+  if (r.role != sim::Role::kDriver)
+    return;
+  const auto it = driven_.find(r.vehicle);
+  if (it == driven_.end())
+    return;
+  Driven& d = it->second;
+  d.answered = true;
+  const std::string& id = welcome_->vehicles[r.vehicle].id;
+  if (r.status == sim::AttachStatus::kOk) {
+    d.attached = true;
+    spdlog::info("driving vehicle {} (station {}) with {}", id, d.station_id,
+                 d.script ? "its scenario's script" : "the human input");
+    return;
+  }
+  spdlog::error("cannot drive vehicle {}: {}{}{}", id, to_string(r.status),
+                r.reason.empty() ? "" : ": ", r.reason);
+  if (std::all_of(driven_.begin(), driven_.end(),
+                  [](const auto& e) { return e.second.answered && !e.second.attached; })) {
+    fail("none of the requested vehicles could be attached");
+  }
+}
+
+void SimSession::on_state(const sim::StateFrame& f) {
+  ++frames_;
+  latest_ = f;
+  for (auto& [i, d] : driven_) {
+    if (!d.attached || i >= f.vehicles.size())
+      continue;
+    const wire::VehicleState& s = f.vehicles[i];
+    if (forwarder_ != nullptr)
+      forwarder_->forward(s);
+    sim::ControlsMsg c;
+    c.vehicle = i;
+    if (d.script) {
+      c.controls = d.script->update(s);
+    } else {
+      c.controls = human_.controls;
+      c.lights = human_.lights;
+    }
+    ++d.seq;
+    tracer_.record("client.input",
+                   {{"station", d.station_id}, {"seq", static_cast<unsigned long long>(d.seq)}});
+    send_(sim::encode(c));
+  }
+}
+
+std::vector<std::uint16_t> SimSession::driven() const {
+  std::vector<std::uint16_t> out;
+  for (const auto& [i, d] : driven_) {
+    if (d.attached)
+      out.push_back(i);
+  }
+  return out;
+}
+
+bool SimSession::human_driven(std::uint16_t index) const {
+  const auto it = driven_.find(index);
+  return it != driven_.end() && it->second.attached && !it->second.script;
+}
+
+}  // namespace tb::client

@@ -1,0 +1,113 @@
+#pragma once
+/// @file The client side of the sim-server protocol (sim-server/PROTOCOL.md) as pure logic:
+/// bytes in, bytes out through a callback, no socket and no clock of its own. TcpLink
+/// (tcp_link.hpp) carries the bytes; tests feed them by hand.
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "common/clock/clock.hpp"
+#include "common/map/road_map.hpp"
+#include "common/scenario/scenario.hpp"
+#include "common/trace/tracer.hpp"
+#include "common/wire/sim_protocol.hpp"
+#include "sim-client/driver/scripted_driver.hpp"
+#include "sim-client/input/command.hpp"
+#include "sim-client/net/forwarder.hpp"
+
+namespace tb::client {
+
+struct SessionOptions {
+  std::string client_name = "sim-client";
+  std::vector<std::string> vehicles;  ///< scenario ids to drive (--vehicle)
+  bool scripted = false;              ///< also drive every vehicle with a scripted driver
+  bool list_only = false;             ///< stop after Welcome (--list)
+};
+
+/// One line per vehicle: index, id, station id, scenario driver, who drives it now.
+std::string format_vehicle_list(const wire::sim::Welcome& w);
+
+class SimSession {
+ public:
+  using Send = std::function<void(std::vector<std::uint8_t>)>;
+
+  enum class Phase {
+    kDisconnected,
+    kGreeting,  ///< Hello sent, waiting for Welcome
+    kRunning,   ///< attached (or watching), state stream flowing
+    kListed,    ///< --list: Welcome received, nothing more to do
+    kFailed,    ///< cannot go on (see fatal_error()); the program exits non-zero
+  };
+
+  /// @p forwarder may be null (no forwarding, as with --list).
+  SimSession(SessionOptions options, Send send, StateForwarder* forwarder,
+             trace::Tracer& tracer = trace::global());
+
+  void on_connected();
+  /// Feeds bytes from the server. Returns false when the connection must be closed: a
+  /// protocol error (last_error() names it), Closing from the server, or a fatal error.
+  bool on_bytes(std::span<const std::uint8_t> bytes);
+  void on_disconnected();
+
+  /// The human driver's latest command; sent for the human-driven vehicles every tick.
+  void set_human_command(const DriverCommand& c) { human_ = c; }
+
+  Phase phase() const { return phase_; }
+  /// True once a Welcome arrived on this connection (the link resets its backoff then).
+  bool welcomed() const { return phase_ == Phase::kRunning || phase_ == Phase::kListed; }
+  const std::string& fatal_error() const { return fatal_; }
+  const std::string& last_error() const { return last_error_; }
+
+  // What the view draws.
+  const wire::sim::Welcome* welcome() const { return welcome_ ? &*welcome_ : nullptr; }
+  const scenario::Scenario* scenario() const { return scenario_ ? &*scenario_ : nullptr; }
+  const map::RoadMap* road_map() const { return road_map_.get(); }
+  const wire::sim::StateFrame* latest() const { return latest_ ? &*latest_ : nullptr; }
+  /// Indices (Welcome order) of the vehicles this connection drives.
+  std::vector<std::uint16_t> driven() const;
+  /// Whether the vehicle at @p index is driven by the human input (not a script).
+  bool human_driven(std::uint16_t index) const;
+  std::uint64_t frames() const { return frames_; }
+
+ private:
+  struct Driven {
+    std::uint16_t index = 0;
+    std::uint32_t station_id = 0;
+    bool attached = false;
+    bool answered = false;
+    std::unique_ptr<ScriptedDriver> script;  ///< null: the human input drives
+    std::uint64_t seq = 0;
+  };
+
+  bool handle(const wire::sim::ServerMessage& m);
+  bool on_welcome(const wire::sim::Welcome& w);
+  void on_attach_result(const wire::sim::AttachResult& r);
+  void on_state(const wire::sim::StateFrame& f);
+  void fail(std::string why);
+
+  SessionOptions options_;
+  Send send_;
+  StateForwarder* forwarder_;
+  trace::Tracer& tracer_;
+  Phase phase_ = Phase::kDisconnected;
+  wire::sim::FrameParser parser_{wire::sim::Sender::kServer};
+  std::optional<wire::sim::Welcome> welcome_;
+  std::optional<scenario::Scenario> scenario_;
+  std::unique_ptr<map::RoadMap> road_map_;
+  std::optional<wire::sim::StateFrame> latest_;
+  std::map<std::uint16_t, Driven> driven_;
+  DriverCommand human_;
+  std::string fatal_;
+  std::string last_error_;
+  std::uint64_t frames_ = 0;
+};
+
+std::string_view to_string(SimSession::Phase p);
+
+}  // namespace tb::client

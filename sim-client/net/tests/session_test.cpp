@@ -1,0 +1,188 @@
+#include <gtest/gtest.h>
+
+#include "sim-client/net/session.hpp"
+#include "sim-client/net/tests/fake_server.hpp"
+
+namespace tb::client {
+namespace {
+
+namespace sim = wire::sim;
+using testing::decode_all;
+
+class CaptureSink final : public DatagramSink {
+ public:
+  bool send(std::span<const std::uint8_t> d) override {
+    sent.emplace_back(d.begin(), d.end());
+    return true;
+  }
+  std::vector<std::vector<std::uint8_t>> sent;
+};
+
+class SessionTest : public ::testing::Test {
+ protected:
+  SimSession make(SessionOptions o) {
+    return SimSession(
+        std::move(o),
+        [this](std::vector<std::uint8_t> b) { out.insert(out.end(), b.begin(), b.end()); }, &fwd,
+        tracer);
+  }
+  // Feeds a server message one byte at a time, as a slow socket might deliver it.
+  template <class M>
+  bool feed(SimSession& s, const M& m, bool bytewise = false) {
+    const auto bytes = sim::encode(m);
+    if (!bytewise)
+      return s.on_bytes(bytes);
+    for (std::uint8_t b : bytes) {
+      if (!s.on_bytes(std::span<const std::uint8_t>(&b, 1)))
+        return false;
+    }
+    return true;
+  }
+  std::vector<sim::ClientMessage> take() {
+    auto m = decode_all(out);
+    out.clear();
+    return m;
+  }
+
+  std::vector<std::uint8_t> out;
+  clock::ManualClock clk;
+  CaptureSink sink;
+  trace::Tracer tracer;
+  StateForwarder fwd{clk, sink, tracer};
+};
+
+TEST_F(SessionTest, HelloAttachControlsAndForwarding) {
+  SessionOptions o;
+  o.client_name = "alice";
+  o.vehicles = {"me"};
+  o.scripted = true;
+  SimSession s = make(o);
+  s.on_connected();
+  auto msgs = take();
+  ASSERT_EQ(msgs.size(), 1u);
+  EXPECT_EQ(std::get<sim::Hello>(msgs[0]).client_name, "alice");
+
+  ASSERT_TRUE(feed(s, testing::welcome(), true));
+  EXPECT_EQ(s.phase(), SimSession::Phase::kRunning);
+  ASSERT_NE(s.road_map(), nullptr);
+  msgs = take();
+  ASSERT_EQ(msgs.size(), 3u);
+  for (std::uint16_t i = 0; i < 3; ++i)
+    EXPECT_EQ(std::get<sim::Attach>(msgs[i]), (sim::Attach{sim::Role::kDriver, i}));
+
+  for (std::uint16_t i = 0; i < 3; ++i)
+    ASSERT_TRUE(feed(s, sim::AttachResult{sim::Role::kDriver, i, sim::AttachStatus::kOk, ""}));
+  EXPECT_EQ(s.driven(), (std::vector<std::uint16_t>{0, 1, 2}));
+  EXPECT_TRUE(s.human_driven(0));
+  EXPECT_FALSE(s.human_driven(1));
+
+  DriverCommand human;
+  human.controls.throttle = 0.7f;
+  human.controls.reverse = true;
+  human.lights = wire::kIndicatorRight;
+  s.set_human_command(human);
+  ASSERT_TRUE(feed(s, testing::frame(5)));
+  msgs = take();
+  ASSERT_EQ(msgs.size(), 3u);
+  const auto& c0 = std::get<sim::ControlsMsg>(msgs[0]);
+  EXPECT_EQ(c0.vehicle, 0);
+  EXPECT_EQ(c0.controls, human.controls);
+  EXPECT_EQ(c0.lights, wire::kIndicatorRight);
+  const auto& c1 = std::get<sim::ControlsMsg>(msgs[1]);
+  EXPECT_FLOAT_EQ(c1.controls.throttle, 0.25f);  // the timeline's step
+  EXPECT_FLOAT_EQ(c1.controls.steer, 0.5f);
+  const auto& c2 = std::get<sim::ControlsMsg>(msgs[2]);
+  EXPECT_EQ(c2.vehicle, 2);
+  EXPECT_GT(c2.controls.throttle, 0.0f);  // lane follower speeds up from 5 towards 10 m/s
+
+  ASSERT_EQ(sink.sent.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    auto st = wire::decode(sink.sent[i]);
+    ASSERT_TRUE(st.has_value());
+    auto want = testing::frame(5).vehicles[i];
+    want.send_wall_ns = clock::to_unix_ns(clk.wall_now());
+    EXPECT_EQ(*st, want);
+  }
+  EXPECT_EQ(s.latest()->tick, 5u);
+}
+
+TEST_F(SessionTest, WatcherWhenNothingToDriveAndDriverChangesShow) {
+  SimSession s = make({});
+  s.on_connected();
+  take();
+  ASSERT_TRUE(feed(s, testing::welcome()));
+  auto msgs = take();
+  ASSERT_EQ(msgs.size(), 1u);
+  EXPECT_EQ(std::get<sim::Attach>(msgs[0]).role, sim::Role::kWatcher);
+  ASSERT_TRUE(feed(s, sim::DriverChanged{1, "bob"}));
+  EXPECT_EQ(s.welcome()->vehicles[1].driver, "bob");
+  ASSERT_TRUE(feed(s, testing::frame(1)));
+  EXPECT_TRUE(take().empty());  // no controls, no forwarding
+  EXPECT_TRUE(sink.sent.empty());
+}
+
+TEST_F(SessionTest, UnknownVehicleIsFatalAndNamesTheKnownOnes) {
+  SessionOptions o;
+  o.vehicles = {"nope"};
+  SimSession s = make(o);
+  s.on_connected();
+  EXPECT_FALSE(feed(s, testing::welcome()));
+  EXPECT_EQ(s.phase(), SimSession::Phase::kFailed);
+  EXPECT_EQ(s.fatal_error(),
+            "--vehicle nope: the server's scenario has no such vehicle (it has me, tl, lf)");
+}
+
+TEST_F(SessionTest, RefusedAttachIsFatalWhenNothingElseIsDriven) {
+  SessionOptions o;
+  o.vehicles = {"me"};
+  SimSession s = make(o);
+  s.on_connected();
+  ASSERT_TRUE(feed(s, testing::welcome()));
+  EXPECT_FALSE(feed(
+      s, sim::AttachResult{sim::Role::kDriver, 0, sim::AttachStatus::kAlreadyDriven, "carol"}));
+  EXPECT_EQ(s.phase(), SimSession::Phase::kFailed);
+}
+
+TEST_F(SessionTest, ListStopsAfterWelcome) {
+  SessionOptions o;
+  o.list_only = true;
+  SimSession s = make(o);
+  s.on_connected();
+  auto w = testing::welcome();
+  w.vehicles[0].driver = "alice";
+  EXPECT_FALSE(feed(s, w));
+  EXPECT_EQ(s.phase(), SimSession::Phase::kListed);
+  const std::string list = format_vehicle_list(*s.welcome());
+  EXPECT_NE(list.find("me"), std::string::npos);
+  EXPECT_NE(list.find("alice"), std::string::npos);
+  EXPECT_NE(list.find("lane_follow"), std::string::npos);
+}
+
+TEST_F(SessionTest, ProtocolErrorsAndClosingEndTheConnection) {
+  SimSession s = make({});
+  s.on_connected();
+  const std::vector<std::uint8_t> junk{'X', 'Y', 1, 0x81, 0, 0, 0, 0};
+  EXPECT_FALSE(s.on_bytes(junk));
+  EXPECT_EQ(s.last_error(), "malformed data from the server: " +
+                                std::string(to_string(sim::ProtocolError::kBadMagic)));
+
+  // A new connection starts a fresh parser; Closing is reported with its reason.
+  s.on_disconnected();
+  s.on_connected();
+  ASSERT_TRUE(feed(s, testing::welcome()));
+  EXPECT_FALSE(feed(s, sim::Closing{sim::CloseReason::kShutdown, "bye"}));
+  EXPECT_NE(s.last_error().find("bye"), std::string::npos);
+  EXPECT_EQ(s.phase(), SimSession::Phase::kRunning);  // until the link reports the close
+  s.on_disconnected();
+  EXPECT_EQ(s.phase(), SimSession::Phase::kDisconnected);
+}
+
+TEST_F(SessionTest, StateBeforeWelcomeIsAnError) {
+  SimSession s = make({});
+  s.on_connected();
+  EXPECT_FALSE(feed(s, testing::frame(1)));
+  EXPECT_EQ(s.last_error(), "the server sent a message before Welcome");
+}
+
+}  // namespace
+}  // namespace tb::client
