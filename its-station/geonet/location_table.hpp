@@ -22,6 +22,11 @@ struct LocationTableEntry {
   bool is_neighbour = false;
   clock::SteadyTime expires{};
 
+  // Annex A.3: the source TST of the last SHB or beacon, kept apart from the position's TST so
+  // that a multi-hop packet carrying the same fix does not make the next SHB a duplicate.
+  bool has_single_hop_timestamp = false;
+  Timestamp single_hop_timestamp = 0;
+
   // Duplicate packet list (Annex A.2): a ring of the last sequence numbers seen.
   std::array<std::uint16_t, kDuplicatePacketListLength> dpl{};
   std::uint8_t dpl_size = 0;

@@ -342,11 +342,13 @@ void Router::on_frame(const link::ReceivedFrame& frame) {
     case PacketType::kBeacon:
     case PacketType::kSingleHopBroadcast: {
       // Annex A.3: single-hop packets carry no sequence number; a source timestamp not newer
-      // than the one held marks a duplicate.
-      if (entry.has_position && !is_newer(so.timestamp, entry.position.timestamp)) {
+      // than that of the last single-hop packet from the source marks a duplicate.
+      if (entry.has_single_hop_timestamp && !is_newer(so.timestamp, entry.single_hop_timestamp)) {
         drop(DropReason::kDuplicate);
         return;
       }
+      entry.has_single_hop_timestamp = true;
+      entry.single_hop_timestamp = so.timestamp;
       table_.update_position(entry, so, now);
       entry.is_neighbour = true;
       entry.link_address = frame.source;

@@ -212,6 +212,25 @@ TEST_F(RouterTest, ShbWithoutNewerTimestampIsADuplicate) {
   EXPECT_EQ(delivered.size(), 2u);
 }
 
+TEST_F(RouterTest, AMultiHopPacketWithTheSameFixDoesNotMakeTheNextShbADuplicate) {
+  start();
+  set_position(at(0, 0));
+  PacketSpec gbc;
+  gbc.type = PacketType::kGeoBroadcastCircle;
+  gbc.source = remote_pv(2, at(50, 0), now_tst());
+  gbc.area = circle_at(at(0, 0), 500);
+  gbc.rhl = 1;
+  gbc.mhl = 1;
+  receive(make_packet(gbc), mac(2));
+  PacketSpec shb;
+  shb.source = gbc.source;  // the same fix
+  receive(make_packet(shb), mac(2));
+  EXPECT_EQ(delivered.size(), 2u);
+  receive(make_packet(shb), mac(2));  // but a second SHB with it is one
+  EXPECT_EQ(delivered.size(), 2u);
+  EXPECT_EQ(drops.back().reason, DropReason::kDuplicate);
+}
+
 TEST_F(RouterTest, EveryDropReasonOfTheReceivePath) {
   start();
   set_position(at(0, 0));
