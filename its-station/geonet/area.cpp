@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numbers>
 
@@ -11,6 +12,29 @@ namespace tb::its::geonet {
 
 std::int32_t to_tenth_micro_degree(double degrees) {
   return static_cast<std::int32_t>(std::lround(degrees * 1e7));
+}
+
+namespace {
+
+std::uint16_t metres(double m) {
+  if (!std::isfinite(m) || m <= 0.0)
+    return 0;
+  return static_cast<std::uint16_t>(std::lround(std::min(m, 65535.0)));
+}
+
+}  // namespace
+
+GeoArea make_geo_area(AreaShape shape, const GeoPoint& centre, double distance_a_m,
+                      double distance_b_m, double angle_deg) {
+  GeoArea area;
+  area.shape = shape;
+  area.latitude = to_tenth_micro_degree(std::clamp(centre.latitude_deg, -90.0, 90.0));
+  area.longitude = to_tenth_micro_degree(std::clamp(centre.longitude_deg, -180.0, 180.0));
+  area.distance_a = metres(distance_a_m);
+  area.distance_b = shape == AreaShape::kCircle ? 0 : metres(distance_b_m);
+  const double angle = std::isfinite(angle_deg) ? std::fmod(angle_deg, 360.0) : 0.0;
+  area.angle = static_cast<std::uint16_t>(std::lround(angle < 0 ? angle + 360.0 : angle) % 360);
+  return area;
 }
 
 namespace {

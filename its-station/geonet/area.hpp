@@ -21,6 +21,11 @@ inline GeoPoint position_of(const LongPositionVector& pv) {
   return {to_degrees(pv.latitude), to_degrees(pv.longitude)};
 }
 
+/// Builds the wire form of an area from SI units: the centre rounded to 1/10 micro-degree,
+/// distances rounded to metres and clamped to [0, 65535], the angle wrapped into [0, 360).
+GeoArea make_geo_area(AreaShape shape, const GeoPoint& centre, double distance_a_m,
+                      double distance_b_m = 0.0, double angle_deg = 0.0);
+
 /// F(x, y) of EN 302 931 for @p point: 1 at the centre, > 0 inside, 0 on the border, < 0 outside.
 /// x runs along the a axis (azimuth = angle, clockwise from north), y across it:
 ///   circle     F = 1 − (x/a)² − (y/a)²

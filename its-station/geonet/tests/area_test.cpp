@@ -73,6 +73,22 @@ TEST(GeoArea, PositionsOffTheGlobeAreNeverInside) {
   EXPECT_TRUE(std::isinf(distance_m({0, 0}, {91, 0})));
 }
 
+TEST(GeoArea, MakeGeoAreaRoundsClampsAndWraps) {
+  const GeoArea a =
+      make_geo_area(AreaShape::kEllipse, {48.15000004, -1.60000006}, 120.6, 40.4, -30.0);
+  EXPECT_EQ(a.latitude, 481'500'000);
+  EXPECT_EQ(a.longitude, -16'000'001);
+  EXPECT_EQ(a.distance_a, 121);
+  EXPECT_EQ(a.distance_b, 40);
+  EXPECT_EQ(a.angle, 330);
+  const GeoArea c = make_geo_area(AreaShape::kCircle, {0, 0}, 1e9, 50.0, 359.6);
+  EXPECT_EQ(c.distance_a, 65535);
+  EXPECT_EQ(c.distance_b, 0);  // a circle has only a radius
+  EXPECT_EQ(c.angle, 0);       // 359.6° rounds to 360° = 0°
+  EXPECT_EQ(make_geo_area(AreaShape::kRectangle, {95, 200}, -5, NAN, 720).latitude, 900'000'000);
+  EXPECT_EQ(make_geo_area(AreaShape::kRectangle, {95, 200}, -5, NAN, 720).distance_a, 0);
+}
+
 TEST(GeoArea, DistanceIsMetresOnTheGround) {
   EXPECT_NEAR(distance_m(at(0, 0), at(300, 400)), 500.0, 0.01);
 }
