@@ -173,6 +173,206 @@ void get(UperReader& r, BasicVehicleContainerHighFrequency& hf, bool v1) {
   }
 }
 
+// ---- Special-vehicle containers: SEQUENCEs without extension marker, OPTIONAL bits first ----
+void put_causecode_opt(UperWriter& w, const std::optional<CauseCode>& c, bool v1) {
+  if (c)
+    put(w, *c, v1);
+}
+
+struct SpecialPut {
+  UperWriter& w;
+  bool v1;
+  void operator()(const PublicTransportContainer& c) const {
+    w.put_bool(c.ptActivation.has_value());
+    w.put_bool(c.embarkationStatus);
+    if (c.ptActivation) {
+      w.put_bits(c.ptActivation->ptActivationType, 8);
+      const auto& data = c.ptActivation->ptActivationData;
+      // OCTET STRING (SIZE(1..20)): size - 1 in 5 bits, then the octets (X.691 17.8).
+      w.put_constrained<1, 20>(static_cast<std::int64_t>(data.size()), "ptActivationData");
+      for (std::uint8_t b : data)
+        w.put_bits(b, 8);
+    }
+  }
+  void operator()(const SpecialTransportContainer& c) const {
+    put_named_bits(w, c.specialTransportType, 4, "specialTransportType");
+    put_named_bits(w, c.lightBarSirenInUse, 2, "lightBarSirenInUse");
+  }
+  void operator()(const DangerousGoodsContainer& c) const {
+    w.put_enumerated(c.dangerousGoodsBasic, 20, false, "dangerousGoodsBasic");
+  }
+  void operator()(const RoadWorksContainerBasic& c) const {
+    w.put_bool(c.roadworksSubCauseCode.has_value());
+    w.put_bool(c.closedLanes.has_value());
+    if (c.roadworksSubCauseCode)
+      w.put_bits(*c.roadworksSubCauseCode, 8);
+    put_named_bits(w, c.lightBarSirenInUse, 2, "lightBarSirenInUse");
+    if (c.closedLanes) {
+      if (v1) {  // CDD version 1 has another ClosedLanes
+        w.fail(Error::kUnsupported, "closedLanes", 1);
+        return;
+      }
+      const ClosedLanes& l = *c.closedLanes;
+      w.put_bool(false);
+      w.put_bool(l.innerhardShoulderStatus.has_value());
+      w.put_bool(l.outerhardShoulderStatus.has_value());
+      w.put_bool(l.drivingLaneStatus.has_value());
+      if (l.innerhardShoulderStatus)
+        put_enum(w, *l.innerhardShoulderStatus, 3, false, "innerhardShoulderStatus");
+      if (l.outerhardShoulderStatus)
+        put_enum(w, *l.outerhardShoulderStatus, 3, false, "outerhardShoulderStatus");
+      if (l.drivingLaneStatus) {
+        // BIT STRING (SIZE(1..13)): size - 1 in 4 bits, then the bits.
+        const DrivingLaneStatus& d = *l.drivingLaneStatus;
+        w.put_constrained<1, 13>(d.size, "drivingLaneStatus");
+        if (w.ok())
+          put_named_bits(w, d.bits, d.size, "drivingLaneStatus");
+      }
+    }
+  }
+  void operator()(const RescueContainer& c) const {
+    put_named_bits(w, c.lightBarSirenInUse, 2, "lightBarSirenInUse");
+  }
+  void operator()(const EmergencyContainer& c) const {
+    w.put_bool(c.incidentIndication.has_value());
+    w.put_bool(c.emergencyPriority.has_value());
+    put_named_bits(w, c.lightBarSirenInUse, 2, "lightBarSirenInUse");
+    put_causecode_opt(w, c.incidentIndication, v1);
+    if (c.emergencyPriority)
+      put_named_bits(w, *c.emergencyPriority, 2, "emergencyPriority");
+  }
+  void operator()(const SafetyCarContainer& c) const {
+    w.put_bool(c.incidentIndication.has_value());
+    w.put_bool(c.trafficRule.has_value());
+    w.put_bool(c.speedLimit.has_value());
+    put_named_bits(w, c.lightBarSirenInUse, 2, "lightBarSirenInUse");
+    put_causecode_opt(w, c.incidentIndication, v1);
+    if (c.trafficRule)
+      put_enum(w, *c.trafficRule, 4, true, "trafficRule");
+    if (c.speedLimit)
+      w.put_constrained<1, 255>(*c.speedLimit, "speedLimit");
+  }
+};
+
+void put(UperWriter& w, const SpecialVehicleContainer& c, bool v1) {
+  w.put_bool(false);  // CHOICE extension bit: a root alternative
+  w.put_bits(c.index(), 3);
+  std::visit(SpecialPut{w, v1}, c);
+}
+
+void get(UperReader& r, SpecialVehicleContainer& out, bool v1) {
+  const std::size_t at = r.bit_position();
+  if (r.get_bool("specialVehicleContainer")) {
+    if (r.ok())
+      r.fail_at(Error::kUnknownExtension, "specialVehicleContainer", 0, at);
+    return;
+  }
+  const auto index = r.get_bits(3, "specialVehicleContainer");
+  switch (index) {
+    case 0: {
+      auto& c = out.emplace<PublicTransportContainer>();
+      const bool has_pt = r.get_bool("publicTransportContainer");
+      c.embarkationStatus = r.get_bool("embarkationStatus");
+      if (has_pt) {
+        PtActivation& pt = c.ptActivation.emplace();
+        pt.ptActivationType = static_cast<std::uint8_t>(r.get_bits(8, "ptActivationType"));
+        const auto n = static_cast<std::size_t>(r.get_constrained<1, 20>("ptActivationData"));
+        for (std::size_t i = 0; i < n && r.ok(); ++i)
+          pt.ptActivationData.push_back(
+              static_cast<std::uint8_t>(r.get_bits(8, "ptActivationData")));
+      }
+      break;
+    }
+    case 1: {
+      auto& c = out.emplace<SpecialTransportContainer>();
+      c.specialTransportType =
+          static_cast<SpecialTransportType>(get_named_bits(r, 4, "specialTransportType"));
+      c.lightBarSirenInUse =
+          static_cast<LightBarSirenInUse>(get_named_bits(r, 2, "lightBarSirenInUse"));
+      break;
+    }
+    case 2: {
+      auto& c = out.emplace<DangerousGoodsContainer>();
+      c.dangerousGoodsBasic =
+          static_cast<DangerousGoodsBasic>(r.get_enumerated(20, false, "dangerousGoodsBasic"));
+      break;
+    }
+    case 3: {
+      auto& c = out.emplace<RoadWorksContainerBasic>();
+      const bool has_sub = r.get_bool("roadWorksContainerBasic");
+      const std::size_t lanes_at = r.bit_position();
+      const bool has_lanes = r.get_bool("roadWorksContainerBasic");
+      if (has_sub)
+        c.roadworksSubCauseCode =
+            static_cast<SubCauseCodeType>(r.get_bits(8, "roadworksSubCauseCode"));
+      c.lightBarSirenInUse =
+          static_cast<LightBarSirenInUse>(get_named_bits(r, 2, "lightBarSirenInUse"));
+      if (has_lanes) {
+        if (v1) {
+          r.fail_at(Error::kUnsupported, "closedLanes", 1, lanes_at);
+          return;
+        }
+        ClosedLanes& l = c.closedLanes.emplace();
+        const bool ext = r.get_bool("closedLanes");
+        const auto present = r.get_bits(3, "closedLanes");
+        if (present & 4)
+          l.innerhardShoulderStatus =
+              get_enum<HardShoulderStatus>(r, 3, false, "innerhardShoulderStatus");
+        if (present & 2)
+          l.outerhardShoulderStatus =
+              get_enum<HardShoulderStatus>(r, 3, false, "outerhardShoulderStatus");
+        if (present & 1) {
+          DrivingLaneStatus& d = l.drivingLaneStatus.emplace();
+          d.size = static_cast<std::uint8_t>(r.get_constrained<1, 13>("drivingLaneStatus"));
+          if (r.ok())
+            d.bits = static_cast<std::uint16_t>(get_named_bits(r, d.size, "drivingLaneStatus"));
+        }
+        if (ext)
+          r.skip_sequence_extensions("closedLanes");
+      }
+      break;
+    }
+    case 4: {
+      auto& c = out.emplace<RescueContainer>();
+      c.lightBarSirenInUse =
+          static_cast<LightBarSirenInUse>(get_named_bits(r, 2, "lightBarSirenInUse"));
+      break;
+    }
+    case 5: {
+      auto& c = out.emplace<EmergencyContainer>();
+      const bool has_incident = r.get_bool("emergencyContainer");
+      const bool has_priority = r.get_bool("emergencyContainer");
+      c.lightBarSirenInUse =
+          static_cast<LightBarSirenInUse>(get_named_bits(r, 2, "lightBarSirenInUse"));
+      if (has_incident)
+        get(r, c.incidentIndication.emplace(), "incidentIndication", v1);
+      if (has_priority)
+        c.emergencyPriority =
+            static_cast<EmergencyPriority>(get_named_bits(r, 2, "emergencyPriority"));
+      break;
+    }
+    case 6: {
+      auto& c = out.emplace<SafetyCarContainer>();
+      const bool has_incident = r.get_bool("safetyCarContainer");
+      const bool has_rule = r.get_bool("safetyCarContainer");
+      const bool has_limit = r.get_bool("safetyCarContainer");
+      c.lightBarSirenInUse =
+          static_cast<LightBarSirenInUse>(get_named_bits(r, 2, "lightBarSirenInUse"));
+      if (has_incident)
+        get(r, c.incidentIndication.emplace(), "incidentIndication", v1);
+      if (has_rule)
+        c.trafficRule = get_enum<TrafficRule>(r, 4, true, "trafficRule");
+      if (has_limit)
+        c.speedLimit = static_cast<SpeedLimit>(r.get_constrained<1, 255>("speedLimit"));
+      break;
+    }
+    default:  // index 7 of a 7-alternative root
+      if (r.ok())
+        r.fail_at(Error::kValueOutOfRange, "specialVehicleContainer",
+                  static_cast<std::int64_t>(index), at + 1);
+  }
+}
+
 void put(UperWriter& w, const Cam& cam) {
   put_header(w, cam.header);
   const CoopAwareness& ca = cam.cam;
@@ -180,7 +380,9 @@ void put(UperWriter& w, const Cam& cam) {
   const CamParameters& p = ca.camParameters;
   // CamParameters: extension bit, then the presence of lowFrequencyContainer and
   // specialVehicleContainer.
-  w.put_bits(p.lowFrequencyContainer ? 0b010 : 0b000, 3);
+  w.put_bool(false);
+  w.put_bool(p.lowFrequencyContainer.has_value());
+  w.put_bool(p.specialVehicleContainer.has_value());
   // BasicContainer ::= SEQUENCE {stationType, referencePosition, ...}
   w.put_bool(false);
   w.put_bits(p.basicContainer.stationType, 8);
@@ -198,6 +400,8 @@ void put(UperWriter& w, const Cam& cam) {
     put_named_bits(w, lf.exteriorLights, 8, "exteriorLights");
     put(w, lf.pathHistory);
   }
+  if (p.specialVehicleContainer)
+    put(w, *p.specialVehicleContainer, cam.header.protocolVersion == kProtocolVersion1);
 }
 
 void get(UperReader& r, Cam& cam) {
@@ -208,7 +412,6 @@ void get(UperReader& r, Cam& cam) {
   CamParameters& p = ca.camParameters;
   const bool params_ext = r.get_bool("camParameters");
   const bool has_lf = r.get_bool("camParameters");
-  const std::size_t special_at = r.bit_position();
   const bool has_special = r.get_bool("camParameters");
   const bool basic_ext = r.get_bool("basicContainer");
   p.basicContainer.stationType = static_cast<StationType>(r.get_bits(8, "stationType"));
@@ -237,10 +440,9 @@ void get(UperReader& r, Cam& cam) {
     lf.exteriorLights = static_cast<ExteriorLights>(get_named_bits(r, 8, "exteriorLights"));
     get(r, lf.pathHistory);
   }
-  if (has_special) {
-    r.fail_at(Error::kUnsupported, "specialVehicleContainer", 1, special_at);
-    return;
-  }
+  p.specialVehicleContainer.reset();
+  if (has_special)
+    get(r, p.specialVehicleContainer.emplace(), cam.header.protocolVersion == kProtocolVersion1);
   if (params_ext)
     r.skip_sequence_extensions("camParameters");
 }

@@ -5,15 +5,18 @@
 /// Covered: ItsPduHeader, the basic container, the high-frequency container of a vehicle
 /// (basicVehicleContainerHighFrequency, with all its optional fields) and the low-frequency
 /// container of a vehicle (vehicleRole, exteriorLights, pathHistory of up to 40 points).
-/// Not covered (decode answers Error::kUnsupported naming the component): the RSU
-/// high-frequency container and the special-vehicle containers, which no station of this
-/// testbed sends. Extension additions of extensible SEQUENCEs are skipped when decoding, as
-/// X.691 clause 19 allows a version-1 decoder to.
+/// The special-vehicle containers (public transport, special transport, dangerous goods, road
+/// works, rescue, emergency, safety car) are covered too. Not covered (decode answers
+/// Error::kUnsupported naming the component): the RSU high-frequency container, which no
+/// station of this testbed sends, and closedLanes of a protocolVersion 1 road-works container.
+/// Extension additions of extensible SEQUENCEs are skipped when decoding, as X.691 clause 19 allows
+/// a version-1 decoder to.
 
 #include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <variant>
 #include <vector>
 
 #include "common/util/expected.hpp"
@@ -63,6 +66,53 @@ struct BasicVehicleContainerLowFrequency {
                          const BasicVehicleContainerLowFrequency&) = default;
 };
 
+// ---- Special-vehicle containers (EN 302 637-2 B.2.x) -------------------------------------------
+struct PublicTransportContainer {
+  bool embarkationStatus = false;
+  std::optional<PtActivation> ptActivation;
+  friend bool operator==(const PublicTransportContainer&,
+                         const PublicTransportContainer&) = default;
+};
+struct SpecialTransportContainer {
+  SpecialTransportType specialTransportType = 0;
+  LightBarSirenInUse lightBarSirenInUse = 0;
+  friend bool operator==(const SpecialTransportContainer&,
+                         const SpecialTransportContainer&) = default;
+};
+struct DangerousGoodsContainer {
+  DangerousGoodsBasic dangerousGoodsBasic = 0;
+  friend bool operator==(const DangerousGoodsContainer&, const DangerousGoodsContainer&) = default;
+};
+struct RoadWorksContainerBasic {
+  std::optional<SubCauseCodeType> roadworksSubCauseCode;
+  LightBarSirenInUse lightBarSirenInUse = 0;
+  std::optional<ClosedLanes> closedLanes;
+  friend bool operator==(const RoadWorksContainerBasic&, const RoadWorksContainerBasic&) = default;
+};
+struct RescueContainer {
+  LightBarSirenInUse lightBarSirenInUse = 0;
+  friend bool operator==(const RescueContainer&, const RescueContainer&) = default;
+};
+struct EmergencyContainer {
+  LightBarSirenInUse lightBarSirenInUse = 0;
+  std::optional<CauseCode> incidentIndication;
+  std::optional<EmergencyPriority> emergencyPriority;
+  friend bool operator==(const EmergencyContainer&, const EmergencyContainer&) = default;
+};
+struct SafetyCarContainer {
+  LightBarSirenInUse lightBarSirenInUse = 0;
+  std::optional<CauseCode> incidentIndication;
+  std::optional<TrafficRule> trafficRule;
+  std::optional<SpeedLimit> speedLimit;
+  friend bool operator==(const SafetyCarContainer&, const SafetyCarContainer&) = default;
+};
+/// CHOICE {publicTransportContainer, specialTransportContainer, dangerousGoodsContainer,
+/// roadWorksContainerBasic, rescueContainer, emergencyContainer, safetyCarContainer, ...}: the
+/// variant's index is the CHOICE index.
+using SpecialVehicleContainer =
+    std::variant<PublicTransportContainer, SpecialTransportContainer, DangerousGoodsContainer,
+                 RoadWorksContainerBasic, RescueContainer, EmergencyContainer, SafetyCarContainer>;
+
 /// SEQUENCE {basicContainer, highFrequencyContainer, lowFrequencyContainer OPTIONAL,
 /// specialVehicleContainer OPTIONAL, ...}. The highFrequencyContainer CHOICE is always its
 /// basicVehicleContainerHighFrequency alternative; lowFrequencyContainer always
@@ -71,6 +121,7 @@ struct CamParameters {
   BasicContainer basicContainer;
   BasicVehicleContainerHighFrequency highFrequencyContainer;
   std::optional<BasicVehicleContainerLowFrequency> lowFrequencyContainer;
+  std::optional<SpecialVehicleContainer> specialVehicleContainer;
   friend bool operator==(const CamParameters&, const CamParameters&) = default;
 };
 

@@ -336,6 +336,58 @@ inline constexpr ExteriorLights kFogLightOn = 1 << 6;
 inline constexpr ExteriorLights kParkingLightsOn = 1 << 7;
 }  // namespace exterior_lights
 
+// ---- Special vehicles (CAM special-vehicle containers) ----------------------------------------
+/// BIT STRING (SIZE(2)): lightBarActivated (bit 0), sirenActivated (bit 1).
+using LightBarSirenInUse = std::uint8_t;
+namespace light_bar_siren {
+inline constexpr LightBarSirenInUse kLightBarActivated = 1 << 0;
+inline constexpr LightBarSirenInUse kSirenActivated = 1 << 1;
+}  // namespace light_bar_siren
+/// BIT STRING (SIZE(4)): heavyLoad, excessWidth, excessLength, excessHeight (bits 0..3).
+using SpecialTransportType = std::uint8_t;
+/// BIT STRING (SIZE(2)): requestForRightOfWay (0), requestForFreeCrossingAtATrafficLight (1).
+using EmergencyPriority = std::uint8_t;
+/// ENUMERATED explosives1 (0) … miscellaneousDangerousSubstances (19), not extensible.
+using DangerousGoodsBasic = std::uint8_t;
+using SpeedLimit = std::uint8_t;  // km/h, (1..255)
+
+/// ENUMERATED {noPassing, noPassingForTrucks, passToRight, passToLeft, ...}.
+enum class TrafficRule : std::uint8_t {
+  noPassing = 0,
+  noPassingForTrucks = 1,
+  passToRight = 2,
+  passToLeft = 3,
+};
+
+enum class HardShoulderStatus : std::uint8_t {
+  availableForStopping = 0,
+  closed = 1,
+  availableForDriving = 2,
+};
+
+/// BIT STRING (SIZE(1..13)): @p size bits; bit n (lane n from the outside) is (1 << n).
+struct DrivingLaneStatus {
+  std::uint16_t bits = 0;
+  std::uint8_t size = 1;
+  friend bool operator==(const DrivingLaneStatus&, const DrivingLaneStatus&) = default;
+};
+
+/// SEQUENCE {innerhardShoulderStatus, outerhardShoulderStatus, drivingLaneStatus (all
+/// OPTIONAL), ...} (CDD version 2; version 1's differs and is not decoded).
+struct ClosedLanes {
+  std::optional<HardShoulderStatus> innerhardShoulderStatus;
+  std::optional<HardShoulderStatus> outerhardShoulderStatus;
+  std::optional<DrivingLaneStatus> drivingLaneStatus;
+  friend bool operator==(const ClosedLanes&, const ClosedLanes&) = default;
+};
+
+/// SEQUENCE {ptActivationType (0..255), ptActivationData OCTET STRING (SIZE(1..20))}.
+struct PtActivation {
+  std::uint8_t ptActivationType = 0;
+  BoundedVector<std::uint8_t, 20> ptActivationData;
+  friend bool operator==(const PtActivation&, const PtActivation&) = default;
+};
+
 // ---- Time --------------------------------------------------------------------------------------
 /// Milliseconds since 2004-01-01T00:00:00.000 UTC (0..4398046511103).
 using TimestampIts = std::uint64_t;

@@ -5,6 +5,8 @@
 #include "its-station/messages/cam.hpp"
 #include "its-station/messages/denm.hpp"
 
+#include <vector>
+
 namespace tb::its::messages::samples {
 
 inline ReferencePosition istanbul() {
@@ -66,6 +68,30 @@ inline Cam cam_lf() {
   lf.pathHistory.push_back(PathPoint{{131072, -131071, -12700}, std::nullopt});
   lf.pathHistory.push_back(PathPoint{{0, 0, 0}, 65535});
   return cam;
+}
+
+/// One CAM per special-vehicle container alternative (CHOICE index 0..6), every optional
+/// component present.
+inline std::vector<Cam> cams_special_vehicle() {
+  std::vector<Cam> cams;
+  auto with = [&](SpecialVehicleContainer c) {
+    Cam cam = cam_hf();
+    cam.cam.camParameters.specialVehicleContainer = c;
+    cams.push_back(cam);
+  };
+  PublicTransportContainer pt{true, PtActivation{1, {0x01, 0x02, 0x03}}};
+  with(pt);
+  with(SpecialTransportContainer{0b1001, light_bar_siren::kLightBarActivated});
+  with(DangerousGoodsContainer{19});
+  ClosedLanes lanes{HardShoulderStatus::closed, HardShoulderStatus::availableForDriving,
+                    DrivingLaneStatus{0b101, 3}};
+  with(RoadWorksContainerBasic{4, light_bar_siren::kLightBarActivated, lanes});
+  with(RescueContainer{light_bar_siren::kSirenActivated});
+  with(EmergencyContainer{light_bar_siren::kLightBarActivated | light_bar_siren::kSirenActivated,
+                          CauseCode{cause_code::kEmergencyVehicleApproaching, 1}, 0b01});
+  with(SafetyCarContainer{light_bar_siren::kLightBarActivated, CauseCode{cause_code::kAccident, 2},
+                          TrafficRule::passToLeft, 80});
+  return cams;
 }
 
 /// A passenger-car CAM with the LF container and @p points path points (a car driving north).

@@ -311,6 +311,30 @@ TEST_F(TsharkInterop, DenmsDecodeToTheValuesSentWithoutWarnings) {
   expect_clean();
 }
 
+TEST_F(TsharkInterop, SpecialVehicleContainersDecodeToTheValuesSent) {
+  const auto cams = samples::cams_special_vehicle();
+  std::vector<Bytes> frames;
+  for (const Cam& c : cams)
+    frames.push_back(frame(enc(c), false));
+  const auto got = fields(
+      frames, {"cam.specialVehicleContainer", "cam.embarkationStatus", "its.ptActivationType",
+               "its.ptActivationData", "its.SpecialTransportType.heavyLoad",
+               "its.SpecialTransportType.excessHeight", "cam.dangerousGoodsBasic",
+               "cam.roadworksSubCauseCode", "its.innerhardShoulderStatus",
+               "its.outerhardShoulderStatus", "its.LightBarSirenInUse.lightBarActivated",
+               "its.LightBarSirenInUse.sirenActivated", "its.causeCode", "its.subCauseCode",
+               "its.EmergencyPriority.requestForRightOfWay", "cam.trafficRule", "cam.speedLimit"});
+  ASSERT_EQ(got.size(), cams.size());
+  EXPECT_EQ(got[0], "0|1|1|010203|||||||||||||");
+  EXPECT_EQ(got[1], "1||||1|1|||||1|0|||||");
+  EXPECT_EQ(got[2], "2||||||19||||||||||");
+  EXPECT_EQ(got[3], "3|||||||4|1|2|1|0|||||");
+  EXPECT_EQ(got[4], "4||||||||||0|1|||||");
+  EXPECT_EQ(got[5], "5||||||||||1|1|95|1|1||");
+  EXPECT_EQ(got[6], "6||||||||||1|0|2|2||3|80");
+  expect_clean();
+}
+
 TEST_F(TsharkInterop, ProtocolVersion1MessagesDecodeWithTheVersion1Dissectors) {
   Cam cam = samples::cam_lf();
   cam.header.protocolVersion = kProtocolVersion1;

@@ -58,6 +58,12 @@ int main(int argc, char** argv) {
     auto bytes = encode(cam);
     ok = ok && bytes && write(root / "tests/fuzz/cam" / name, *bytes);
   }
+  const auto special = samples::cams_special_vehicle();
+  for (std::size_t i = 0; i < special.size(); ++i) {
+    auto bytes = encode(special[i]);
+    ok = ok && bytes &&
+         write(root / "tests/fuzz/cam" / ("cam_special" + std::to_string(i) + ".uper"), *bytes);
+  }
   for (const auto& [name, denm] : denms) {
     auto bytes = encode(denm);
     ok = ok && bytes && write(root / "tests/fuzz/denm" / name, *bytes);
