@@ -1,0 +1,91 @@
+#pragma once
+/// @file The vehicle's signals from its CAN bus, decoded with the project's DBC
+/// (common/can/vehicle.dbc), with alive-counter and checksum checks.
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <string_view>
+
+#include "common/can/can_bus.hpp"
+#include "common/can/dbc.hpp"
+#include "common/clock/clock.hpp"
+#include "common/util/expected.hpp"
+#include "its-station/facilities/vehicle_data.hpp"
+
+namespace tb::its::facilities {
+
+/// What became of one frame.
+enum class CanFrameResult : std::uint8_t {
+  kAccepted,
+  kUnknownId,        ///< not a message of the database (ignored, not an error)
+  kWrongLength,      ///< DLC differs from the database's
+  kBadChecksum,      ///< CRC-8 SAE J1850 over the other bytes does not match
+  kRepeatedCounter,  ///< the same alive counter again: a stale or replayed frame
+  kCounterJump,      ///< counter jumped by more than kMaxCounterGap: resynchronised, dropped
+};
+std::string_view to_string(CanFrameResult r);
+
+/// Missing DBC messages or signals the decoder needs.
+struct CanSchemaError {
+  std::string detail;  ///< "message Dynamics has no signal YawRate"
+};
+
+/// Pure decoder: frames in, VehicleData out. Keeps per-message alive-counter state.
+class CanVehicleDecoder {
+ public:
+  /// Up to this many lost frames in a row are tolerated (the counter moved by at most 1 + it).
+  static constexpr unsigned kMaxCounterGap = 3;
+
+  static Expected<CanVehicleDecoder, CanSchemaError> create(const can::Database& db);
+
+  /// Applies @p frame to the current state. @returns what happened to it.
+  CanFrameResult apply(const can::CanFrame& frame, clock::SteadyTime now);
+  const VehicleData& state() const { return state_; }
+
+  struct Counters {
+    std::uint64_t accepted = 0;
+    std::uint64_t unknown = 0;
+    std::uint64_t bad_length = 0;
+    std::uint64_t bad_checksum = 0;
+    std::uint64_t bad_counter = 0;
+    std::uint64_t lost = 0;  ///< frames missing according to the alive counters
+  };
+  const Counters& counters() const { return counters_; }
+
+ private:
+  enum class Kind { kSpeed, kDynamics, kSteering, kPowertrain, kLights };
+  struct Entry {
+    const can::Message* message = nullptr;
+    Kind kind{};
+    const can::Signal* counter = nullptr;
+    const can::Signal* checksum = nullptr;
+    std::array<const can::Signal*, 8> signals{};
+    int last_counter = -1;
+  };
+
+  explicit CanVehicleDecoder(std::map<std::uint32_t, Entry> entries)
+      : entries_(std::move(entries)) {}
+  void decode(const Entry& e, std::span<const std::uint8_t> data);
+
+  std::map<std::uint32_t, Entry> entries_;  ///< by CAN id (with the extended flag)
+  VehicleData state_;
+  Counters counters_;
+};
+
+/// VehicleDataProvider over a CanBus (SocketCAN or the UDP stand-in): every accepted frame
+/// updates the state and notifies the listeners at once.
+class CanVehicleDataProvider final : public VehicleDataProvider {
+ public:
+  CanVehicleDataProvider(can::CanBus& bus, CanVehicleDecoder decoder, const clock::Clock& clock);
+  void start();
+  const CanVehicleDecoder& decoder() const { return decoder_; }
+
+ private:
+  can::CanBus& bus_;
+  CanVehicleDecoder decoder_;
+  const clock::Clock& clock_;
+  bool warned_bad_ = false;
+};
+
+}  // namespace tb::its::facilities

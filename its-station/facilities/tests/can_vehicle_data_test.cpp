@@ -1,0 +1,143 @@
+#include <gtest/gtest.h>
+
+#include <map>
+#include <string>
+
+#include "common/can/checksum.hpp"
+#include "common/can/dbc.hpp"
+#include "its-station/facilities/can_vehicle_data.hpp"
+
+namespace tb::its::facilities {
+namespace {
+
+const can::Database& database() {
+  static const can::Database db = [] {
+    auto d = can::Database::load(TESTBED_VEHICLE_DBC);
+    if (!d)
+      throw std::runtime_error(d.error().message());
+    return *d;
+  }();
+  return db;
+}
+
+/// Encodes a frame of @p message as the CAN feeder does: signals, alive counter, CRC.
+can::CanFrame frame(const std::string& message, const std::map<std::string, double>& values,
+                    int counter) {
+  const auto* m = database().find_message(message);
+  can::CanFrame f;
+  f.can_id = m->id;
+  f.len = static_cast<std::uint8_t>(m->dlc);
+  auto data = f.payload();
+  for (const auto& [name, v] : values)
+    m->find_signal(name)->encode(v, data);
+  m->find_signal("AliveCounter")->insert_raw(counter % 16, data);
+  const auto* cs = m->find_signal("Checksum");
+  std::vector<std::uint8_t> rest;
+  for (unsigned i = 0; i < m->dlc; ++i)
+    if (i != cs->start_bit / 8)
+      rest.push_back(data[i]);
+  cs->insert_raw(can::crc8_sae_j1850(rest), data);
+  return f;
+}
+
+CanVehicleDecoder decoder() {
+  auto d = CanVehicleDecoder::create(database());
+  EXPECT_TRUE(d) << (d ? "" : d.error().detail);
+  return std::move(*d);
+}
+
+TEST(CanVehicleDecoder, DecodesEverySignalTheCamNeeds) {
+  auto d = decoder();
+  const clock::SteadyTime t{std::chrono::seconds{3}};
+  EXPECT_EQ(d.apply(frame("VehicleSpeed", {{"VehicleSpeed", 54.0}, {"DrivingDirection", 1}}, 0), t),
+            CanFrameResult::kAccepted);
+  EXPECT_EQ(d.apply(frame("Dynamics",
+                          {{"YawRate", -3.5},
+                           {"LongitudinalAcceleration", -2.25},
+                           {"LateralAcceleration", 0.75}},
+                          0),
+                    t),
+            CanFrameResult::kAccepted);
+  EXPECT_EQ(d.apply(frame("Steering", {{"SteeringWheelAngle", 45.5}}, 0), t),
+            CanFrameResult::kAccepted);
+  EXPECT_EQ(d.apply(frame("Powertrain", {{"ThrottlePedal", 0.0}, {"BrakePedal", 40.0}}, 0), t),
+            CanFrameResult::kAccepted);
+  EXPECT_EQ(d.apply(frame("Lights", {{"LowBeam", 1}, {"IndicatorLeft", 1}, {"FogLight", 1}}, 0), t),
+            CanFrameResult::kAccepted);
+  const auto& s = d.state();
+  EXPECT_EQ(s.received, t);
+  EXPECT_NEAR(*s.speed_mps, 15.0, 1e-9);
+  EXPECT_FALSE(*s.reversing);
+  EXPECT_NEAR(*s.yaw_rate_dps, -3.5, 1e-9);
+  EXPECT_NEAR(*s.longitudinal_acceleration_mps2, -2.25, 1e-9);
+  EXPECT_NEAR(*s.lateral_acceleration_mps2, 0.75, 1e-9);
+  EXPECT_NEAR(*s.steering_wheel_angle_deg, 45.5, 1e-9);
+  EXPECT_TRUE(*s.brake_pedal);
+  EXPECT_FALSE(*s.gas_pedal);
+  EXPECT_EQ(*s.exterior_lights, lights::kLowBeam | lights::kLeftTurnSignal | lights::kFog);
+}
+
+TEST(CanVehicleDecoder, ReverseAndHazard) {
+  auto d = decoder();
+  d.apply(frame("VehicleSpeed", {{"VehicleSpeed", 7.2}, {"DrivingDirection", 2}}, 5), {});
+  d.apply(frame("Lights", {{"HazardLights", 1}}, 5), {});
+  EXPECT_NEAR(*d.state().speed_mps, -2.0, 1e-9);
+  EXPECT_TRUE(*d.state().reversing);
+  EXPECT_EQ(*d.state().exterior_lights, lights::kLeftTurnSignal | lights::kRightTurnSignal);
+}
+
+TEST(CanVehicleDecoder, BadChecksumIsCountedAndDropped) {
+  auto d = decoder();
+  auto f = frame("VehicleSpeed", {{"VehicleSpeed", 50.0}}, 1);
+  f.data[0] ^= 0x01;  // a bit flipped on the wire
+  EXPECT_EQ(d.apply(f, {}), CanFrameResult::kBadChecksum);
+  EXPECT_FALSE(d.state().speed_mps);
+  EXPECT_EQ(d.counters().bad_checksum, 1u);
+}
+
+TEST(CanVehicleDecoder, AliveCounterChecks) {
+  auto d = decoder();
+  auto speed = [](double kmh, int c) { return frame("VehicleSpeed", {{"VehicleSpeed", kmh}}, c); };
+  EXPECT_EQ(d.apply(speed(10, 14), {}), CanFrameResult::kAccepted);
+  EXPECT_EQ(d.apply(speed(11, 15), {}), CanFrameResult::kAccepted);
+  EXPECT_EQ(d.apply(speed(12, 0), {}), CanFrameResult::kAccepted);  // wraps mod 16
+  EXPECT_EQ(d.apply(speed(99, 0), {}), CanFrameResult::kRepeatedCounter);
+  EXPECT_NEAR(*d.state().speed_mps, 12 / 3.6, 1e-9);
+  EXPECT_EQ(d.apply(speed(13, 3), {}), CanFrameResult::kAccepted);  // two frames lost
+  EXPECT_EQ(d.counters().lost, 2u);
+  EXPECT_EQ(d.apply(speed(14, 10), {}), CanFrameResult::kCounterJump);
+  EXPECT_NEAR(*d.state().speed_mps, 13 / 3.6, 1e-9);
+  EXPECT_EQ(d.apply(speed(15, 11), {}), CanFrameResult::kAccepted);  // resynchronised
+  EXPECT_EQ(d.counters().bad_counter, 2u);
+  // Counters are per message: another message starts its own sequence.
+  EXPECT_EQ(d.apply(frame("Steering", {{"SteeringWheelAngle", 1}}, 11), {}),
+            CanFrameResult::kAccepted);
+}
+
+TEST(CanVehicleDecoder, WrongLengthAndUnknownIds) {
+  auto d = decoder();
+  auto f = frame("Dynamics", {{"YawRate", 1}}, 0);
+  f.len = 7;
+  EXPECT_EQ(d.apply(f, {}), CanFrameResult::kWrongLength);
+  can::CanFrame other;
+  other.can_id = 0x7ff;
+  other.len = 8;
+  EXPECT_EQ(d.apply(other, {}), CanFrameResult::kUnknownId);
+  EXPECT_EQ(d.counters().bad_length, 1u);
+  EXPECT_EQ(d.counters().unknown, 1u);
+  EXPECT_EQ(d.counters().accepted, 0u);
+}
+
+TEST(CanVehicleDecoder, MissingSignalsInTheDbcAreNamed) {
+  auto db = can::Database::parse(
+      "BO_ 256 VehicleSpeed: 8 EMULATOR\n"
+      " SG_ VehicleSpeed : 0|16@1+ (0.01,0) [0|655.35] \"km/h\" STATION\n",
+      "small.dbc");
+  ASSERT_TRUE(db) << db.error().message();
+  auto d = CanVehicleDecoder::create(*db);
+  ASSERT_FALSE(d);
+  EXPECT_NE(d.error().detail.find("VehicleSpeed"), std::string::npos) << d.error().detail;
+}
+
+}  // namespace
+}  // namespace tb::its::facilities
