@@ -6,6 +6,7 @@
 
 #include <boost/asio/io_context.hpp>
 
+#include "its-station/link/capturing_link.hpp"
 #include "its-station/link/packet_socket_link.hpp"
 #include "its-station/link/pcap_writer.hpp"
 #include "its-station/link/test_link.hpp"
@@ -98,6 +99,35 @@ TEST(PcapWriter, WritesTheClassicHeaderAndOneRecordPerFrame) {
       0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0x02, 0x00, 0x00, 0x00, 0x00, 0x01,  // dst, src
       0x89, 0x47, 0x11, 0x22};                                                 // type, data
   EXPECT_EQ(read_file(path), expected);
+  std::remove(path.c_str());
+}
+
+TEST(CapturingLink, RecordsSentAndReceivedFramesAndPassesThemOn) {
+  const std::string path = ::testing::TempDir() + "/gn_capturing_test.pcap";
+  auto pcap = PcapWriter::create(path);
+  ASSERT_TRUE(pcap);
+  clock::ManualClock clock{clock::WallTime{std::chrono::seconds{2}}};
+  TestLink inner{{2, 0, 0, 0, 0, 1}};
+  CapturingLink link{inner, *pcap, clock};
+  int received = 0;
+  link.set_receive_handler([&](const ReceivedFrame&) { ++received; });
+  const std::uint8_t out[] = {0xaa};
+  EXPECT_FALSE(link.send(kBroadcastMac, kEtherTypeGeoNetworking, out));
+  inner.fail_sends_with(std::make_error_code(std::errc::network_down));
+  EXPECT_TRUE(link.send(kBroadcastMac, kEtherTypeGeoNetworking, out));  // not recorded
+  const std::uint8_t in[] = {0xbb, 0xcc};
+  inner.inject({2, 0, 0, 0, 0, 7}, kBroadcastMac, kEtherTypeGeoNetworking, in,
+               clock::WallTime{std::chrono::seconds{3}});
+  EXPECT_EQ(received, 1);
+  EXPECT_EQ(inner.sent().size(), 1u);
+  ASSERT_TRUE(pcap->flush());
+  const auto bytes = read_file(path);
+  // File header, then a 15-byte frame and a 16-byte frame, each after a 16-byte record header.
+  ASSERT_EQ(bytes.size(), 24u + 16 + 15 + 16 + 16);
+  EXPECT_EQ(bytes[24], 2);                      // sent at 2 s
+  EXPECT_EQ(bytes[24 + 16 + 15], 3);            // received at 3 s
+  EXPECT_EQ(bytes[24 + 16 + 15 + 16 + 11], 7);  // received frame's source MAC
+  EXPECT_EQ(bytes.back(), 0xcc);
   std::remove(path.c_str());
 }
 
