@@ -51,7 +51,7 @@ void SimLoop::schedule_next() {
     return;
   }
   ++scheduled_;
-  auto due = start_ + scheduled_ * step_;
+  clock::SteadyTime due = start_ + static_cast<std::int64_t>(scheduled_) * step_;
   const auto now = rt_.steady_now();
   if (now - due > kMaxLag) {
     ++resyncs_;

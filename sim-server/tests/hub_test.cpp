@@ -1,0 +1,259 @@
+#include <gtest/gtest.h>
+
+#include "common/clock/runtime.hpp"
+#include "common/scenario/loader.hpp"
+#include "sim-server/server/hub.hpp"
+
+namespace tb::server {
+namespace {
+
+namespace sim = wire::sim;
+using namespace std::chrono_literals;
+
+/// A client's end of the link: decodes what the hub sends; can play a full queue.
+struct FakeLink final : ClientLink {
+  std::vector<sim::ServerMessage> got;
+  bool closed = false;
+  bool full = false;
+  sim::FrameParser parser{sim::Sender::kServer};
+
+  bool send(SharedBytes frame) override {
+    if (full)
+      return false;
+    std::span<const std::uint8_t> data(*frame);
+    while (!data.empty()) {
+      auto r = parser.parse(data);
+      EXPECT_TRUE(r) << sim::to_string(r.error());
+      if (!r)
+        return true;
+      if (*r == sim::FrameParser::Status::kFrame) {
+        auto m = sim::decode_server(parser.frame());
+        EXPECT_TRUE(m) << sim::to_string(m.error());
+        if (m)
+          got.push_back(*m);
+      }
+    }
+    return true;
+  }
+  void close() override { closed = true; }
+
+  template <typename T>
+  std::vector<T> all() const {
+    std::vector<T> out;
+    for (const auto& m : got) {
+      if (const auto* x = std::get_if<T>(&m))
+        out.push_back(*x);
+    }
+    return out;
+  }
+};
+
+struct HubTest : ::testing::Test {
+  scenario::Scenario sc = scenario::load_file("sim-server/tests/scenarios/three-cars.json");
+  physics::World world{sc, physics::WorldOptions{.step_s = 0.01}};
+  clock::ManualRuntime rt;
+  Hub hub{world, sc, "{\"json\":1}", rt};
+
+  void send(Hub::ClientId id, const sim::ClientMessage& m) {
+    const auto b = sim::encode(m);
+    hub.receive(id, b);
+  }
+  Hub::ClientId join(FakeLink& link, const std::string& name) {
+    const auto id = hub.connect(link, "test:" + name);
+    send(id, sim::Hello{name});
+    return id;
+  }
+  void step(int n = 1) {
+    for (int i = 0; i < n; ++i) {
+      hub.before_step();
+      world.step();
+      hub.after_step();
+      rt.advance(10ms);
+    }
+  }
+};
+
+TEST_F(HubTest, HelloGetsWelcomeWithVehiclesAndScenario) {
+  FakeLink a;
+  join(a, "alice");
+  auto w = a.all<sim::Welcome>();
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_EQ(w[0].step_ns, 10'000'000);
+  EXPECT_EQ(w[0].scenario_json, "{\"json\":1}");
+  ASSERT_EQ(w[0].vehicles.size(), 3u);
+  EXPECT_EQ(w[0].vehicles[1].id, "b");
+  EXPECT_EQ(w[0].vehicles[1].station_id, 102u);
+  EXPECT_EQ(w[0].vehicles[0].driver, "");
+}
+
+TEST_F(HubTest, SecondDriverIsRefusedWithTheFirstOnesName) {
+  FakeLink a, b;
+  const auto ida = join(a, "alice");
+  const auto idb = join(b, "bob");
+  send(ida, sim::Attach{sim::Role::kDriver, 0});
+  send(idb, sim::Attach{sim::Role::kDriver, 0});
+  const auto ra = a.all<sim::AttachResult>();
+  const auto rb = b.all<sim::AttachResult>();
+  ASSERT_EQ(ra.size(), 1u);
+  EXPECT_EQ(ra[0].status, sim::AttachStatus::kOk);
+  ASSERT_EQ(rb.size(), 1u);
+  EXPECT_EQ(rb[0].status, sim::AttachStatus::kAlreadyDriven);
+  EXPECT_NE(rb[0].reason.find("alice"), std::string::npos) << rb[0].reason;
+  EXPECT_FALSE(b.closed);
+  EXPECT_EQ(hub.driver_of(0), ida);
+  // Welcome for a later client names the driver.
+  FakeLink c;
+  join(c, "carol");
+  EXPECT_EQ(c.all<sim::Welcome>().at(0).vehicles[0].driver, "alice");
+  // Unknown vehicle.
+  send(idb, sim::Attach{sim::Role::kDriver, 9});
+  EXPECT_EQ(b.all<sim::AttachResult>().back().status, sim::AttachStatus::kUnknownVehicle);
+}
+
+TEST_F(HubTest, ControlsBeforeAttachCloseOnlyThatClient) {
+  FakeLink a, b;
+  const auto ida = join(a, "alice");
+  const auto idb = join(b, "bob");
+  send(idb, sim::Attach{sim::Role::kWatcher, 0});
+  send(ida, sim::ControlsMsg{0, {1.0f, 0, 0, false, false}, 0});
+  EXPECT_TRUE(a.closed);
+  ASSERT_FALSE(a.all<sim::Closing>().empty());
+  EXPECT_EQ(a.all<sim::Closing>()[0].reason, sim::CloseReason::kProtocolError);
+  EXPECT_EQ(hub.stats().protocol_errors, 1u);
+  EXPECT_FALSE(b.closed);
+  step();
+  EXPECT_EQ(b.all<sim::StateFrame>().size(), 1u);
+  EXPECT_EQ(hub.clients(), 1u);
+}
+
+TEST_F(HubTest, GarbageAndOversizedFramesCloseTheConnection) {
+  FakeLink a, b;
+  const auto ida = hub.connect(a, "garbage");
+  const std::string junk = "GET / HTTP/1.1\r\n\r\n";
+  hub.receive(ida, std::span(reinterpret_cast<const std::uint8_t*>(junk.data()), junk.size()));
+  EXPECT_TRUE(a.closed);
+  const auto idb = join(b, "bob");
+  // A Hello header claiming 1 MiB.
+  const std::uint8_t big[] = {'S', 'P', 1, 0x01, 0, 0, 0x10, 0};
+  hub.receive(idb, big);
+  EXPECT_TRUE(b.closed);
+  EXPECT_EQ(hub.stats().protocol_errors, 2u);
+  EXPECT_EQ(hub.clients(), 0u);
+}
+
+TEST_F(HubTest, OutOfRangeControlsAreClampedAndCounted) {
+  FakeLink a;
+  const auto id = join(a, "alice");
+  send(id, sim::Attach{sim::Role::kDriver, 1});
+  send(id, sim::ControlsMsg{1, {2.0f, -1.0f, 5.0f, false, false}, wire::kLowBeam});
+  EXPECT_FALSE(a.closed);
+  EXPECT_EQ(hub.stats().clamped_values, 3u);
+  EXPECT_EQ(world.controls(1).throttle, 1.0f);
+  EXPECT_EQ(world.controls(1).brake, 0.0f);
+  EXPECT_EQ(world.controls(1).steer, 1.0f);
+  step();
+  const auto s = a.all<sim::StateFrame>().back().vehicles[1];
+  EXPECT_EQ(s.controls.throttle, 1.0f);
+  EXPECT_TRUE(s.lights & wire::kLowBeam);
+}
+
+TEST_F(HubTest, SilentDriverBrakesToAStopAndResumesWithControls) {
+  FakeLink a;
+  const auto id = join(a, "alice");
+  send(id, sim::Attach{sim::Role::kDriver, 0});
+  // 400 ms of controls every 100 ms: the car drives.
+  for (int i = 0; i < 40; ++i) {
+    if (i % 10 == 0)
+      send(id, sim::ControlsMsg{0, {0.6f, 0, 0, false, false}, 0});
+    step();
+  }
+  EXPECT_EQ(world.controls(0).throttle, 0.6f);
+  // Then nothing: the watchdog acts once 500 ms have passed since the last controls.
+  // The last controls came at 300 ms; steps at 400..780 ms are within the timeout.
+  step(39);
+  EXPECT_EQ(world.controls(0).throttle, 0.6f) << "braked before the timeout";
+  EXPECT_EQ(hub.stats().watchdog_stops, 0u);
+  step(3);  // 790, 800, 810 ms: 510 ms of silence at the last one
+  EXPECT_EQ(world.controls(0).throttle, 0.0f);
+  EXPECT_EQ(world.controls(0).brake, Hub::kStopBrake);
+  EXPECT_EQ(hub.stats().watchdog_stops, 1u);
+  step(300);
+  EXPECT_LT(std::abs(world.states()[0].speed), 0.05f);
+  EXPECT_TRUE(world.states()[0].lights & wire::kHazard);
+  // The driver is still attached and takes over again.
+  send(id, sim::ControlsMsg{0, {0.5f, 0, 0, false, false}, 0});
+  step();
+  EXPECT_EQ(world.controls(0).throttle, 0.5f);
+}
+
+TEST_F(HubTest, DisconnectedDriverReleasesItsVehicleWhichStops) {
+  FakeLink a, w;
+  const auto id = join(a, "alice");
+  send(join(w, "watcher"), sim::Attach{sim::Role::kWatcher, 0});
+  send(id, sim::Attach{sim::Role::kDriver, 2});
+  for (int i = 0; i < 100; ++i) {
+    send(id, sim::ControlsMsg{2, {0.5f, 0, 0, false, false}, 0});
+    step();
+  }
+  EXPECT_GT(world.states()[2].speed, 4.0f);
+  hub.disconnect(id);
+  EXPECT_EQ(hub.driver_of(2), 0u);
+  EXPECT_EQ(world.controls(2).brake, Hub::kStopBrake);
+  const auto changes = w.all<sim::DriverChanged>();
+  ASSERT_GE(changes.size(), 2u);
+  EXPECT_EQ(changes.back().vehicle, 2);
+  EXPECT_EQ(changes.back().driver, "");
+  step(300);
+  EXPECT_LT(std::abs(world.states()[2].speed), 0.05f);
+  // Another client may now drive it.
+  FakeLink b;
+  const auto idb = join(b, "bob");
+  send(idb, sim::Attach{sim::Role::kDriver, 2});
+  EXPECT_EQ(b.all<sim::AttachResult>().at(0).status, sim::AttachStatus::kOk);
+}
+
+TEST_F(HubTest, SlowClientIsDroppedOthersKeepTheirStream) {
+  FakeLink a, b;
+  const auto ida = join(a, "slow");
+  const auto idb = join(b, "fast");
+  send(ida, sim::Attach{sim::Role::kDriver, 0});
+  send(idb, sim::Attach{sim::Role::kWatcher, 0});
+  step(3);
+  a.full = true;
+  step(3);
+  EXPECT_TRUE(a.closed);
+  EXPECT_EQ(hub.stats().slow_drops, 1u);
+  EXPECT_EQ(hub.driver_of(0), 0u) << "a dropped driver releases its vehicle";
+  EXPECT_FALSE(b.closed);
+  EXPECT_EQ(b.all<sim::StateFrame>().size(), 6u);
+  EXPECT_EQ(b.all<sim::StateFrame>().back().tick, world.tick());
+}
+
+TEST_F(HubTest, StateStreamOnlyAfterAttach) {
+  FakeLink a;
+  const auto id = join(a, "alice");
+  step(2);
+  EXPECT_TRUE(a.all<sim::StateFrame>().empty());
+  send(id, sim::Attach{sim::Role::kWatcher, 0});
+  step(2);
+  const auto frames = a.all<sim::StateFrame>();
+  ASSERT_EQ(frames.size(), 2u);
+  EXPECT_EQ(frames[1].tick, frames[0].tick + 1);
+  EXPECT_EQ(frames[1].vehicles.size(), 3u);
+  EXPECT_EQ(frames[1].vehicles[2].station_id, 103u);
+  EXPECT_EQ(frames[1].vehicles[0].send_wall_ns, clock::to_unix_ns(rt.wall_now() - 10ms));
+}
+
+TEST_F(HubTest, ShutdownSendsClosingToEveryone) {
+  FakeLink a, b;
+  join(a, "alice");
+  join(b, "bob");
+  hub.shutdown("SIGTERM");
+  EXPECT_TRUE(a.closed);
+  EXPECT_TRUE(b.closed);
+  EXPECT_EQ(a.all<sim::Closing>().at(0).reason, sim::CloseReason::kShutdown);
+  EXPECT_EQ(hub.clients(), 0u);
+}
+
+}  // namespace
+}  // namespace tb::server
