@@ -1,0 +1,322 @@
+// Integration test: the real sim-server process from $TESTBED_BIN, three clients over TCP
+// driving two cars and watching, one driver leaving (its car stops), garbage on a fourth
+// connection (only that one is closed), a refused second driver, and SIGTERM.
+
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <boost/asio.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <cstdlib>
+#include <deque>
+#include <future>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "common/wire/sim_protocol.hpp"
+
+extern char** environ;
+
+namespace tb::server {
+namespace {
+
+namespace asio = boost::asio;
+namespace sim = wire::sim;
+using asio::ip::tcp;
+using namespace std::chrono_literals;
+
+std::string bin(const std::string& name) {
+  const char* dir = std::getenv("TESTBED_BIN");
+  return std::string(dir ? dir : "build/bin") + "/" + name;
+}
+
+std::uint16_t free_port() {
+  asio::io_context io;
+  tcp::acceptor a(io, tcp::endpoint(asio::ip::make_address("127.0.0.1"), 0));
+  return a.local_endpoint().port();
+}
+
+/// The server process; killed in the destructor if the test did not stop it.
+class ServerProcess {
+ public:
+  explicit ServerProcess(std::vector<std::string> args) {
+    args.insert(args.begin(), bin("sim-server"));
+    std::vector<char*> argv;
+    for (auto& a : args)
+      argv.push_back(a.data());
+    argv.push_back(nullptr);
+    if (posix_spawn(&pid_, argv[0], nullptr, nullptr, argv.data(), environ) != 0)
+      pid_ = -1;
+  }
+  ~ServerProcess() {
+    if (pid_ > 0 && !exited_) {
+      ::kill(pid_, SIGKILL);
+      ::waitpid(pid_, nullptr, 0);
+    }
+  }
+  bool started() const { return pid_ > 0; }
+  void signal(int sig) { ::kill(pid_, sig); }
+  /// Exit status, or nullopt if it is still running after @p timeout.
+  std::optional<int> wait(std::chrono::milliseconds timeout) {
+    const auto until = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < until) {
+      int status = 0;
+      if (::waitpid(pid_, &status, WNOHANG) == pid_) {
+        exited_ = true;
+        return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+      }
+      std::this_thread::sleep_for(10ms);
+    }
+    return std::nullopt;
+  }
+
+ private:
+  pid_t pid_ = -1;
+  bool exited_ = false;
+};
+
+/// A protocol client on the shared io thread; what it receives is kept under a mutex.
+class Client {
+ public:
+  Client(asio::io_context& io, std::uint16_t port) : socket_(io) {
+    boost::system::error_code ec;
+    for (int i = 0; i < 200; ++i) {
+      socket_.connect(tcp::endpoint(asio::ip::make_address("127.0.0.1"), port), ec);
+      if (!ec)
+        break;
+      socket_.close();
+      std::this_thread::sleep_for(25ms);
+    }
+    connected_ = !ec;
+    if (connected_)
+      asio::post(socket_.get_executor(), [this] { read(); });
+  }
+  bool connected() const { return connected_; }
+
+  void send(const sim::ClientMessage& m) { send_raw(sim::encode(m)); }
+  void send_raw(std::vector<std::uint8_t> bytes) {
+    auto b = std::make_shared<std::vector<std::uint8_t>>(std::move(bytes));
+    asio::post(socket_.get_executor(), [this, b] {
+      boost::system::error_code ec;
+      asio::write(socket_, asio::buffer(*b), ec);
+    });
+  }
+  void close() {
+    std::promise<void> done;
+    asio::post(socket_.get_executor(), [this, &done] {
+      boost::system::error_code ec;
+      socket_.shutdown(tcp::socket::shutdown_both, ec);
+      socket_.close(ec);
+      done.set_value();
+    });
+    done.get_future().wait();
+  }
+
+  bool eof() const { return eof_; }
+  std::optional<sim::StateFrame> last_state() const {
+    std::lock_guard lock(mutex_);
+    return last_state_;
+  }
+  std::vector<sim::ServerMessage> others() const {
+    std::lock_guard lock(mutex_);
+    return others_;
+  }
+  /// The latest message of type T.
+  template <typename T>
+  std::optional<T> find() const {
+    std::lock_guard lock(mutex_);
+    for (auto it = others_.rbegin(); it != others_.rend(); ++it) {
+      if (const auto* x = std::get_if<T>(&*it))
+        return *x;
+    }
+    return std::nullopt;
+  }
+  template <typename T>
+  std::size_t count() const {
+    std::lock_guard lock(mutex_);
+    return std::count_if(others_.begin(), others_.end(),
+                         [](const auto& m) { return std::holds_alternative<T>(m); });
+  }
+  std::size_t states() const { return states_; }
+
+ private:
+  void read() {
+    socket_.async_read_some(
+        asio::buffer(buf_), [this](boost::system::error_code ec, std::size_t n) {
+          if (ec) {
+            eof_ = true;
+            return;
+          }
+          std::span<const std::uint8_t> data(buf_.data(), n);
+          while (!data.empty()) {
+            auto r = parser_.parse(data);
+            if (!r) {
+              ADD_FAILURE() << "server sent a bad frame: " << sim::to_string(r.error());
+              return;
+            }
+            if (*r != sim::FrameParser::Status::kFrame)
+              break;
+            auto m = sim::decode_server(parser_.frame());
+            if (!m) {
+              ADD_FAILURE() << "server sent a bad message: " << sim::to_string(m.error());
+              return;
+            }
+            std::lock_guard lock(mutex_);
+            if (auto* s = std::get_if<sim::StateFrame>(&*m)) {
+              last_state_ = std::move(*s);
+              ++states_;
+            } else {
+              others_.push_back(std::move(*m));
+            }
+          }
+          read();
+        });
+  }
+
+  tcp::socket socket_;
+  bool connected_ = false;
+  std::array<std::uint8_t, 65536> buf_{};
+  sim::FrameParser parser_{sim::Sender::kServer};
+  mutable std::mutex mutex_;
+  std::optional<sim::StateFrame> last_state_;
+  std::vector<sim::ServerMessage> others_;
+  std::atomic<std::size_t> states_{0};
+  std::atomic<bool> eof_{false};
+};
+
+template <typename Pred>
+bool eventually(Pred p, std::chrono::milliseconds timeout) {
+  const auto until = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < until) {
+    if (p())
+      return true;
+    std::this_thread::sleep_for(20ms);
+  }
+  return p();
+}
+
+TEST(SimServerIT, ThreeClientsDriveWatchAndSurviveGarbage) {
+  const auto port = free_port();
+  ServerProcess server({"--scenario", "sim-server/tests/scenarios/three-cars.json", "--port",
+                        std::to_string(port), "--bind", "127.0.0.1", "--log-level", "warn"});
+  ASSERT_TRUE(server.started()) << bin("sim-server");
+
+  asio::io_context io;
+  auto work = asio::make_work_guard(io);
+  std::thread io_thread([&] { io.run(); });
+  {
+    Client a(io, port), b(io, port), w(io, port);
+    ASSERT_TRUE(a.connected() && b.connected() && w.connected());
+    a.send(sim::Hello{"driver-a"});
+    b.send(sim::Hello{"driver-b"});
+    w.send(sim::Hello{"watcher"});
+    ASSERT_TRUE(eventually([&] { return w.find<sim::Welcome>().has_value(); }, 3s));
+    EXPECT_EQ(w.find<sim::Welcome>()->vehicles.size(), 3u);
+    a.send(sim::Attach{sim::Role::kDriver, 0});
+    b.send(sim::Attach{sim::Role::kDriver, 1});
+    w.send(sim::Attach{sim::Role::kWatcher, 0});
+    ASSERT_TRUE(
+        eventually([&] { return a.find<sim::AttachResult>() && b.find<sim::AttachResult>(); }, 2s));
+    EXPECT_EQ(a.find<sim::AttachResult>()->status, sim::AttachStatus::kOk);
+    EXPECT_EQ(b.find<sim::AttachResult>()->status, sim::AttachStatus::kOk);
+
+    // Both drive for 2 s, controls at 20 Hz.
+    auto drive = [](Client& c, std::uint16_t v) {
+      c.send(sim::ControlsMsg{v, {0.5f, 0.0f, 0.0f, false, false}, wire::kLowBeam});
+    };
+    for (int i = 0; i < 40; ++i) {
+      drive(a, 0);
+      drive(b, 1);
+      std::this_thread::sleep_for(50ms);
+    }
+    auto s = w.last_state();
+    ASSERT_TRUE(s);
+    EXPECT_GT(s->vehicles[0].speed, 2.0f);
+    EXPECT_GT(s->vehicles[1].speed, 2.0f);
+    EXPECT_LT(std::abs(s->vehicles[2].speed), 0.1f) << "nobody drives c: it brakes to a stop";
+    EXPECT_GT(w.states(), 150u) << "100 Hz state stream";
+
+    // The watcher may not take over b's car.
+    ASSERT_EQ(w.count<sim::AttachResult>(), 1u);
+    w.send(sim::Attach{sim::Role::kDriver, 1});
+    ASSERT_TRUE(eventually([&] { return w.count<sim::AttachResult>() == 2; }, 2s));
+    EXPECT_EQ(w.find<sim::AttachResult>()->status, sim::AttachStatus::kAlreadyDriven);
+    EXPECT_NE(w.find<sim::AttachResult>()->reason.find("driver-b"), std::string::npos);
+
+    // Driver a leaves; b keeps driving. Garbage arrives on a fourth connection meanwhile.
+    a.close();
+    Client g(io, port);
+    ASSERT_TRUE(g.connected());
+    const std::string junk = "GET / HTTP/1.1\r\nHost: sim-server\r\n\r\n";
+    g.send_raw(std::vector<std::uint8_t>(junk.begin(), junk.end()));
+    const auto ticks_before = w.states();
+    bool a_stopped = false;
+    for (int i = 0; i < 60 && !a_stopped; ++i) {
+      drive(b, 1);
+      std::this_thread::sleep_for(50ms);
+      const auto st = w.last_state();
+      a_stopped = st && std::abs(st->vehicles[0].speed) < 0.05f;
+    }
+    EXPECT_TRUE(a_stopped) << "the car of the driver who left did not stop";
+    s = w.last_state();
+    EXPECT_TRUE(s->vehicles[0].lights & wire::kBrakeLights);
+    EXPECT_TRUE(s->vehicles[0].lights & wire::kHazard);
+    EXPECT_GT(s->vehicles[1].speed, 3.0f) << "b's car should still be driving";
+
+    EXPECT_TRUE(eventually([&] { return g.eof(); }, 2s)) << "garbage connection not closed";
+    const auto closing = g.find<sim::Closing>();
+    ASSERT_TRUE(closing);
+    EXPECT_EQ(closing->reason, sim::CloseReason::kProtocolError);
+    EXPECT_FALSE(b.eof());
+    EXPECT_FALSE(w.eof());
+    EXPECT_GT(w.states(), ticks_before + 50) << "the stream went on for the others";
+
+    // SIGTERM: everyone gets Closing(shutdown), the server exits 0.
+    server.signal(SIGTERM);
+    const auto rc = server.wait(5s);
+    ASSERT_TRUE(rc) << "server did not stop on SIGTERM";
+    EXPECT_EQ(*rc, 0);
+    EXPECT_TRUE(eventually([&] { return b.eof() && w.eof(); }, 2s));
+    ASSERT_TRUE(w.find<sim::Closing>());
+    EXPECT_EQ(w.find<sim::Closing>()->reason, sim::CloseReason::kShutdown);
+    b.close();
+    w.close();
+  }
+  work.reset();
+  io.stop();
+  io_thread.join();
+}
+
+TEST(SimServerIT, BadScenarioExitsWithTwoBeforeListening) {
+  const auto port = free_port();
+  ServerProcess server(
+      {"--scenario", "sim-server/tests/scenarios/bad-lane.json", "--port", std::to_string(port)});
+  ASSERT_TRUE(server.started());
+  const auto rc = server.wait(5s);
+  ASSERT_TRUE(rc);
+  EXPECT_EQ(*rc, 2);
+  asio::io_context io;
+  tcp::socket s(io);
+  boost::system::error_code ec;
+  s.connect(tcp::endpoint(asio::ip::make_address("127.0.0.1"), port), ec);
+  EXPECT_TRUE(ec) << "something listens on the port";
+}
+
+TEST(SimServerIT, FastRunStopsAfterItsDuration) {
+  ServerProcess server({"--scenario", "sim-server/tests/scenarios/three-cars.json", "--port",
+                        std::to_string(free_port()), "--fast", "--duration", "30", "--log-level",
+                        "warn"});
+  ASSERT_TRUE(server.started());
+  const auto rc = server.wait(20s);
+  ASSERT_TRUE(rc) << "3000 steps of three cars should take well under 20 s";
+  EXPECT_EQ(*rc, 0);
+}
+
+}  // namespace
+}  // namespace tb::server
