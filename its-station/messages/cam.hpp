@@ -154,6 +154,7 @@ Expected<std::vector<std::uint8_t>, CodecError> encode(const Cam& cam);
 /// (the encoding padded to a whole octet). Rejects a messageID other than cam,
 /// protocolVersion other than 1 or 2 (see kProtocolVersion1), values outside their constraints,
 /// truncated input and unsupported choices. Never reads outside @p bytes; no heap allocation.
+/// After an error @p out is unspecified: use it only on success.
 Expected<std::size_t, CodecError> decode(std::span<const std::uint8_t> bytes, Cam& out);
 Expected<Cam, CodecError> decode_cam(std::span<const std::uint8_t> bytes);
 

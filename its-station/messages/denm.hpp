@@ -103,7 +103,7 @@ Expected<std::size_t, CodecError> encode(const Denm& denm, std::span<std::uint8_
 Expected<std::vector<std::uint8_t>, CodecError> encode(const Denm& denm);
 
 /// Decodes one UPER-encoded DENM of protocolVersion 2 or 1; returns the bytes consumed. Never
-/// reads outside @p bytes.
+/// reads outside @p bytes. After an error @p out is unspecified: use it only on success.
 Expected<std::size_t, CodecError> decode(std::span<const std::uint8_t> bytes, Denm& out);
 Expected<Denm, CodecError> decode_denm(std::span<const std::uint8_t> bytes);
 
