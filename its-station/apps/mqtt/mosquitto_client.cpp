@@ -38,6 +38,8 @@ MosquittoClient::MosquittoClient(const clock::Clock& clock, ClientConfig cfg)
   mosquitto_disconnect_callback_set(mosq_, &MosquittoClient::on_disconnect);
   mosquitto_publish_callback_set(mosq_, &MosquittoClient::on_publish);
   mosquitto_threaded_set(mosq_, true);  // publish() comes from other threads
+  // Warnings are small and urgent: no Nagle delay behind an unacknowledged segment.
+  mosquitto_int_option(mosq_, MOSQ_OPT_TCP_NODELAY, 1);
   mosquitto_reconnect_delay_set(mosq_, cfg_.reconnect_min_s, cfg_.reconnect_max_s, true);
   if (!cfg_.username.empty()) {
     if (const int rc =
