@@ -1,0 +1,124 @@
+// The its-gn-probe program on the veth stand-in: one probe in each namespace, one sending, the
+// other printing what it receives; and the program's exit codes for bad input.
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "its-station/geonet/tests/netns_fixture.hpp"
+
+namespace tb::its {
+namespace {
+
+using json = nlohmann::json;
+using VethPair = testing::VethPair;
+
+std::string probe() {
+  const char* bin = std::getenv("TESTBED_BIN");
+  return std::string(bin ? bin : "build/bin") + "/its-gn-probe";
+}
+
+/// A program whose stdout is read line by line.
+class Child {
+ public:
+  explicit Child(const std::string& cmd) : pipe_(::popen(cmd.c_str(), "r")) {}
+  ~Child() {
+    if (pipe_)
+      ::pclose(pipe_);
+  }
+  /// The next line parsed as JSON, or null at the end of the output.
+  json next() {
+    char line[4096];
+    if (!pipe_ || std::fgets(line, sizeof line, pipe_) == nullptr)
+      return nullptr;
+    return json::parse(line, nullptr, false);
+  }
+  /// Reads the rest of the output (so the child never dies of SIGPIPE), waits for the end and
+  /// returns the exit status.
+  int wait() {
+    while (!next().is_null()) {
+    }
+    FILE* pipe = std::exchange(pipe_, nullptr);
+    if (pipe == nullptr)
+      return -1;
+    const int status = ::pclose(pipe);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+
+ private:
+  FILE* pipe_;
+};
+
+std::string in_ns(const testing::Netns& ns, const std::string& args) {
+  return "ip netns exec " + ns.name() + " " + probe() + " " + args + " 2>/dev/null";
+}
+
+void expect_received(Child& rx, const std::string& type, int count, const std::string& source) {
+  for (int i = 0; i < count; ++i) {
+    const json j = rx.next();
+    ASSERT_TRUE(j.is_object()) << "line " << i;
+    EXPECT_EQ(j["event"], "rx");
+    EXPECT_EQ(j["type"], type);
+    EXPECT_EQ(j["seq"], i);
+    EXPECT_EQ(j["port"], 2001);
+    EXPECT_EQ(j["source"], source);
+    EXPECT_NEAR(j["latitude"].get<double>(), 48.1501, 1e-7);
+  }
+  const json summary = rx.next();
+  EXPECT_EQ(summary["event"], "summary");
+  EXPECT_EQ(summary["received"], count);
+  EXPECT_EQ(rx.wait(), 0);
+}
+
+TEST_F(VethPair, ProbeSendsShbAndTheOtherProbeReceivesIt) {
+  Child rx{in_ns(*b_, "--receive-count 4 --duration-s 20 --position 48.15 -1.6")};
+  const json ready = rx.next();
+  ASSERT_EQ(ready["event"], "ready") << ready.dump();
+  EXPECT_EQ(ready["interface"], "wlan0");
+
+  Child tx{in_ns(*a_, "--send shb --count 4 --interval-ms 20 --position 48.1501 -1.6")};
+  const json tx_ready = tx.next();
+  ASSERT_EQ(tx_ready["event"], "ready");
+  for (int i = 0; i < 4; ++i)
+    EXPECT_EQ(tx.next()["confirm"], "accepted");
+  EXPECT_EQ(tx.next()["event"], "summary");
+  EXPECT_EQ(tx.wait(), 0);
+  expect_received(rx, "SHB", 4, tx_ready["address"]);
+}
+
+TEST_F(VethPair, ProbeGeoBroadcastsAcrossTheLink) {
+  Child rx{in_ns(*b_, "--receive-count 2 --duration-s 20 --position 48.15 -1.6")};
+  ASSERT_EQ(rx.next()["event"], "ready");
+  Child tx{in_ns(*a_,
+                 "--send gbc --area 48.15 -1.6 300 --count 2 --interval-ms 20 "
+                 "--position 48.1501 -1.6")};
+  const json tx_ready = tx.next();
+  EXPECT_EQ(tx.wait(), 0);
+  expect_received(rx, "GBC circle", 2, tx_ready["address"]);
+}
+
+TEST_F(VethPair, ProbeExitCodesNameTheProblem) {
+  // No interface of that name in the namespace: 1, and the message names it.
+  EXPECT_EQ(std::system(("ip netns exec " + a_->name() + " " + probe() +
+                         " --interface wlan9 2>&1 | grep -q \"interface 'wlan9': no such\"")
+                            .c_str()),
+            0);
+  Child missing{in_ns(*a_, "--interface wlan9")};
+  EXPECT_EQ(missing.wait(), 1);
+  Child no_area{in_ns(*a_, "--send gbc --position 48 -1")};
+  EXPECT_EQ(no_area.wait(), 2);
+  Child off_globe{in_ns(*a_, "--send shb --position 91 0")};
+  EXPECT_EQ(off_globe.wait(), 2);
+  // Nothing arrives: 3 once the time is up.
+  Child lonely{in_ns(*a_, "--receive-count 1 --duration-s 0.2")};
+  EXPECT_EQ(lonely.wait(), 3);
+}
+
+}  // namespace
+}  // namespace tb::its

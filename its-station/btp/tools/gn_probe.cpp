@@ -1,0 +1,238 @@
+// its-gn-probe: sends and receives GeoNetworking/BTP-B packets on a station's radio interface
+// with the stack of its_link/its_geonet/its_btp. For checking a radio (hwsim in OCB mode or the
+// veth stand-in) end to end, in tests and by hand. Received packets are printed as JSON lines.
+
+#include <csignal>
+#include <cstdint>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <nlohmann/json.hpp>
+
+#include "common/clock/asio_runtime.hpp"
+#include "common/util/bytes.hpp"
+#include "its-station/btp/dispatcher.hpp"
+#include "its-station/link/capturing_link.hpp"
+#include "its-station/link/packet_socket_link.hpp"
+
+namespace {
+
+using namespace tb::its;
+using json = nlohmann::json;
+
+constexpr int kExitLinkError = 1;
+constexpr int kExitBadArguments = 2;
+constexpr int kExitNotEnoughReceived = 3;
+
+struct Options {
+  std::string interface = "wlan0";
+  std::vector<double> position;  // lat, lon
+  double speed_mps = 0.0;
+  double heading_deg = 0.0;
+  std::string send = "none";
+  std::vector<double> area;  // lat, lon, radius
+  int hops = 10;
+  std::uint16_t port = btp::kPortCam;
+  int interval_ms = 100;
+  int count = 0;
+  int receive_count = 0;
+  double duration_s = 0.0;
+  std::string pcap;
+  int station_type = static_cast<int>(geonet::StationType::kPassengerCar);
+};
+
+void print(const json& j) {
+  std::cout << j.dump() << std::endl;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  spdlog::set_default_logger(spdlog::stderr_color_mt("gn-probe"));
+  Options o;
+  CLI::App app{"Send and receive GeoNetworking/BTP-B packets on a radio interface"};
+  app.add_option("--interface", o.interface, "radio interface")->capture_default_str();
+  app.add_option("--position", o.position, "own position: LAT LON (degrees)")->expected(2);
+  app.add_option("--speed", o.speed_mps, "own speed, m/s");
+  app.add_option("--heading", o.heading_deg, "own heading, degrees clockwise from north");
+  app.add_option("--send", o.send, "what to send")
+      ->check(CLI::IsMember({"none", "shb", "tsb", "gbc"}))
+      ->capture_default_str();
+  app.add_option("--area", o.area, "GBC destination circle: LAT LON RADIUS_M")->expected(3);
+  app.add_option("--hops", o.hops, "TSB/GBC maximum hop limit")->check(CLI::Range(1, 255));
+  app.add_option("--port", o.port, "BTP-B port to send to and listen on")->capture_default_str();
+  app.add_option("--interval-ms", o.interval_ms, "time between sent packets")
+      ->check(CLI::Range(1, 3'600'000));
+  app.add_option("--count", o.count, "packets to send (0: until the end)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--receive-count", o.receive_count,
+                 "stop once this many packets were received (exit 3 if the time runs out first)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--duration-s", o.duration_s, "stop after this long (0: no limit)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--pcap", o.pcap, "write sent and received frames to this pcap file");
+  app.add_option("--station-type", o.station_type, "GN address station type (5 = car)")
+      ->check(CLI::Range(0, 31));
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : kExitBadArguments;
+  }
+  if (o.send != "none" && o.position.empty()) {
+    spdlog::error("--send {} needs --position LAT LON (GN packets carry the sender's position)",
+                  o.send);
+    return kExitBadArguments;
+  }
+  if (o.send == "gbc" && o.area.empty()) {
+    spdlog::error("--send gbc needs --area LAT LON RADIUS_M");
+    return kExitBadArguments;
+  }
+  if (!o.position.empty() && (std::abs(o.position[0]) > 90 || std::abs(o.position[1]) > 180)) {
+    spdlog::error("--position {} {} is not on the globe", o.position[0], o.position[1]);
+    return kExitBadArguments;
+  }
+
+  boost::asio::io_context io;
+  tb::clock::AsioRuntime rt{io};
+  auto opened = link::PacketSocketLink::open(io, o.interface);
+  if (!opened) {
+    spdlog::error("{}", opened.error().message());
+    return kExitLinkError;
+  }
+  std::unique_ptr<link::PacketSocketLink> socket = std::move(*opened);
+  spdlog::info("link: {} {} driver '{}' ({})", o.interface, link::to_string(socket->address()),
+               socket->driver(),
+               socket->driver() == "veth" ? "veth stand-in for the radio" : "radio interface");
+
+  link::LinkLayer* link = socket.get();
+  std::optional<link::PcapWriter> pcap;
+  std::unique_ptr<link::CapturingLink> capture;
+  if (!o.pcap.empty()) {
+    auto w = link::PcapWriter::create(o.pcap);
+    if (!w) {
+      spdlog::error("{}", w.error());
+      return kExitBadArguments;
+    }
+    pcap.emplace(std::move(*w));
+    capture = std::make_unique<link::CapturingLink>(*socket, *pcap, rt);
+    link = capture.get();
+  }
+
+  geonet::StaticPositionProvider position;
+  // A fixed position, stamped now: re-stamped every 100 ms as a 10 Hz receiver would, and
+  // before each packet, since receivers take a single-hop packet whose fix is not newer than
+  // the last one's for a duplicate (EN 302 636-4-1 Annex A.3).
+  auto stamp = [&] {
+    if (!o.position.empty())
+      position.set({rt.wall_now(), o.position[0], o.position[1], o.speed_mps, o.heading_deg, true});
+  };
+  std::function<void()> refresh = [&] {
+    stamp();
+    rt.schedule_in(std::chrono::milliseconds{100}, refresh);
+  };
+  refresh();
+
+  geonet::RouterConfig config;
+  config.station_type = static_cast<geonet::StationType>(o.station_type);
+  geonet::Router router{rt, *link, position, config};
+  btp::Dispatcher btp{router};
+
+  int sent = 0;
+  int received = 0;
+  const bool sending = o.send != "none";
+  auto finished = [&] {
+    const bool sent_all = !sending || (o.count > 0 && sent >= o.count);
+    const bool received_all = o.receive_count == 0 || received >= o.receive_count;
+    // With no count on either side, only the duration or a signal ends the run.
+    const bool bounded = (sending && o.count > 0) || o.receive_count > 0;
+    return bounded && sent_all && received_all;
+  };
+
+  btp.register_port(o.port, [&](const btp::Indication& ind, std::span<const std::uint8_t> p) {
+    ++received;
+    tb::ByteReader r{p};
+    const auto seq = r.be<std::uint32_t>();
+    const auto& gn = *ind.gn;
+    print({{"event", "rx"},
+           {"type", geonet::to_string(gn.packet_type)},
+           {"source", link::to_string(gn.source.mid)},
+           {"sender", link::to_string(gn.sender)},
+           {"port", ind.destination_port},
+           {"seq", r.ok() ? json(seq) : json(nullptr)},
+           {"length", p.size()},
+           {"rhl", gn.remaining_hop_limit},
+           {"latitude", geonet::to_degrees(gn.source_position.latitude)},
+           {"longitude", geonet::to_degrees(gn.source_position.longitude)},
+           {"remaining_lifetime_ms",
+            std::chrono::duration_cast<std::chrono::milliseconds>(gn.remaining_lifetime).count()},
+           {"rx_time_ns", tb::clock::to_unix_ns(gn.rx_time)}});
+    if (finished())
+      io.stop();
+  });
+
+  geonet::DataRequest request = geonet::DataRequest::single_hop();
+  if (o.send == "tsb")
+    request = geonet::DataRequest::topologically_scoped(static_cast<std::uint8_t>(o.hops));
+  if (o.send == "gbc")
+    request = geonet::DataRequest::geo_broadcast(
+        geonet::make_geo_area(geonet::AreaShape::kCircle, {o.area[0], o.area[1]}, o.area[2]),
+        static_cast<std::uint8_t>(o.hops));
+  std::function<void()> send_next = [&] {
+    std::array<std::uint8_t, 8> payload{};
+    tb::ByteWriter w{payload};
+    w.be<std::uint32_t>(static_cast<std::uint32_t>(sent));
+    stamp();
+    const auto confirm = btp.send_b(request, o.port, 0, payload);
+    print({{"event", "tx"}, {"seq", sent}, {"confirm", geonet::to_string(confirm)}});
+    ++sent;
+    if (finished()) {
+      io.stop();
+      return;
+    }
+    if (o.count == 0 || sent < o.count)
+      rt.schedule_in(std::chrono::milliseconds{o.interval_ms}, send_next);
+  };
+  if (sending)
+    rt.schedule_in(std::chrono::milliseconds{0}, send_next);
+  if (o.duration_s > 0)
+    rt.schedule_in(std::chrono::duration_cast<tb::clock::Duration>(
+                       std::chrono::duration<double>{o.duration_s}),
+                   [&] { io.stop(); });
+  boost::asio::signal_set signals{io, SIGINT, SIGTERM};
+  signals.async_wait([&](const boost::system::error_code& ec, int) {
+    if (!ec)
+      io.stop();
+  });
+
+  print({{"event", "ready"},
+         {"interface", o.interface},
+         {"address", link::to_string(socket->address())}});
+  io.run();
+
+  json drops = json::object();
+  for (std::size_t i = 0; i < static_cast<std::size_t>(geonet::DropReason::kCount); ++i) {
+    if (router.stats().drops[i] > 0)
+      drops[geonet::to_string(static_cast<geonet::DropReason>(i))] = router.stats().drops[i];
+  }
+  print({{"event", "summary"},
+         {"sent", sent},
+         {"received", received},
+         {"beacons_sent", router.stats().beacons_sent},
+         {"forwarded", router.stats().forwarded},
+         {"drops", drops}});
+  if (pcap)
+    pcap->flush();
+  if (o.receive_count > 0 && received < o.receive_count) {
+    spdlog::error("received {} of {} packets before the time ran out", received, o.receive_count);
+    return kExitNotEnoughReceived;
+  }
+  return 0;
+}
