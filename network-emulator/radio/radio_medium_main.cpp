@@ -225,6 +225,16 @@ int run(const Options& opt) {
   tb::clock::AsioRuntime runtime(io);
   radio::Medium medium(runtime, channel);
 
+  // Bound before any radio exists, so that a busy port costs nothing to clean up.
+  std::unique_ptr<PositionListener> listener;
+  try {
+    listener = std::make_unique<PositionListener>(io, positions_ep, positions);
+  } catch (const boost::system::system_error& e) {
+    spdlog::error("radio-medium: --positions {}: cannot listen: {}", opt.positions,
+                  e.code().message());
+    return kExitSetup;
+  }
+
   std::unique_ptr<radio::VethRadios> veths;
   std::vector<std::unique_ptr<radio::VethPort>> ports;
   std::unique_ptr<radio::HwsimRadios> hwsim;
@@ -252,8 +262,6 @@ int run(const Options& opt) {
     spdlog::error("radio-medium: {}", e.what());
     return kExitSetup;
   }
-
-  PositionListener listener(io, positions_ep, positions);
 
   asio::signal_set signals(io, SIGINT, SIGTERM, SIGHUP);
   signals.async_wait([&](const boost::system::error_code& ec, int sig) {
