@@ -254,6 +254,53 @@ class Probe {
   std::map<int, int> puback_;
 };
 
+/// Runs gen-broker-config on a scenario text; returns its exit status and what it printed.
+std::pair<int, std::string> generate(const std::string& scenario_text, const fs::path& dir) {
+  fs::create_directories(dir);
+  std::ofstream(dir / "scenario.json") << scenario_text;
+  const std::string cmd = (repo_root() / "docker/mosquitto/gen-broker-config").string() +
+                          " --scenario " + (dir / "scenario.json").string() + " --out " +
+                          (dir / "out").string() + " > " + (dir / "log").string() + " 2>&1";
+  const int status = std::system(cmd.c_str());
+  std::ifstream f(dir / "log");
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1,
+          std::string(std::istreambuf_iterator<char>(f), {})};
+}
+
+TEST(BrokerGenerator, WritesAclForTheScenarioStations) {
+  const fs::path dir = fs::temp_directory_path() / ("hmi-gen-" + std::to_string(::getpid()));
+  const auto [rc, out] =
+      generate(R"({"vehicles": [{"station_id": 7}, {"station_id": 4294967295}]})", dir);
+  EXPECT_EQ(rc, 0) << out;
+  std::ifstream acl(dir / "out/acl");
+  const std::string text(std::istreambuf_iterator<char>(acl), {});
+  EXPECT_NE(text.find("user station-7\ntopic write its/7/#"), std::string::npos) << text;
+  EXPECT_NE(text.find("user station-4294967295\ntopic write its/4294967295/#"), std::string::npos);
+  EXPECT_NE(text.find("user hmi\ntopic read its/#"), std::string::npos);
+  EXPECT_TRUE(fs::exists(dir / "out/stations/7.password"));
+  EXPECT_EQ(fs::status(dir / "out/credentials.json").permissions() & fs::perms::others_read,
+            fs::perms::none);
+  fs::remove_all(dir);
+}
+
+TEST(BrokerGenerator, BadScenariosExitWithTwoAndNameTheField) {
+  const fs::path dir = fs::temp_directory_path() / ("hmi-gen-bad-" + std::to_string(::getpid()));
+  auto [rc, out] = generate(R"({"vehicles": [{"station_id": 1}, {"station_id": "x"}]})", dir);
+  EXPECT_EQ(rc, 2);
+  EXPECT_NE(out.find("/vehicles/1/station_id"), std::string::npos) << out;
+  EXPECT_NE(out.find("\"x\""), std::string::npos) << out;
+  std::tie(rc, out) = generate(R"({"vehicles": [{"station_id": 1}, {"station_id": 1}]})", dir);
+  EXPECT_EQ(rc, 2);
+  EXPECT_NE(out.find("duplicate station id(s): 1"), std::string::npos) << out;
+  std::tie(rc, out) = generate("{not json", dir);
+  EXPECT_EQ(rc, 2);
+  EXPECT_NE(out.find("not JSON"), std::string::npos) << out;
+  std::tie(rc, out) = generate(R"({"vehicles": []})", dir);
+  EXPECT_EQ(rc, 2);
+  EXPECT_NE(out.find("/vehicles"), std::string::npos) << out;
+  fs::remove_all(dir);
+}
+
 constexpr int kReasonSuccess = 0;
 constexpr int kReasonNotAuthorized = 135;  // MQTT v5 0x87
 
