@@ -42,7 +42,7 @@ struct DispatcherStats {
 
 class Dispatcher {
  public:
-  /// Installs itself as @p router's indication handler.
+  /// Installs itself as @p router's indication handler; destroy it before the router.
   explicit Dispatcher(geonet::Router& router);
   ~Dispatcher();
   Dispatcher(const Dispatcher&) = delete;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "common/geodesy/local_frame.hpp"
 
@@ -90,6 +91,18 @@ Router::Router(clock::Runtime& runtime, link::LinkLayer& link, const PositionPro
       address_{config.manually_configured_address, config.station_type, link.address()},
       table_(config.location_entry_lifetime),
       rng_(config.random_seed != 0 ? config.random_seed : seed_from(link.address())) {
+  // A program's configuration mistake, caught where the router is made (the program's edge).
+  if (config_.beacon_interval <= clock::Duration::zero())
+    throw std::invalid_argument("GN router: beacon interval must be positive");
+  if (config_.beacon_max_jitter < clock::Duration::zero())
+    throw std::invalid_argument("GN router: beacon jitter must not be negative");
+  if (config_.location_entry_lifetime <= clock::Duration::zero())
+    throw std::invalid_argument("GN router: location table entry lifetime must be positive");
+  if (config_.default_hop_limit == 0)
+    throw std::invalid_argument("GN router: default hop limit must be at least 1");
+  if (config_.default_lifetime <= clock::Duration::zero() ||
+      config_.default_lifetime > config_.max_lifetime)
+    throw std::invalid_argument("GN router: default packet lifetime must be in (0, max lifetime]");
   link_.set_receive_handler([this](const link::ReceivedFrame& f) { on_frame(f); });
   // Clause 10.3.6.2: the first beacon goes out after a random jitter, so that stations started
   // together do not beacon in step.

@@ -139,6 +139,8 @@ struct RouterStats {
 
 class Router {
  public:
+  /// @throws std::invalid_argument for a configuration that cannot work (non-positive beacon
+  /// interval or entry lifetime, hop limit 0, default lifetime outside (0, max lifetime]).
   Router(clock::Runtime& runtime, link::LinkLayer& link, const PositionProvider& position,
          RouterConfig config = {});
   ~Router();

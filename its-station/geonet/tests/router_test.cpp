@@ -77,6 +77,22 @@ TEST_F(RouterTest, ShbCarriesTheEgoPositionVectorAndTheGnAddress) {
   EXPECT_EQ(Bytes(p.payload.begin(), p.payload.end()), payload);
 }
 
+TEST_F(RouterTest, ConfigurationsThatCannotWorkAreRefused) {
+  auto make = [&](auto change) {
+    RouterConfig c;
+    change(c);
+    Router r{rt, link, position, c};
+  };
+  EXPECT_THROW(make([](RouterConfig& c) { c.beacon_interval = 0ms; }), std::invalid_argument);
+  EXPECT_THROW(make([](RouterConfig& c) { c.beacon_max_jitter = -1ms; }), std::invalid_argument);
+  EXPECT_THROW(make([](RouterConfig& c) { c.location_entry_lifetime = 0s; }),
+               std::invalid_argument);
+  EXPECT_THROW(make([](RouterConfig& c) { c.default_hop_limit = 0; }), std::invalid_argument);
+  EXPECT_THROW(make([](RouterConfig& c) { c.default_lifetime = 601s; }), std::invalid_argument);
+  EXPECT_NO_THROW(make([](RouterConfig&) {}));
+  EXPECT_EQ(rt.pending(), 0u);  // the routers made cancelled their beacon timers
+}
+
 TEST_F(RouterTest, RequestsThatCannotBeSentSayWhy) {
   RouterConfig config;
   config.station_type = StationType::kRoadSideUnit;
