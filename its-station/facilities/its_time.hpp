@@ -24,4 +24,14 @@ inline std::uint16_t generation_delta_time(std::int64_t timestamp_its_ms) {
   return static_cast<std::uint16_t>(((timestamp_its_ms % 65536) + 65536) % 65536);
 }
 
+/// The UTC instant a received generationDeltaTime stands for: the latest instant not after
+/// @p received (plus a small allowance for clock offsets between stations) with that value
+/// modulo 65 536 ms. Unambiguous while CAMs arrive within a minute of their generation.
+inline clock::WallTime generation_time(std::uint16_t gdt, clock::WallTime received) {
+  constexpr std::int64_t kAllowanceMs = 2000;
+  const std::int64_t now = timestamp_its(received) + kAllowanceMs;
+  std::int64_t t = now - (((now - gdt) % 65536) + 65536) % 65536;
+  return clock::WallTime{std::chrono::milliseconds{t + kItsEpochUnixMs}};
+}
+
 }  // namespace tb::its::facilities

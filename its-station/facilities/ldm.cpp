@@ -55,6 +55,7 @@ void Ldm::add_cam(const messages::Cam& cam, clock::WallTime rx_wall) {
   s.received = runtime_.steady_now();
   s.received_wall = rx_wall;
   s.generation_delta_time = cam.cam.generationDeltaTime;
+  s.generation_time = generation_time(cam.cam.generationDeltaTime, rx_wall);
   s.latitude_deg = *lat;
   s.longitude_deg = *lon;
   s.heading_deg = cdd::heading_deg(hf.heading.headingValue);

@@ -21,6 +21,7 @@ struct NeighbourSample {
   clock::SteadyTime received{};
   clock::WallTime received_wall{};
   std::uint16_t generation_delta_time = 0;
+  clock::WallTime generation_time{};  ///< the fix time the CAM names, reconstructed from gdt
   double latitude_deg = 0.0;
   double longitude_deg = 0.0;
   std::optional<double> heading_deg;

@@ -82,5 +82,15 @@ TEST(ItsTime, EpochAndDeltaTime) {
   EXPECT_EQ(timestamp_its(y2024), std::int64_t{7305} * 86'400'000);
 }
 
+TEST(ItsTime, GenerationTimeFromDeltaTime) {
+  using namespace std::chrono;
+  const clock::WallTime gen{milliseconds{1'763'770'000'123}};
+  const auto gdt = generation_delta_time(timestamp_its(gen));
+  EXPECT_EQ(generation_time(gdt, gen + milliseconds{35}), gen);
+  EXPECT_EQ(generation_time(gdt, gen + seconds{50}), gen);
+  // A sender whose clock runs 1.5 s ahead of ours is still placed right.
+  EXPECT_EQ(generation_time(gdt, gen - milliseconds{1500}), gen);
+}
+
 }  // namespace
 }  // namespace tb::its::facilities

@@ -1,0 +1,223 @@
+#include "its-station/app/adapters.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+#include <spdlog/spdlog.h>
+
+#include "its-station/facilities/cdd_convert.hpp"
+#include "its-station/facilities/its_time.hpp"
+#include "its-station/geonet/area.hpp"
+
+namespace tb::its::station {
+
+std::optional<geonet::EgoPosition> GnPositionAdapter::current_position() const {
+  const auto& fix = position_.current();
+  if (!fix)
+    return std::nullopt;
+  geonet::EgoPosition p;
+  p.time = fix->time;
+  p.latitude_deg = fix->latitude_deg;
+  p.longitude_deg = fix->longitude_deg;
+  p.speed_mps = fix->speed_mps.value_or(0.0);
+  p.heading_deg = fix->heading_deg.value_or(0.0);
+  // PAI (EN 302 636-4-1 clause 9.5.2): the 95 % confidence is within itsGnPaiInterval.
+  p.accurate = fix->position_confidence && fix->position_confidence->semi_major_m <= kPaiIntervalM;
+  return p;
+}
+
+facilities::SendResult to_send_result(geonet::DataConfirm c) {
+  switch (c) {
+    case geonet::DataConfirm::kAccepted:
+      return facilities::SendResult::kSent;
+    case geonet::DataConfirm::kNoPosition:
+      return facilities::SendResult::kNoPosition;
+    case geonet::DataConfirm::kMaxSduSizeExceeded:
+      return facilities::SendResult::kTooLarge;
+    default:
+      spdlog::debug("GN-DATA.confirm: {}", geonet::to_string(c));
+      return facilities::SendResult::kLinkError;
+  }
+}
+
+facilities::SendResult BtpMessageSender::send_single_hop(std::uint16_t port,
+                                                         std::span<const std::uint8_t> payload) {
+  return to_send_result(btp_.send_b(geonet::DataRequest::single_hop(), port, 0, payload));
+}
+
+facilities::SendResult BtpMessageSender::send_geobroadcast(std::uint16_t port,
+                                                           const facilities::GeoArea& area,
+                                                           std::span<const std::uint8_t> payload,
+                                                           std::uint32_t lifetime_ms) {
+  geonet::AreaShape shape = geonet::AreaShape::kCircle;
+  if (area.shape == facilities::GeoArea::Shape::kRectangle)
+    shape = geonet::AreaShape::kRectangle;
+  else if (area.shape == facilities::GeoArea::Shape::kEllipse)
+    shape = geonet::AreaShape::kEllipse;
+  auto r = geonet::DataRequest::geo_broadcast(
+      geonet::make_geo_area(shape, {area.latitude_deg, area.longitude_deg}, area.distance_a_m,
+                            area.distance_b_m, area.angle_deg));
+  r.lifetime = std::chrono::milliseconds{lifetime_ms};
+  return to_send_result(btp_.send_b(r, port, 0, payload));
+}
+
+double DenPortAdapter::radius_m(apps::RelevanceDistance d) {
+  switch (d) {
+    case apps::RelevanceDistance::kLessThan50m:
+      return 50.0;
+    case apps::RelevanceDistance::kLessThan100m:
+      return 100.0;
+    case apps::RelevanceDistance::kLessThan200m:
+      return 200.0;
+    case apps::RelevanceDistance::kLessThan500m:
+      return 500.0;
+    case apps::RelevanceDistance::kLessThan1000m:
+      return 1000.0;
+    case apps::RelevanceDistance::kLessThan5km:
+      return 5000.0;
+    case apps::RelevanceDistance::kLessThan10km:
+      return 10000.0;
+    case apps::RelevanceDistance::kOver10km:
+      return 20000.0;
+  }
+  return 1000.0;
+}
+
+facilities::DenRequest DenPortAdapter::to_request(const apps::DenEventRequest& r) const {
+  facilities::DenRequest q;
+  q.event_type = {r.cause_code, r.sub_cause_code};
+  q.information_quality = r.information_quality;
+  q.event_latitude_deg = r.event_position.latitude_deg;
+  q.event_longitude_deg = r.event_position.longitude_deg;
+  q.event_altitude_m = r.event_position.altitude_m;
+  if (r.detection_time != clock::WallTime{})
+    q.detection_time = r.detection_time;
+  q.relevance_distance = static_cast<messages::RelevanceDistance>(r.relevance_distance);
+  q.relevance_traffic_direction =
+      static_cast<messages::RelevanceTrafficDirection>(r.relevance_traffic_direction);
+  q.validity_s = static_cast<messages::ValidityDuration>(
+      std::clamp<std::int64_t>(r.validity_duration.count(), 0, 86400));
+  q.repetition_interval = interval_;
+  q.repetition_duration = std::min<clock::Duration>(duration_, r.validity_duration);
+  const double radius = radius_m(r.relevance_distance);
+  q.destination_area = {facilities::GeoArea::Shape::kCircle,
+                        q.event_latitude_deg,
+                        q.event_longitude_deg,
+                        radius,
+                        radius,
+                        0.0};
+  if (r.event_heading_deg) {
+    messages::LocationContainer loc;
+    loc.eventPositionHeading = facilities::cdd::heading(r.event_heading_deg, std::nullopt);
+    loc.traces.emplace_back();  // SIZE(1..7): one (empty) trace
+    q.location = loc;
+  }
+  return q;
+}
+
+std::optional<apps::ActionId> DenPortAdapter::trigger(const apps::DenEventRequest& request) {
+  auto id = den_.trigger(to_request(request));
+  if (!id) {
+    spdlog::warn("DEN port: trigger refused: {}", facilities::to_string(id.error()));
+    return std::nullopt;
+  }
+  return apps::ActionId{id->originatingStationID, id->sequenceNumber};
+}
+
+bool DenPortAdapter::update(const apps::ActionId& id, const apps::DenEventRequest& request) {
+  auto r = den_.update({id.originating_station_id, id.sequence_number}, to_request(request));
+  return r.has_value();
+}
+
+bool DenPortAdapter::terminate(const apps::ActionId& id) {
+  return den_.terminate({id.originating_station_id, id.sequence_number}).has_value();
+}
+
+apps::mqtt::Kinematics own_kinematics(const facilities::PositionFix& fix,
+                                      const facilities::VehicleData* vehicle,
+                                      std::optional<double> length_m,
+                                      std::optional<double> width_m) {
+  apps::mqtt::Kinematics k;
+  k.latitude_deg = fix.latitude_deg;
+  k.longitude_deg = fix.longitude_deg;
+  k.altitude_m = fix.altitude_m;
+  k.heading_deg = fix.heading_deg;
+  k.speed_mps = fix.speed_mps;
+  if (vehicle) {
+    k.reversing = vehicle->reversing.value_or(false);
+    k.longitudinal_accel_mps2 = vehicle->longitudinal_acceleration_mps2;
+  }
+  k.length_m = length_m;
+  k.width_m = width_m;
+  return k;
+}
+
+apps::mqtt::Kinematics neighbour_kinematics(const facilities::Neighbour& n) {
+  apps::mqtt::Kinematics k;
+  const auto& s = n.latest();
+  k.latitude_deg = s.latitude_deg;
+  k.longitude_deg = s.longitude_deg;
+  const auto& p = n.last_cam.cam.camParameters;
+  if (p.basicContainer.referencePosition.altitude.altitudeValue !=
+      messages::kAltitudeValueUnavailable)
+    k.altitude_m = p.basicContainer.referencePosition.altitude.altitudeValue / 100.0;
+  k.heading_deg = s.heading_deg;
+  if (s.speed_mps)
+    k.speed_mps = std::abs(*s.speed_mps);
+  const auto& hf = p.highFrequencyContainer;
+  k.reversing = hf.driveDirection == messages::DriveDirection::backward;
+  if (hf.longitudinalAcceleration.longitudinalAccelerationValue !=
+      messages::kAccelerationValueUnavailable)
+    k.longitudinal_accel_mps2 = hf.longitudinalAcceleration.longitudinalAccelerationValue / 10.0;
+  if (hf.vehicleLength.vehicleLengthValue < messages::kVehicleLengthValueOutOfRange)
+    k.length_m = hf.vehicleLength.vehicleLengthValue / 10.0;
+  if (hf.vehicleWidth < messages::kVehicleWidthOutOfRange)
+    k.width_m = hf.vehicleWidth / 10.0;
+  return k;
+}
+
+apps::mqtt::DenmView denm_view(const messages::Denm& d) {
+  apps::mqtt::DenmView v;
+  const auto& mc = d.denm.management;
+  v.action_id = {mc.actionID.originatingStationID, mc.actionID.sequenceNumber};
+  if (d.denm.situation) {
+    v.cause_code = d.denm.situation->eventType.causeCode;
+    v.sub_cause_code = d.denm.situation->eventType.subCauseCode;
+  }
+  v.event_latitude_deg = facilities::cdd::latitude_deg(mc.eventPosition.latitude).value_or(0.0);
+  v.event_longitude_deg = facilities::cdd::longitude_deg(mc.eventPosition.longitude).value_or(0.0);
+  auto wall = [](messages::TimestampIts its) {
+    return clock::WallTime{
+        std::chrono::milliseconds{static_cast<std::int64_t>(its) + facilities::kItsEpochUnixMs}};
+  };
+  v.detection_time = wall(mc.detectionTime);
+  v.reference_time = wall(mc.referenceTime);
+  if (mc.termination)
+    v.termination = static_cast<int>(*mc.termination);
+  if (mc.relevanceDistance)
+    v.relevance_distance = static_cast<apps::RelevanceDistance>(*mc.relevanceDistance);
+  if (mc.relevanceTrafficDirection)
+    v.relevance_traffic_direction =
+        static_cast<apps::RelevanceTrafficDirection>(*mc.relevanceTrafficDirection);
+  v.validity_duration_s = mc.validityDuration;
+  return v;
+}
+
+apps::VehicleKinematics lcrw_kinematics(std::uint32_t station_id, const apps::mqtt::Kinematics& k,
+                                        clock::WallTime time, const geodesy::LocalFrame& frame) {
+  apps::VehicleKinematics v;
+  v.station_id = station_id;
+  v.heading_deg = k.heading_deg.value_or(0.0);
+  v.speed_mps = k.speed_mps.value_or(0.0);
+  v.reversing = k.reversing;
+  v.longitudinal_accel_mps2 = k.longitudinal_accel_mps2;
+  if (k.length_m)
+    v.length_m = *k.length_m;
+  if (k.width_m)
+    v.width_m = *k.width_m;
+  v.time = time;
+  v = apps::with_geodetic_position(v, frame, k.latitude_deg, k.longitude_deg);
+  return apps::centre_from_front_reference(v);
+}
+
+}  // namespace tb::its::station

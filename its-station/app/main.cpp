@@ -1,0 +1,488 @@
+// its-station: one ITS-G5 station — gpsd positioning, CAN vehicle data, GeoNetworking/BTP over
+// the radio interface, CA and DEN services, LDM, LCRW and MQTT. Usage: README.md in
+// its-station, "Facilities and the station program".
+
+#include <net/if.h>
+
+#include <chrono>
+#include <csignal>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/udp.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <nlohmann/json.hpp>
+
+#include "common/can/socketcan_bus.hpp"
+#include "common/can/udp_can_bus.hpp"
+#include "common/clock/asio_runtime.hpp"
+#include "common/geodesy/local_frame.hpp"
+#include "common/scenario/loader.hpp"
+#include "common/trace/tracer.hpp"
+#include "its-station/app/adapters.hpp"
+#include "its-station/apps/lcrw/lcrw_app.hpp"
+#include "its-station/apps/mqtt/mosquitto_client.hpp"
+#include "its-station/apps/mqtt/publisher.hpp"
+#include "its-station/btp/dispatcher.hpp"
+#include "its-station/facilities/ca_service.hpp"
+#include "its-station/facilities/can_vehicle_data.hpp"
+#include "its-station/facilities/den_service.hpp"
+#include "its-station/facilities/gpsd_position_provider.hpp"
+#include "its-station/facilities/gpsd_process.hpp"
+#include "its-station/facilities/ldm.hpp"
+#include "its-station/geonet/router.hpp"
+#include "its-station/link/packet_socket_link.hpp"
+
+namespace {
+
+namespace asio = boost::asio;
+namespace fac = tb::its::facilities;
+namespace apps = tb::its::apps;
+using namespace std::chrono_literals;
+
+struct Options {
+  std::uint32_t station_id = 0;
+  int station_type = -1;  // -1: from the scenario, else passengerCar
+  std::string scenario;
+  std::string radio = "wlan0";
+  std::string can_transport = "auto";  // auto | socketcan | udp | none
+  std::string can_interface = "vcan0";
+  std::uint16_t can_udp_port = 20000;
+  std::string dbc = TESTBED_VEHICLE_DBC;
+  std::string gpsd;  // host:port of an existing gpsd; empty: start our own
+  std::uint16_t gpsd_port = 2947;
+  std::uint16_t nmea_port = 10110;
+  double gpsd_wait_s = 10.0;
+  std::string cam_policy;  // etsi | fixed; empty: from the scenario
+  double cam_period_ms = 0.0;
+  std::string mqtt_host;
+  int mqtt_port = 1883;
+  std::string mqtt_user;
+  std::string mqtt_password;
+  std::string mqtt_password_file;
+  std::string mqtt_prefix = "its";
+  double denm_repetition_ms = 100.0;
+  double denm_repetition_duration_s = 1.0;
+  bool lcrw = true;
+  std::string trace;
+  std::string status_file;
+  double duration_s = 0.0;
+  std::string log_level = "info";
+};
+
+/// What cannot go on: a message for the log and the exit code.
+struct Fatal {
+  std::string message;
+  int code = 1;
+};
+
+std::pair<std::string, std::string> split_host_port(const std::string& s, const char* what) {
+  const auto colon = s.rfind(':');
+  if (colon == std::string::npos || colon == 0 || colon + 1 == s.size())
+    throw Fatal{fmt::format("{} '{}': expected HOST:PORT", what, s), 1};
+  return {s.substr(0, colon), s.substr(colon + 1)};
+}
+
+std::unique_ptr<tb::can::CanBus> open_can(asio::io_context& io, const Options& o) {
+  if (o.can_transport == "none")
+    return nullptr;
+  const bool kernel_can = tb::can::socketcan_available();
+  const bool iface = if_nametoindex(o.can_interface.c_str()) != 0;
+  bool use_socketcan = o.can_transport == "socketcan";
+  if (o.can_transport == "auto") {
+    use_socketcan = kernel_can && iface;
+    if (use_socketcan)
+      spdlog::info("CAN: SocketCAN on {} (kernel CAN present, interface exists)", o.can_interface);
+    else
+      spdlog::info("CAN: UDP stand-in (cannelloni format) on port {} because {}", o.can_udp_port,
+                   kernel_can ? fmt::format("there is no interface {}", o.can_interface)
+                              : std::string("this kernel has no SocketCAN"));
+  }
+  if (use_socketcan) {
+    auto bus = tb::can::SocketCanBus::open(io, o.can_interface);
+    if (!bus)
+      throw Fatal{fmt::format("CAN: cannot open SocketCAN interface '{}': {}", o.can_interface,
+                              bus.error().message())};
+    return std::move(*bus);
+  }
+  try {
+    return tb::can::UdpCanBus::bind(
+        io, asio::ip::udp::endpoint(asio::ip::address_v4::any(), o.can_udp_port));
+  } catch (const boost::system::system_error& e) {
+    throw Fatal{fmt::format("CAN: cannot bind UDP port {}: {}", o.can_udp_port, e.what())};
+  }
+}
+
+int run(const Options& o) {
+  if (!o.trace.empty())
+    tb::trace::configure(o.trace, "its-station");
+  else
+    tb::trace::configure_from_env("its-station");
+
+  // Station identity and configuration, from the scenario where one is given.
+  std::optional<tb::scenario::Scenario> scenario;
+  const tb::scenario::Vehicle* vehicle = nullptr;
+  if (!o.scenario.empty()) {
+    scenario = tb::scenario::load_file(o.scenario);
+    vehicle = scenario->find_station(o.station_id);
+    if (!vehicle)
+      throw Fatal{
+          fmt::format("scenario {}: no vehicle with station id {}", o.scenario, o.station_id),
+          tb::scenario::kExitBadScenario};
+  }
+  fac::CaConfig ca_cfg;
+  ca_cfg.station_id = o.station_id;
+  ca_cfg.station_type = static_cast<tb::its::messages::StationType>(
+      o.station_type >= 0 ? o.station_type : (vehicle ? vehicle->station_type : 5));
+  if (scenario)
+    ca_cfg.policy = scenario->cam;
+  if (vehicle) {
+    ca_cfg.vehicle_length_m = vehicle->model.length_m;
+    ca_cfg.vehicle_width_m = vehicle->model.width_m;
+  }
+  if (o.cam_policy == "fixed") {
+    ca_cfg.policy.kind = tb::scenario::CamPolicy::Kind::kFixed;
+  } else if (o.cam_policy == "etsi") {
+    ca_cfg.policy.kind = tb::scenario::CamPolicy::Kind::kEtsi;
+  }
+  if (o.cam_period_ms > 0.0)
+    ca_cfg.policy.period_ms = o.cam_period_ms;
+
+  asio::io_context io;
+  tb::clock::AsioRuntime runtime(io);
+
+  // Positioning: our own gpsd fed NMEA over UDP, unless told to use an existing one.
+  std::optional<fac::GpsdProcess> gpsd_process;
+  fac::GpsdPositionProvider::Config gps_cfg;
+  if (o.gpsd.empty()) {
+    fac::GpsdProcess::Options p;
+    p.client_port = std::to_string(o.gpsd_port);
+    p.nmea_port = std::to_string(o.nmea_port);
+    auto started = fac::GpsdProcess::start(p);
+    if (!started)
+      throw Fatal{"gpsd: " + started.error()};
+    gpsd_process.emplace(std::move(*started));
+    spdlog::info("gpsd: started ({}), NMEA on UDP {}", fmt::join(gpsd_process->argv(), " "),
+                 o.nmea_port);
+    gps_cfg.host = "127.0.0.1";
+    gps_cfg.port = std::to_string(o.gpsd_port);
+  } else {
+    std::tie(gps_cfg.host, gps_cfg.port) = split_host_port(o.gpsd, "--gpsd");
+  }
+  fac::GpsdPositionProvider position(io, runtime, gps_cfg);
+
+  // Radio: the real interface (hwsim in OCB mode, or the veth stand-in of the same name).
+  auto link = tb::its::link::PacketSocketLink::open(io, o.radio);
+  if (!link)
+    throw Fatal{link.error().message() +
+                (link.error().kind == tb::its::link::OpenErrorKind::kNoSuchInterface
+                     ? " — is the station's radio set up (--radio)?"
+                     : "")};
+  spdlog::info("radio: {} ({}), MAC {}", o.radio,
+               (*link)->driver().empty() ? "driver unknown" : (*link)->driver(),
+               tb::its::link::to_string((*link)->address()));
+
+  tb::its::station::GnPositionAdapter gn_position(position);
+  tb::its::geonet::RouterConfig gn_cfg;
+  gn_cfg.station_type = static_cast<tb::its::geonet::StationType>(ca_cfg.station_type);
+  tb::its::geonet::Router router(runtime, **link, gn_position, gn_cfg);
+  tb::its::btp::Dispatcher btp(router);
+  tb::its::station::BtpMessageSender sender(btp);
+
+  // Vehicle data.
+  auto can_bus = open_can(io, o);
+  std::unique_ptr<fac::CanVehicleDataProvider> vehicle_data;
+  if (can_bus) {
+    auto db = tb::can::Database::load(o.dbc);
+    if (!db)
+      throw Fatal{"CAN database: " + db.error().message()};
+    auto decoder = fac::CanVehicleDecoder::create(*db);
+    if (!decoder)
+      throw Fatal{fmt::format("CAN database {}: {}", o.dbc, decoder.error().detail)};
+    vehicle_data =
+        std::make_unique<fac::CanVehicleDataProvider>(*can_bus, std::move(*decoder), runtime);
+    vehicle_data->start();
+  }
+
+  // Facilities.
+  fac::Ldm ldm(runtime);
+  fac::CaService ca(runtime, position, vehicle_data.get(), sender, ldm, ca_cfg);
+  fac::DenService den(runtime, sender, ldm, {o.station_id, ca_cfg.station_type, 1000.0});
+  btp.register_port(fac::kBtpPortCam, [&](const tb::its::btp::Indication& ind,
+                                          std::span<const std::uint8_t> payload) {
+    ca.receive(payload, ind.gn ? ind.gn->rx_time : runtime.wall_now());
+  });
+  btp.register_port(fac::kBtpPortDenm,
+                    [&](const tb::its::btp::Indication&, std::span<const std::uint8_t> payload) {
+                      den.receive(payload);
+                    });
+
+  // MQTT.
+  std::unique_ptr<apps::mqtt::MosquittoClient> mqtt;
+  std::unique_ptr<apps::mqtt::StationPublisher> publisher;
+  if (!o.mqtt_host.empty()) {
+    apps::mqtt::ClientConfig mc;
+    mc.host = o.mqtt_host;
+    mc.port = o.mqtt_port;
+    mc.client_id = fmt::format("station-{}", o.station_id);
+    mc.username = o.mqtt_user;
+    mc.password = o.mqtt_password;
+    if (!o.mqtt_password_file.empty()) {
+      std::ifstream in(o.mqtt_password_file);
+      if (!in || !std::getline(in, mc.password))
+        throw Fatal{fmt::format("--mqtt-password-file {}: cannot read a password from it",
+                                o.mqtt_password_file)};
+    }
+    apps::mqtt::Topics topics(o.mqtt_prefix, o.station_id);
+    mc.status_topic = topics.status();
+    mc.publish_prefix = topics.root() + "/";
+    mqtt = std::make_unique<apps::mqtt::MosquittoClient>(runtime, mc);
+    publisher = std::make_unique<apps::mqtt::StationPublisher>(
+        runtime, *mqtt, apps::mqtt::PublisherConfig{o.mqtt_prefix, o.station_id});
+    mqtt->start();
+    spdlog::info("MQTT: publishing to {}:{} under {}", o.mqtt_host, o.mqtt_port, topics.root());
+    ldm.on_neighbour([&](const fac::Neighbour& n) {
+      apps::mqtt::ReceivedCam c;
+      c.station_id = n.station_id;
+      c.station_type = n.station_type;
+      c.generation_delta_time = n.latest().generation_delta_time;
+      c.kinematics = tb::its::station::neighbour_kinematics(n);
+      c.received_at = n.latest().received_wall;
+      publisher->publish_cam(c);
+    });
+    ldm.on_event([&](const fac::Event& e, fac::DenmOutcome) {
+      publisher->publish_denm_received(tb::its::station::denm_view(e.denm));
+    });
+    den.on_sent([&](const tb::its::messages::Denm& d) {
+      publisher->publish_denm_sent(tb::its::station::denm_view(d));
+    });
+  }
+
+  // LCRW: evaluated at every own fix against the LDM's neighbours.
+  std::optional<tb::geodesy::LocalFrame> frame;
+  if (scenario)
+    frame.emplace(scenario->origin);
+  tb::its::station::DenPortAdapter den_port(
+      den,
+      std::chrono::duration_cast<tb::clock::Duration>(
+          std::chrono::duration<double, std::milli>(o.denm_repetition_ms)),
+      std::chrono::duration_cast<tb::clock::Duration>(
+          std::chrono::duration<double>(o.denm_repetition_duration_s)));
+  std::unique_ptr<apps::LcrwDenmTrigger> lcrw_denm;
+  std::unique_ptr<apps::LcrwApplication> lcrw;
+  position.on_fix([&](const fac::PositionFix& fix) {
+    const fac::VehicleData* vd =
+        vehicle_data && vehicle_data->current() ? &*vehicle_data->current() : nullptr;
+    const auto own =
+        tb::its::station::own_kinematics(fix, vd, ca_cfg.vehicle_length_m, ca_cfg.vehicle_width_m);
+    if (publisher) {
+      apps::mqtt::StationState s;
+      s.station_id = o.station_id;
+      s.station_type = ca_cfg.station_type;
+      s.kinematics = own;
+      s.fix = fix.altitude_m ? apps::mqtt::GnssFix::k3D : apps::mqtt::GnssFix::k2D;
+      s.time = fix.time;
+      publisher->publish_state(s);
+    }
+    if (!o.lcrw)
+      return;
+    if (!frame) {
+      // Without a scenario the first fix anchors the local frame LCRW computes in.
+      frame.emplace(tb::geodesy::Geodetic{fix.latitude_deg, fix.longitude_deg, 0.0});
+    }
+    if (!lcrw) {
+      lcrw_denm = std::make_unique<apps::LcrwDenmTrigger>(den_port, *frame);
+      lcrw = std::make_unique<apps::LcrwApplication>(
+          runtime, apps::LcrwConfig{},
+          [&](const apps::LcrwWarning& w) {
+            spdlog::info("LCRW: {} station {} ({}), TTC {:.2f} s",
+                         w.event == apps::WarningEvent::kCleared ? "cleared" : "warning",
+                         w.other_station_id, apps::to_string(w.collision_case), w.ttc_s);
+            if (publisher)
+              publisher->publish_warning(w);
+          },
+          lcrw_denm.get());
+    }
+    std::vector<apps::VehicleKinematics> others;
+    for (const auto& [id, n] : ldm.neighbours())
+      others.push_back(tb::its::station::lcrw_kinematics(
+          id, tb::its::station::neighbour_kinematics(n), n.latest().generation_time, *frame));
+    lcrw->update(tb::its::station::lcrw_kinematics(o.station_id, own, fix.time, *frame), others);
+  });
+
+  // Status file: the LDM as the station sees it, for operators and tests.
+  asio::steady_timer status_timer(io);
+  auto write_status = [&] {
+    if (o.status_file.empty())
+      return;
+    nlohmann::json j;
+    j["station_id"] = o.station_id;
+    j["fix"] = position.current().has_value();
+    if (position.current()) {
+      j["latitude_deg"] = position.current()->latitude_deg;
+      j["longitude_deg"] = position.current()->longitude_deg;
+    }
+    j["cams_sent"] = ca.counters().sent;
+    j["cams_received"] = ca.counters().received;
+    j["denms_sent"] = den.counters().sent;
+    j["neighbours"] = nlohmann::json::array();
+    for (const auto& [id, n] : ldm.neighbours()) {
+      const auto& s = n.latest();
+      nlohmann::json e{{"station_id", id},
+                       {"latitude_deg", s.latitude_deg},
+                       {"longitude_deg", s.longitude_deg},
+                       {"generation_delta_time", s.generation_delta_time}};
+      if (s.speed_mps)
+        e["speed_mps"] = *s.speed_mps;
+      if (s.heading_deg)
+        e["heading_deg"] = *s.heading_deg;
+      j["neighbours"].push_back(e);
+    }
+    j["events"] = ldm.active_events().size();
+    const std::string tmp = o.status_file + ".tmp";
+    std::ofstream(tmp) << j.dump() << "\n";
+    std::rename(tmp.c_str(), o.status_file.c_str());
+  };
+  std::function<void()> status_tick = [&] {
+    write_status();
+    status_timer.expires_after(500ms);
+    status_timer.async_wait([&](const boost::system::error_code& ec) {
+      if (!ec)
+        status_tick();
+    });
+  };
+
+  // Shutdown on SIGINT/SIGTERM (or after --duration).
+  asio::signal_set signals(io, SIGINT, SIGTERM);
+  asio::steady_timer gpsd_deadline(io);
+  asio::steady_timer duration_timer(io);
+  int exit_code = 0;
+  auto shutdown = [&](const std::string& why, int code) {
+    spdlog::info("shutting down: {}", why);
+    exit_code = code;
+    ca.stop();
+    position.stop();
+    signals.cancel();
+    status_timer.cancel();
+    gpsd_deadline.cancel();
+    duration_timer.cancel();
+    write_status();
+    io.stop();
+  };
+  signals.async_wait([&](const boost::system::error_code& ec, int sig) {
+    if (!ec)
+      shutdown(sig == SIGINT ? "SIGINT" : "SIGTERM", 0);
+  });
+  if (o.duration_s > 0) {
+    duration_timer.expires_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+        std::chrono::duration<double>(o.duration_s)));
+    duration_timer.async_wait([&](const boost::system::error_code& ec) {
+      if (!ec)
+        shutdown("--duration elapsed", 0);
+    });
+  }
+  // gpsd must answer within --gpsd-wait, or the station cannot work at all.
+  gpsd_deadline.expires_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(o.gpsd_wait_s)));
+  gpsd_deadline.async_wait([&](const boost::system::error_code& ec) {
+    if (ec || position.connected())
+      return;
+    spdlog::error("gpsd at {}:{} did not accept a connection within {} s{}", gps_cfg.host,
+                  gps_cfg.port, o.gpsd_wait_s,
+                  gpsd_process && !gpsd_process->running() ? " (our gpsd exited)" : "");
+    shutdown("no gpsd", 1);
+  });
+
+  position.start();
+  ca.start();
+  status_tick();
+  spdlog::info("station {} (type {}) running, CAM policy {}", o.station_id,
+               unsigned{ca_cfg.station_type},
+               ca_cfg.policy.kind == tb::scenario::CamPolicy::Kind::kFixed
+                   ? fmt::format("fixed {} ms", ca_cfg.policy.period_ms)
+                   : std::string("ETSI EN 302 637-2"));
+  io.run();
+
+  if (mqtt)
+    mqtt->stop();
+  tb::trace::global().flush();
+  spdlog::info("CAMs sent {}, received {}; DENMs sent {}, received {}; router drops: {} parse",
+               ca.counters().sent, ca.counters().received, den.counters().sent,
+               den.counters().received,
+               router.stats().dropped(tb::its::geonet::DropReason::kParseError));
+  return exit_code;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  CLI::App app{"its-station: an ITS-G5 station (GN/BTP, CA, DEN, LDM, LCRW, MQTT)"};
+  app.add_option("--station-id", o.station_id, "ETSI StationID")->required();
+  app.add_option("--station-type", o.station_type,
+                 "CDD StationType (default: from the scenario, else 5 passengerCar)")
+      ->check(CLI::Range(0, 255));
+  app.add_option("--scenario", o.scenario, "scenario file (CAM policy, vehicle size, origin)");
+  app.add_option("--radio", o.radio, "radio interface (hwsim OCB or the veth stand-in)")
+      ->capture_default_str();
+  app.add_option("--can", o.can_transport, "CAN transport")
+      ->check(CLI::IsMember({"auto", "socketcan", "udp", "none"}))
+      ->capture_default_str();
+  app.add_option("--can-interface", o.can_interface, "SocketCAN interface")->capture_default_str();
+  app.add_option("--can-udp-port", o.can_udp_port, "CAN-over-UDP (cannelloni) port")
+      ->capture_default_str();
+  app.add_option("--dbc", o.dbc, "CAN database")->check(CLI::ExistingFile)->capture_default_str();
+  app.add_option("--gpsd", o.gpsd, "use an existing gpsd at HOST:PORT instead of starting one");
+  app.add_option("--gpsd-port", o.gpsd_port, "client port of the gpsd we start")
+      ->capture_default_str();
+  app.add_option("--nmea-port", o.nmea_port, "UDP port our gpsd reads NMEA from")
+      ->capture_default_str();
+  app.add_option("--gpsd-wait", o.gpsd_wait_s, "seconds to wait for gpsd before giving up")
+      ->capture_default_str();
+  app.add_option("--cam-policy", o.cam_policy, "override the scenario's CAM policy")
+      ->check(CLI::IsMember({"etsi", "fixed"}));
+  app.add_option("--cam-period-ms", o.cam_period_ms, "period of the fixed CAM policy")
+      ->check(CLI::Range(10.0, 10000.0));
+  app.add_option("--mqtt-host", o.mqtt_host, "MQTT broker (none: no MQTT)");
+  app.add_option("--mqtt-port", o.mqtt_port, "MQTT broker port")->capture_default_str();
+  app.add_option("--mqtt-user", o.mqtt_user, "MQTT user name");
+  app.add_option("--mqtt-password", o.mqtt_password, "MQTT password");
+  app.add_option("--mqtt-password-file", o.mqtt_password_file, "file holding the MQTT password")
+      ->check(CLI::ExistingFile);
+  app.add_option("--mqtt-prefix", o.mqtt_prefix, "topic prefix")->capture_default_str();
+  app.add_option("--denm-repetition-ms", o.denm_repetition_ms, "T_Repetition of application DENMs")
+      ->check(CLI::Range(1.0, 10000.0))
+      ->capture_default_str();
+  app.add_option("--denm-repetition-duration", o.denm_repetition_duration_s,
+                 "T_RepetitionDuration of application DENMs, s")
+      ->capture_default_str();
+  app.add_flag("!--no-lcrw", o.lcrw, "do not run the LCRW application");
+  app.add_option("--trace", o.trace, "write trace records (JSON lines) to FILE");
+  app.add_option("--status-file", o.status_file,
+                 "write the station's LDM view as JSON to FILE every 0.5 s");
+  app.add_option("--duration", o.duration_s, "stop after this many seconds (0: run until signal)");
+  app.add_option("--log-level", o.log_level, "trace, debug, info, warn, error")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}))
+      ->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  spdlog::set_level(spdlog::level::from_str(o.log_level));
+
+  try {
+    return run(o);
+  } catch (const Fatal& f) {
+    spdlog::error("{}", f.message);
+    return f.code;
+  } catch (const tb::scenario::ScenarioError& e) {
+    spdlog::error("{}", e.what());
+    return tb::scenario::kExitBadScenario;
+  } catch (const std::exception& e) {
+    spdlog::error("its-station: {}", e.what());
+    return 1;
+  }
+}
