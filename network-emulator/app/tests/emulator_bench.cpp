@@ -4,9 +4,11 @@
 
 #include <benchmark/benchmark.h>
 
+#include "common/can/udp_can_bus.hpp"
 #include "common/clock/clock.hpp"
 #include "common/scenario/loader.hpp"
 #include "network-emulator/app/emulator.hpp"
+#include "network-emulator/app/udp_sink.hpp"
 
 namespace tb::emu {
 namespace {
@@ -28,11 +30,11 @@ scenario::Scenario make_scenario(int stations, bool noisy) {
     v += (i ? "," : "") + std::string("{\"id\": \"v") + std::to_string(i) +
          "\", \"station_id\": " + std::to_string(1000 + i) +
          ", \"spawn\": {\"x\": " + std::to_string(i * 10) + ", \"y\": 0, \"heading_deg\": 90}}";
-  return scenario::parse(std::string("{\"name\": \"bench\", \"map\": {\"type\": \"straight\"}, "
-                                     "\"origin\": {\"lat\": 48, \"lon\": 11}, \"gnss\": ") +
-                             (noisy ? "{\"model\": \"noisy\"}" : "{}") + ", \"vehicles\": [" + v +
-                             "]}",
-                         "bench.json");
+  return scenario::parse(
+      std::string("{\"name\": \"bench\", \"map\": {\"type\": \"straight\", \"length\": 20000}, "
+                  "\"origin\": {\"lat\": 48, \"lon\": 11}, \"gnss\": ") +
+          (noisy ? "{\"model\": \"noisy\"}" : "{}") + ", \"vehicles\": [" + v + "]}",
+      "bench.json");
 }
 
 /// 1000 stations, states at 100 Hz in sim time, round robin: each iteration is one state.
@@ -71,6 +73,30 @@ void BM_StateUpdate(benchmark::State& st) {
                                 static_cast<double>(emu.counters().states);
 }
 BENCHMARK(BM_StateUpdate)->Args({1000, 0})->Args({1000, 1})->ArgNames({"stations", "noise"});
+
+/// The kernel's share: one send() of an NMEA epoch (about 560 bytes) on a connected UDP
+/// socket to a loopback receiver that does not read (the kernel drops what overflows).
+void BM_SendNmeaDatagram(benchmark::State& st) {
+  boost::asio::io_context io;
+  boost::asio::ip::udp::socket rx(io, {boost::asio::ip::make_address("127.0.0.1"), 0});
+  UdpSink sink(io, rx.local_endpoint(), "");
+  const std::vector<std::uint8_t> epoch(560, 'x');
+  for (auto _ : st)
+    benchmark::DoNotOptimize(sink.send(epoch));
+}
+BENCHMARK(BM_SendNmeaDatagram);
+
+/// One cannelloni datagram with the 5 frames a 100 Hz state makes.
+void BM_SendCanDatagram(benchmark::State& st) {
+  boost::asio::io_context io;
+  boost::asio::ip::udp::socket rx(io, {boost::asio::ip::make_address("127.0.0.1"), 0});
+  auto bus = tb::can::UdpCanBus::connect(io, rx.local_endpoint());
+  std::vector<tb::can::CanFrame> frames(
+      5, tb::can::make_frame(0x100, std::vector<std::uint8_t>(8, 1)));
+  for (auto _ : st)
+    benchmark::DoNotOptimize(bus->send(frames));
+}
+BENCHMARK(BM_SendCanDatagram);
 
 }  // namespace
 }  // namespace tb::emu
