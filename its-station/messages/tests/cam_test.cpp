@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <array>
 #include <functional>
 #include <random>
 #include <string>
@@ -49,6 +50,23 @@ TEST(Cam, RoundTripOfEveryFieldAtItsUpperBound) {
   expect_round_trip(cam);
   EXPECT_EQ(cam.cam.camParameters.lowFrequencyContainer->pathHistory.size(), kPathHistoryMaxPoints);
   EXPECT_LE(must_encode(cam).size(), kCamMaxEncodedSize);
+}
+
+TEST(Cam, TheLargestCamFitsTheAdvertisedBuffer) {
+  // Every optional component, 40 path points, and the longest special-vehicle container (20
+  // octets of ptActivationData).
+  Cam cam = samples::cam_at_bounds(true);
+  PtActivation pt{255, {}};
+  for (int i = 0; i < 20; ++i)
+    pt.ptActivationData.push_back(0xFF);
+  cam.cam.camParameters.specialVehicleContainer = PublicTransportContainer{true, pt};
+  std::array<std::uint8_t, kCamMaxEncodedSize> buf{};
+  auto n = encode(cam, buf);
+  ASSERT_TRUE(n) << asn1::to_string(n.error());
+  EXPECT_LE(*n, kCamMaxEncodedSize);
+  Cam back;
+  ASSERT_TRUE(decode(std::span<const std::uint8_t>(buf).first(*n), back));
+  EXPECT_EQ(back, cam);
 }
 
 TEST(Cam, NamedBitsKeepTheirPositions) {
