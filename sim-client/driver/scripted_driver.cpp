@@ -27,7 +27,8 @@ constexpr double kIntegralLimit = 4.0;  // m/s·s, anti-windup
 constexpr double kHoldBrake = 0.3;
 constexpr double kStandstill = 0.2;  // m/s
 // Stop short of the end of an open lane rather than run off the road.
-constexpr double kEndMargin = 5.0;  // m
+constexpr double kEndMargin = 5.0;     // m
+constexpr double kStopPlanning = 0.7;  // fraction of max_decel a planned stop uses
 
 wire::Controls to_controls(const scenario::ControlStep& c) {
   wire::Controls out;
@@ -171,9 +172,10 @@ wire::Controls LaneFollowDriver::update(const wire::VehicleState& s) {
   if (!map::is_closed(lane_->centre)) {
     const double len = map::length(lane_->centre);
     status_.remaining = against_ ? pr.s : len - pr.s;
-    // The speed from which a comfortable stop ends kEndMargin before the end of the lane.
+    // The speed from which a stop ends kEndMargin before the end of the lane, planned below
+    // max_decel so that the speed controller's lag does not eat the margin.
     const double room = std::max(status_.remaining - kEndMargin, 0.0);
-    target = std::min(target, std::sqrt(2.0 * spec_.max_decel * room));
+    target = std::min(target, std::sqrt(2.0 * kStopPlanning * spec_.max_decel * room));
   }
 
   const double previous = reference_;

@@ -154,7 +154,7 @@ TEST(LaneFollowDriver, StopsBeforeTheEndOfAnOpenLane) {
   for (int i = 0; i < 100 * 60; ++i)
     car.step(driver.update(car.state()), 0.01);
   EXPECT_NEAR(car.speed(), 0.0, 0.01);
-  EXPECT_GT(driver.status().remaining, 0.0);
+  EXPECT_GT(driver.status().remaining, 0.0) << "ran past the end of the lane";
   EXPECT_LT(driver.status().remaining, 15.0);
   EXPECT_LT(std::abs(driver.status().lateral), 0.3);
 }

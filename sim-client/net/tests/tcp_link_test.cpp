@@ -94,9 +94,11 @@ TEST(TcpLink, WaitsForAServerThatStartsLater) {
     tcp::acceptor probe(io, tcp::endpoint(asio::ip::address_v4::loopback(), 0));
     port = probe.local_endpoint().port();
   }
+  TcpLink* link_ptr = nullptr;
   SimSession session(
-      {}, [](std::vector<std::uint8_t>) {}, nullptr);
+      {}, [&](std::vector<std::uint8_t> b) { link_ptr->send(std::move(b)); }, nullptr);
   TcpLink link(io, rt, "127.0.0.1", port, session);
+  link_ptr = &link;
   link.start();
   io.run_for(std::chrono::milliseconds(100));
   EXPECT_FALSE(link.connected());

@@ -1,0 +1,102 @@
+// sim-client: drive sim-server vehicles with a keyboard, game controller, wheel or the
+// scenario's scripted drivers; draw the driver's view; forward states to the network emulator.
+#include <csignal>
+#include <iostream>
+
+#include <fmt/format.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/signal_set.hpp>
+
+#include "common/trace/tracer.hpp"
+#include "sim-client/app/client_app.hpp"
+
+int main(int argc, char** argv) {
+  using namespace tb::client;
+  // Logs go to stderr so that stdout carries only what was asked for (--list, --help-keys).
+  spdlog::set_default_logger(spdlog::stderr_color_mt("sim-client"));
+  AppOptions o;
+  CLI::App cli{"sim-client: drive vehicles of sim-server and forward their states"};
+  cli.add_option("--server", o.server, "sim-server address, HOST[:PORT] (port 2000 by default)")
+      ->capture_default_str();
+  cli.add_option("--vehicle", o.session.vehicles,
+                 "scenario id of a vehicle to drive (repeatable); scripted vehicles run their "
+                 "script, others follow this client's input");
+  cli.add_flag("--scripted", o.session.scripted, "drive every scripted vehicle of the scenario");
+  cli.add_flag("--list", o.session.list_only,
+               "print the scenario's vehicles and who drives them, then exit");
+  cli.add_option("--name", o.session.client_name, "client name shown to the server and others")
+      ->capture_default_str();
+  cli.add_option("--emulator", o.emulator, "network emulator's state port, HOST:PORT")
+      ->capture_default_str();
+  bool no_forward = false;
+  cli.add_flag("--no-forward", no_forward, "do not forward vehicle states to the emulator");
+  std::string mapping;
+  cli.add_option("--mapping", mapping,
+                 "JSON controller mapping (game controller, joystick, wheel); without it the "
+                 "keyboard drives")
+      ->check(CLI::ExistingFile);
+  cli.add_flag("--headless", o.headless, "run without a window");
+  std::string screenshot;
+  cli.add_option("--screenshot", screenshot, "write a PNG of the view to FILE");
+  cli.add_option("--after", o.screenshot_after_s, "seconds after start to take the screenshot")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1e6));
+  double duration = 0.0;
+  cli.add_option("--duration", duration, "quit after SECONDS")->check(CLI::Range(0.0, 1e9));
+  cli.add_option("--width", o.width, "view width, pixels")->capture_default_str();
+  cli.add_option("--height", o.height, "view height, pixels")->capture_default_str();
+  cli.add_option("--fps", o.fps, "view frame rate")->capture_default_str();
+  std::string trace;
+  cli.add_option("--trace", trace, "write trace records (JSON lines) to FILE");
+  bool help_keys = false;
+  cli.add_flag("--help-keys", help_keys, "print the key map and exit");
+  CLI11_PARSE(cli, argc, argv);
+
+  if (help_keys) {
+    for (const auto& k : key_map_help())
+      fmt::print("{:<18} {}\n", k.keys, k.action);
+    return 0;
+  }
+  o.forward = !no_forward;
+  if (!mapping.empty())
+    o.mapping = mapping;
+  if (!screenshot.empty())
+    o.screenshot = screenshot;
+  if (cli.count("--duration") > 0)
+    o.duration_s = duration;
+  if (o.session.list_only)
+    o.headless = true;
+
+  try {
+    if (!trace.empty()) {
+      tb::trace::configure(trace, "sim-client");
+    } else {
+      tb::trace::configure_from_env("sim-client");
+    }
+    boost::asio::io_context io;
+    ClientApp app(io, o);
+    boost::asio::signal_set signals(io, SIGINT, SIGTERM);
+    signals.async_wait([&](const boost::system::error_code& ec, int sig) {
+      if (!ec) {
+        spdlog::info("signal {}: stopping", sig);
+        app.stop(0);
+      }
+    });
+    const int code = app.run();
+    signals.cancel();
+    tb::trace::global().flush();
+    return code;
+  } catch (const MappingError& e) {
+    spdlog::error("bad controller mapping: {}", e.what());
+    return kExitUsage;
+  } catch (const std::invalid_argument& e) {
+    spdlog::error("{}", e.what());
+    return kExitUsage;
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return 1;
+  }
+}

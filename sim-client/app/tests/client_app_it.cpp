@@ -1,0 +1,267 @@
+// sim-client against a server speaking the real protocol: the in-process stand-in
+// (fake_sim_server.hpp) and, when $TESTBED_BIN holds it, the real sim-server.
+#include <gtest/gtest.h>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include <boost/asio/ip/udp.hpp>
+
+#include "sim-client/app/client_app.hpp"
+#include "sim-client/app/tests/fake_sim_server.hpp"
+#include "sim-client/view/tests/png_reader.hpp"
+
+namespace tb::client {
+namespace {
+
+namespace asio = boost::asio;
+namespace sim = wire::sim;
+using namespace std::chrono_literals;
+
+std::string bin() {
+  const char* b = std::getenv("TESTBED_BIN");
+  return b != nullptr ? b : "build/bin";
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+struct Result {
+  int code = -1;
+  std::string out, err;
+};
+
+// Runs a program with a time limit; output to temporary files.
+Result run(std::vector<std::string> args, std::chrono::seconds limit = 20s) {
+  const std::string base = ::testing::TempDir() + "/simclient_it_" + std::to_string(getpid());
+  const std::string out = base + ".out", err = base + ".err";
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const int o = open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int e = open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(o, 1);
+    dup2(e, 2);
+    std::vector<char*> argv;
+    for (auto& a : args)
+      argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execvp(argv[0], argv.data());
+    _exit(127);
+  }
+  Result r;
+  const auto deadline = std::chrono::steady_clock::now() + limit;
+  int status = 0;
+  while (waitpid(pid, &status, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      r.err = "killed after the time limit\n";
+      break;
+    }
+    std::this_thread::sleep_for(20ms);
+  }
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = slurp(out);
+  r.err += slurp(err);
+  std::remove(out.c_str());
+  std::remove(err.c_str());
+  return r;
+}
+
+void push_key(SDL_Scancode code, bool down) {
+  SDL_Event e{};
+  e.type = down ? SDL_KEYDOWN : SDL_KEYUP;
+  e.key.state = down ? SDL_PRESSED : SDL_RELEASED;
+  e.key.keysym.scancode = code;
+  ASSERT_EQ(SDL_PushEvent(&e), 1) << SDL_GetError();
+}
+
+// Runs the app's loop for @p d of real time.
+void pump(asio::io_context& io, std::chrono::milliseconds d) {
+  io.restart();
+  io.run_for(d);
+}
+
+TEST(ClientApp, KeyboardEventsChangeTheControlsTheServerSees) {
+  testing::FakeSimServer server;
+  asio::io_context io;
+  asio::ip::udp::socket rx(io, {asio::ip::address_v4::loopback(), 0});
+  AppOptions o;
+  o.server = "127.0.0.1:" + std::to_string(server.port());
+  o.emulator = "127.0.0.1:" + std::to_string(rx.local_endpoint().port());
+  o.session.vehicles = {"me"};
+  o.session.client_name = "kbd-test";
+  o.headless = true;
+  ClientApp app(io, o);
+  app.start();
+  const auto wait_for = [&](auto cond) {
+    for (int i = 0; i < 150 && !cond(); ++i)
+      pump(io, 20ms);
+    return cond();
+  };
+  ASSERT_TRUE(wait_for([&] { return server.last_controls(0).has_value(); }));
+  EXPECT_FLOAT_EQ(server.last_controls(0)->controls.throttle, 0.0f);
+
+  push_key(SDL_SCANCODE_W, true);
+  push_key(SDL_SCANCODE_A, true);
+  push_key(SDL_SCANCODE_Z, true);
+  ASSERT_TRUE(wait_for([&] { return server.last_controls(0)->controls.throttle >= 1.0f; }));
+  const auto c = *server.last_controls(0);
+  EXPECT_LT(c.controls.steer, 0.0f);
+  EXPECT_EQ(c.lights & wire::kIndicatorLeft, wire::kIndicatorLeft);
+  push_key(SDL_SCANCODE_W, false);
+  push_key(SDL_SCANCODE_SPACE, true);
+  ASSERT_TRUE(wait_for([&] {
+    const auto l = server.last_controls(0)->controls;
+    return l.throttle == 0.0f && l.handbrake;
+  }));
+
+  // Every datagram forwarded decodes to a state the server sent for the driven car only.
+  const auto sent = server.sent(1001);
+  rx.non_blocking(true);
+  int checked = 0;
+  std::array<std::uint8_t, 512> buf{};
+  boost::system::error_code ec;
+  for (std::size_t n = rx.receive(asio::buffer(buf), 0, ec); !ec;
+       n = rx.receive(asio::buffer(buf), 0, ec)) {
+    auto st = wire::decode(std::span<const std::uint8_t>(buf.data(), n));
+    ASSERT_TRUE(st.has_value());
+    ASSERT_EQ(st->station_id, 1001u);
+    const auto it = sent.find(st->tick);
+    ASSERT_NE(it, sent.end());
+    EXPECT_GE(st->send_wall_ns, it->second.step_wall_ns);
+    st->send_wall_ns = it->second.send_wall_ns;
+    EXPECT_EQ(*st, it->second);
+    ++checked;
+  }
+  EXPECT_GT(checked, 10);
+  app.stop(0);
+}
+
+TEST(ClientApp, ReconnectsWhenTheServerIsLost) {
+  testing::FakeSimServer server;
+  asio::io_context io;
+  AppOptions o;
+  o.server = "127.0.0.1:" + std::to_string(server.port());
+  o.forward = false;
+  o.session.scripted = true;
+  o.headless = true;
+  ClientApp app(io, o);
+  app.start();
+  for (int i = 0; i < 100 && app.session().frames() < 5; ++i)
+    pump(io, 20ms);
+  ASSERT_GE(app.session().frames(), 5u);
+  server.hang_up();
+  for (int i = 0; i < 200 && server.accepted() < 2; ++i)
+    pump(io, 20ms);
+  EXPECT_EQ(server.accepted(), 2);
+  const auto before = app.session().frames();
+  for (int i = 0; i < 100 && app.session().frames() < before + 5; ++i)
+    pump(io, 20ms);
+  EXPECT_GE(app.session().frames(), before + 5);
+  EXPECT_FALSE(app.stopped());
+  // Both scripted cars were attached again on the new connection.
+  int attaches = 0;
+  for (const auto& m : server.received())
+    attaches += std::holds_alternative<sim::Attach>(m) ? 1 : 0;
+  EXPECT_EQ(attaches, 4);
+  app.stop(0);
+}
+
+TEST(SimClientProgram, ListsVehicles) {
+  testing::FakeSimServer server;
+  const auto r = run(
+      {bin() + "/sim-client", "--server", "127.0.0.1:" + std::to_string(server.port()), "--list"});
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("lane_follow"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("1002"), std::string::npos) << r.out;
+}
+
+TEST(SimClientProgram, UnknownVehicleIsAClearError) {
+  testing::FakeSimServer server;
+  const auto r =
+      run({bin() + "/sim-client", "--server", "127.0.0.1:" + std::to_string(server.port()),
+           "--vehicle", "ghost", "--headless", "--no-forward"});
+  EXPECT_EQ(r.code, kExitCannotDrive);
+  EXPECT_NE(r.err.find("--vehicle ghost: the server's scenario has no such vehicle"),
+            std::string::npos)
+      << r.err;
+}
+
+TEST(SimClientProgram, BadMappingNamesFileAndField) {
+  const std::string path = ::testing::TempDir() + "/simclient_bad_mapping.json";
+  std::ofstream(path) << R"({"api": "joystick", "steer": {"axis": "leftx"}})";
+  const auto r = run({bin() + "/sim-client", "--mapping", path, "--headless", "--duration", "1"});
+  EXPECT_EQ(r.code, kExitUsage);
+  EXPECT_NE(r.err.find(path + ": /steer/axis: must be an axis index"), std::string::npos) << r.err;
+}
+
+TEST(SimClientProgram, NoServerIsReportedAndRetriedNotAHang) {
+  std::uint16_t port = 0;
+  {
+    asio::io_context io;
+    asio::ip::tcp::acceptor probe(io, {asio::ip::address_v4::loopback(), 0});
+    port = probe.local_endpoint().port();
+  }
+  const auto r = run({bin() + "/sim-client", "--server", "127.0.0.1:" + std::to_string(port),
+                      "--headless", "--no-forward", "--duration", "1.5"});
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("cannot connect to sim-server 127.0.0.1:" + std::to_string(port)),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("retrying in"), std::string::npos) << r.err;
+}
+
+// The view, in a real window under Xvfb, written as a PNG.
+TEST(SimClientProgram, ScreenshotUnderXvfb) {
+  if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "xvfb-run is not installed (scripts/install-deps installs it)";
+  testing::FakeSimServer server;
+  const std::string png = ::testing::TempDir() + "/simclient_xvfb.png";
+  std::remove(png.c_str());
+  const auto r = run({"xvfb-run",
+                      "-a",
+                      "-s",
+                      "-screen 0 1024x768x24",
+                      bin() + "/sim-client",
+                      "--server",
+                      "127.0.0.1:" + std::to_string(server.port()),
+                      "--vehicle",
+                      "me",
+                      "--no-forward",
+                      "--width",
+                      "800",
+                      "--height",
+                      "600",
+                      "--screenshot",
+                      png,
+                      "--after",
+                      "1",
+                      "--duration",
+                      "1.3"},
+                     40s);
+  ASSERT_EQ(r.code, 0) << r.err;
+  testing::Image im;
+  ASSERT_TRUE(testing::read_png(png, im)) << r.err;
+  EXPECT_EQ(im.width, 800);
+  EXPECT_EQ(im.height, 600);
+  EXPECT_GT(testing::distinct_colours(im), 5);
+  // The own car ("me", #d02020 in the fake scenario) sits at the view's anchor.
+  EXPECT_GT(testing::count_near(im, 400, 360, 40, 0xd0, 0x20, 0x20), 200);
+}
+
+}  // namespace
+}  // namespace tb::client

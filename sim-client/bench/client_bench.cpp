@@ -1,0 +1,100 @@
+// Speed of the client's per-tick work: one state frame in (decode, forward, scripted driver,
+// controls out), the lane-following driver alone, and one frame of the view.
+#include <benchmark/benchmark.h>
+
+#include "sim-client/driver/scripted_driver.hpp"
+#include "sim-client/net/session.hpp"
+#include "sim-client/net/tests/fake_server.hpp"
+#include "sim-client/view/scene.hpp"
+
+namespace tb::client {
+namespace {
+
+class NullSink final : public DatagramSink {
+ public:
+  bool send(std::span<const std::uint8_t> d) override {
+    benchmark::DoNotOptimize(d.data());
+    return true;
+  }
+};
+
+// A state frame with 3 vehicles, all driven by this client (one human, two scripted).
+void BM_StateFrameToControlsAndForward(benchmark::State& st) {
+  clock::SystemClock clk;
+  NullSink sink;
+  trace::Tracer off;
+  StateForwarder fwd(clk, sink, off);
+  std::size_t out = 0;
+  SessionOptions o;
+  o.vehicles = {"me"};
+  o.scripted = true;
+  SimSession s(
+      o, [&](std::vector<std::uint8_t> b) { out += b.size(); }, &fwd, off);
+  s.on_connected();
+  s.on_bytes(wire::sim::encode(testing::welcome()));
+  for (std::uint16_t i = 0; i < 3; ++i) {
+    s.on_bytes(wire::sim::encode(
+        wire::sim::AttachResult{wire::sim::Role::kDriver, i, wire::sim::AttachStatus::kOk, ""}));
+  }
+  std::vector<std::vector<std::uint8_t>> frames;
+  for (std::uint64_t t = 1; t <= 1000; ++t)
+    frames.push_back(wire::sim::encode(testing::frame(t)));
+  std::size_t i = 0;
+  for (auto _ : st) {
+    s.on_bytes(frames[i++ % frames.size()]);
+  }
+  benchmark::DoNotOptimize(out);
+  st.counters["datagrams"] = static_cast<double>(fwd.sent());
+}
+BENCHMARK(BM_StateFrameToControlsAndForward);
+
+void BM_LaneFollowUpdate(benchmark::State& st) {
+  scenario::MapSpec spec;
+  spec.type = scenario::MapType::kRing;
+  const map::RoadMap road(spec);
+  scenario::LaneFollowDriver d;
+  d.profile = {{0, 10}, {100, 15}};
+  LaneFollowDriver driver(d, scenario::VehicleModel{}, road, {0, 0, false});
+  wire::VehicleState s;
+  const map::Pose p = road.lane_pose(0, 0, 10.0);
+  s.position = {p.p.x, p.p.y, 0};
+  s.yaw = static_cast<float>(p.yaw);
+  s.speed = 10.0f;
+  for (auto _ : st) {
+    s.sim_time_ns += 10'000'000;
+    benchmark::DoNotOptimize(driver.update(s));
+  }
+}
+BENCHMARK(BM_LaneFollowUpdate);
+
+// One frame of the 1024×768 view drawn with SDL's software renderer (the slowest renderer;
+// a window uses the GPU one when there is one).
+void BM_ViewFrameSoftware(benchmark::State& st) {
+  auto canvas = Canvas::offscreen(1024, 768);
+  scenario::MapSpec spec;
+  spec.type = scenario::MapType::kStraight;
+  spec.length = 2000;
+  const map::RoadMap road(spec);
+  ViewScene scene;
+  scene.road_map = &road;
+  for (int i = 0; i < 8; ++i) {
+    ViewVehicle v;
+    v.state.station_id = 1001 + i;
+    v.state.position = {100.0 + 12.0 * i, i % 2 ? 1.75 : -1.75, 0};
+    v.state.yaw = i % 2 ? 3.14159f : 0.0f;
+    v.own = i == 0;
+    scene.vehicles.push_back(v);
+  }
+  scene.connection = "connected to 127.0.0.1:2000";
+  scene.input = "keyboard";
+  SceneRenderer r(canvas->renderer(), 1024, 768);
+  for (auto _ : st) {
+    r.draw(scene);
+    benchmark::ClobberMemory();
+  }
+}
+BENCHMARK(BM_ViewFrameSoftware)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace tb::client
+BENCHMARK_MAIN();

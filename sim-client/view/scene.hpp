@@ -1,0 +1,102 @@
+#pragma once
+/// @file The driver's view: a top-down chase view that follows the own car (heading up), with
+/// roads and lane markings, every vehicle as an oriented rectangle, and a HUD (speed, gear,
+/// controls in effect, lights, connection status, key map on H). Drawn with SDL2's 2D renderer.
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <SDL.h>
+
+#include "common/map/road_map.hpp"
+#include "common/wire/vehicle_state.hpp"
+
+namespace tb::client {
+
+struct ViewVehicle {
+  wire::VehicleState state;
+  float length_m = 4.5f;
+  float width_m = 1.8f;
+  SDL_Color color{200, 32, 32, 255};
+  bool own = false;
+};
+
+struct ViewScene {
+  const map::RoadMap* road_map = nullptr;  ///< null: no road yet (not connected)
+  std::vector<ViewVehicle> vehicles;
+  std::string connection;  ///< connection status line
+  std::string input;       ///< input status line ("keyboard", "controller ...")
+  bool help = false;       ///< show the key map
+};
+
+/// "#rrggbb" to a colour; empty for anything else.
+std::optional<SDL_Color> parse_colour(const std::string& text);
+
+/// The colour the own car is outlined with, so it stands out whatever the scenario's colours.
+inline constexpr SDL_Color kOwnHighlight{255, 220, 0, 255};
+
+class SceneRenderer {
+ public:
+  SceneRenderer(SDL_Renderer* renderer, int width, int height)
+      : r_(renderer), width_(width), height_(height) {}
+
+  void draw(const ViewScene& scene);
+
+  /// Where the own car sits on screen (centre horizontally, a little below the middle so
+  /// that more of the road ahead shows).
+  SDL_FPoint anchor() const { return {width_ / 2.0f, height_ * 0.6f}; }
+  double pixels_per_metre = 8.0;
+
+ private:
+  struct Camera {
+    double x = 0.0, y = 0.0, yaw = 0.0;
+  };
+  SDL_FPoint to_screen(double x, double y) const;
+  void quad(const map::Point (&corners)[4], SDL_Color c);
+  void strip(const map::CentreLine& line, double offset_from, double offset_to, double s0,
+             double s1, SDL_Color c);
+  void draw_roads(const map::RoadMap& m);
+  void draw_vehicle(const ViewVehicle& v);
+  void draw_hud(const ViewScene& scene, const ViewVehicle* own);
+  void text(int x, int y, std::string_view s, int scale, SDL_Color c);
+  void bar(int x, int y, int w, int h, double from, double to, SDL_Color c);
+
+  SDL_Renderer* r_;
+  int width_, height_;
+  Camera cam_;
+};
+
+/// Where the view is drawn: a window, or an off-screen surface (--headless --screenshot).
+class Canvas {
+ public:
+  /// @throws std::runtime_error with SDL's reason when no window can be made.
+  static std::unique_ptr<Canvas> window(int width, int height, const std::string& title);
+  static std::unique_ptr<Canvas> offscreen(int width, int height);
+  ~Canvas();
+  Canvas(const Canvas&) = delete;
+  Canvas& operator=(const Canvas&) = delete;
+
+  SDL_Renderer* renderer() const { return renderer_; }
+  int width() const { return width_; }
+  int height() const { return height_; }
+  bool has_window() const { return window_ != nullptr; }
+  void present();
+  /// The last drawn frame, RGBA, row by row (call before present()).
+  std::vector<std::uint8_t> read_rgba() const;
+
+ private:
+  Canvas() = default;
+  SDL_Window* window_ = nullptr;
+  SDL_Surface* surface_ = nullptr;
+  SDL_Renderer* renderer_ = nullptr;
+  int width_ = 0, height_ = 0;
+};
+
+/// Writes RGBA pixels as a PNG. Returns an error text naming the file, or empty on success.
+std::string write_png(const std::string& path, int width, int height,
+                      const std::vector<std::uint8_t>& rgba);
+
+}  // namespace tb::client
