@@ -53,6 +53,8 @@ std::string to_string(DropReason r) {
       return "not forwarded: no neighbour towards the area";
     case DropReason::kForwardLinkError:
       return "not forwarded: link error";
+    case DropReason::kContentionLost:
+      return "not forwarded: another router rebroadcast it first";
     case DropReason::kCount:
       break;
   }
@@ -98,6 +100,9 @@ Router::Router(clock::Runtime& runtime, link::LinkLayer& link, const PositionPro
     throw std::invalid_argument("GN router: beacon jitter must not be negative");
   if (config_.location_entry_lifetime <= clock::Duration::zero())
     throw std::invalid_argument("GN router: location table entry lifetime must be positive");
+  if (config_.cbf_min_time <= clock::Duration::zero() ||
+      config_.cbf_max_time < config_.cbf_min_time || config_.max_communication_range_m <= 0.0)
+    throw std::invalid_argument("GN router: need 0 < CBF min time <= CBF max time, range > 0");
   if (config_.default_hop_limit == 0)
     throw std::invalid_argument("GN router: default hop limit must be at least 1");
   if (config_.default_lifetime <= clock::Duration::zero() ||
@@ -111,6 +116,8 @@ Router::Router(clock::Runtime& runtime, link::LinkLayer& link, const PositionPro
 
 Router::~Router() {
   runtime_.cancel(beacon_timer_);
+  for (const auto& [key, entry] : cbf_buffer_)
+    runtime_.cancel(entry.timer);
   link_.set_receive_handler({});
 }
 
@@ -301,6 +308,46 @@ void Router::forward(const Packet& packet, std::span<const std::uint8_t> bytes,
   ++stats_.forwarded;
 }
 
+void Router::contend(const Packet& packet, std::span<const std::uint8_t> bytes,
+                     const link::MacAddress& sender, std::uint64_t key) {
+  const std::uint8_t rhl = packet.basic.remaining_hop_limit - 1;
+  if (rhl == 0) {
+    drop(DropReason::kNotForwardedHopLimit);
+    return;
+  }
+  // TO_CBF = max − (max − min) × DIST / DIST_MAX for a sender whose accurate position we know,
+  // min beyond DIST_MAX, max when we know nothing of the sender (Annex F.3).
+  clock::Duration timeout = config_.cbf_max_time;
+  const auto epv = ego_position_vector();
+  const LocationTableEntry* se =
+      table_.find(GnAddress{false, StationType::kUnknown, sender}.mid_key(), runtime_.steady_now());
+  if (epv && se != nullptr && se->has_position && se->position.position_accurate) {
+    const double dist = distance_m(position_of(se->position), position_of(*epv));
+    const double share = std::min(dist / config_.max_communication_range_m, 1.0);
+    timeout = config_.cbf_max_time - std::chrono::duration_cast<clock::Duration>(
+                                         (config_.cbf_max_time - config_.cbf_min_time) * share);
+  }
+  const std::size_t length =
+      static_cast<std::size_t>(packet.payload.data() - bytes.data()) + packet.payload.size();
+  std::vector<std::uint8_t> copy(bytes.begin(),
+                                 bytes.begin() + static_cast<std::ptrdiff_t>(length));
+  copy[3] = rhl;
+  const auto id = std::make_pair(key, std::get<GbcHeader>(packet.extended).sequence_number);
+  const clock::TimerId timer = runtime_.schedule_in(timeout, [this, id] {
+    auto it = cbf_buffer_.find(id);
+    if (it == cbf_buffer_.end())
+      return;
+    const std::vector<std::uint8_t> out = std::move(it->second.packet);
+    cbf_buffer_.erase(it);
+    if (send_frame(link::kBroadcastMac, out))
+      ++stats_.forwarded;
+    else
+      drop(DropReason::kForwardLinkError);
+  });
+  cbf_buffer_[id] = CbfEntry{timer, std::move(copy)};
+  ++stats_.cbf_buffered;
+}
+
 void Router::on_frame(const link::ReceivedFrame& frame) {
   ++stats_.received;
   if (frame.ethertype != link::kEtherTypeGeoNetworking) {
@@ -384,7 +431,16 @@ void Router::on_frame(const link::ReceivedFrame& frame) {
     case PacketType::kGeoBroadcastRectangle:
     case PacketType::kGeoBroadcastEllipse: {
       const auto& gbc = std::get<GbcHeader>(p.extended);
+      const auto cbf_key = std::make_pair(so.address.mid_key(), gbc.sequence_number);
       if (LocationTable::is_duplicate_sequence_number(entry, gbc.sequence_number)) {
+        // Annex F.3: hearing the packet again while contending means a router farther on has
+        // rebroadcast it; ours would add nothing.
+        if (auto it = cbf_buffer_.find(cbf_key); it != cbf_buffer_.end()) {
+          runtime_.cancel(it->second.timer);
+          cbf_buffer_.erase(it);
+          drop(DropReason::kContentionLost);
+          return;
+        }
         drop(DropReason::kDuplicate);
         return;
       }
@@ -393,7 +449,10 @@ void Router::on_frame(const link::ReceivedFrame& frame) {
       const bool inside = epv && is_inside_or_at_border(gbc.area, position_of(*epv));
       if (inside) {
         deliver(p, frame, remaining_lifetime);
-        forward(p, frame.payload, gbc.area, true);
+        if (config_.area_forwarding == RouterConfig::AreaForwarding::kContentionBased)
+          contend(p, frame.payload, frame.source, cbf_key.first);
+        else
+          forward(p, frame.payload, gbc.area, true);
         return;
       }
       drop(DropReason::kOutsideArea);

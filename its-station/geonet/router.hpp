@@ -8,10 +8,12 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <optional>
 #include <random>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "common/clock/runtime.hpp"
 #include "its-station/geonet/area.hpp"
@@ -38,6 +40,17 @@ struct RouterConfig {
   std::size_t max_sdu_size = 1398;                ///< itsGnMaxSduSize
   /// Seeds the beacon jitter; 0 derives a seed from the MAC so that stations differ.
   std::uint32_t random_seed = 0;
+
+  /// itsGnAreaForwardingAlgorithm: how a router inside a GBC's area rebroadcasts it.
+  enum class AreaForwarding {
+    kSimple,           ///< Annex F.2: at once
+    kContentionBased,  ///< Annex F.3: after a timeout shorter the farther the sender; a copy
+                       ///< heard meanwhile means someone farther on forwarded it already
+  };
+  AreaForwarding area_forwarding = AreaForwarding::kSimple;
+  clock::Duration cbf_min_time = 1ms;         ///< itsGnCbfMinTime
+  clock::Duration cbf_max_time = 100ms;       ///< itsGnCbfMaxTime
+  double max_communication_range_m = 1000.0;  ///< itsGnDefaultMaxCommunicationRange
 };
 
 enum class TransportType { kSingleHopBroadcast, kTopologicallyScopedBroadcast, kGeoBroadcast };
@@ -117,6 +130,7 @@ enum class DropReason {
   kNotForwardedHopLimit,    ///< delivered, but RHL reached 0 so not forwarded
   kNoForwardingNeighbour,   ///< greedy forwarding towards the area found no one
   kForwardLinkError,
+  kContentionLost,  ///< CBF: another router rebroadcast it first, so we do not
   kCount
 };
 std::string to_string(DropReason r);
@@ -133,6 +147,7 @@ struct RouterStats {
   std::uint64_t sent = 0;  ///< originated packets, beacons included
   std::uint64_t beacons_sent = 0;
   std::uint64_t forwarded = 0;
+  std::uint64_t cbf_buffered = 0;  ///< GBCs that entered contention
   std::array<std::uint64_t, static_cast<std::size_t>(DropReason::kCount)> drops{};
   std::uint64_t dropped(DropReason r) const { return drops[static_cast<std::size_t>(r)]; }
 };
@@ -170,6 +185,9 @@ class Router {
   void on_beacon_timer();
   bool send_frame(const link::MacAddress& to, std::span<const std::uint8_t> bytes);
   std::optional<link::MacAddress> greedy_next_hop(const GeoArea& area, const GeoPoint& ego) const;
+  /// Annex F.3: buffers the packet for a timeout that shrinks with the sender's distance.
+  void contend(const Packet& packet, std::span<const std::uint8_t> bytes,
+               const link::MacAddress& sender, std::uint64_t key);
   void forward(const Packet& packet, std::span<const std::uint8_t> bytes,
                const std::optional<GeoArea>& area, bool inside);
   void deliver(const Packet& packet, const link::ReceivedFrame& frame,
@@ -185,6 +203,12 @@ class Router {
   std::minstd_rand rng_;
   clock::TimerId beacon_timer_ = 0;
   clock::SteadyTime next_purge_{};
+  struct CbfEntry {
+    clock::TimerId timer;
+    std::vector<std::uint8_t> packet;  ///< as it will be sent, RHL already decremented
+  };
+  /// Packets contending for rebroadcast, by source MID key and sequence number.
+  std::map<std::pair<std::uint64_t, std::uint16_t>, CbfEntry> cbf_buffer_;
   IndicationHandler indication_;
   DropHook drop_hook_;
   RouterStats stats_;

@@ -14,15 +14,21 @@ namespace {
 
 using namespace tb::its;
 
+geonet::RouterConfig config_with(geonet::RouterConfig::AreaForwarding f) {
+  geonet::RouterConfig c;
+  c.area_forwarding = f;
+  return c;
+}
+
 struct Station {
   tb::clock::ManualRuntime rt;
   link::TestLink link{{0x02, 0, 0, 0, 0, 0x01}};
   geonet::StaticPositionProvider pos;
-  geonet::Router router{rt, link, pos};
+  geonet::Router router;
   btp::Dispatcher btp{router};
   std::size_t delivered = 0;
 
-  Station() {
+  explicit Station(geonet::RouterConfig::AreaForwarding f) : router{rt, link, pos, config_with(f)} {
     link.keeps_sent_frames = false;
     pos.set({rt.wall_now(), 48.15, -1.6, 10.0, 90.0, true});
     for (std::uint16_t port : {btp::kPortCam, btp::kPortDenm}) {
@@ -52,14 +58,18 @@ void check_round_trip(const geonet::Packet& p) {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static Station station;
+  // One router forwarding GBCs at once, one by contention (Annex F.2 and F.3).
+  static Station simple{geonet::RouterConfig::AreaForwarding::kSimple};
+  static Station cbf{geonet::RouterConfig::AreaForwarding::kContentionBased};
   const std::span<const std::uint8_t> bytes(data, size);
   if (auto p = geonet::parse_packet(bytes))
     check_round_trip(*p);
-  // Let time pass so that the location table purges and the beacon timer runs.
-  station.rt.advance(std::chrono::milliseconds{250});
-  station.pos.set({station.rt.wall_now(), 48.15, -1.6, 10.0, 90.0, true});
-  station.link.inject({0x02, 0, 0, 0, 0, 0x02}, tb::its::link::kBroadcastMac,
-                      tb::its::link::kEtherTypeGeoNetworking, bytes, station.rt.wall_now());
+  for (Station* station : {&simple, &cbf}) {
+    station->link.inject({0x02, 0, 0, 0, 0, 0x02}, tb::its::link::kBroadcastMac,
+                         tb::its::link::kEtherTypeGeoNetworking, bytes, station->rt.wall_now());
+    // Let time pass so that contention timers fire, the location table purges and beacons go.
+    station->rt.advance(std::chrono::milliseconds{60});
+    station->pos.set({station->rt.wall_now(), 48.15, -1.6, 10.0, 90.0, true});
+  }
   return 0;
 }

@@ -89,6 +89,9 @@ TEST_F(RouterTest, ConfigurationsThatCannotWorkAreRefused) {
                std::invalid_argument);
   EXPECT_THROW(make([](RouterConfig& c) { c.default_hop_limit = 0; }), std::invalid_argument);
   EXPECT_THROW(make([](RouterConfig& c) { c.default_lifetime = 601s; }), std::invalid_argument);
+  EXPECT_THROW(make([](RouterConfig& c) { c.cbf_max_time = 0ms; }), std::invalid_argument);
+  EXPECT_THROW(make([](RouterConfig& c) { c.max_communication_range_m = 0; }),
+               std::invalid_argument);
   EXPECT_NO_THROW(make([](RouterConfig&) {}));
   EXPECT_EQ(rt.pending(), 0u);  // the routers made cancelled their beacon timers
 }
@@ -363,6 +366,75 @@ TEST_F(RouterTest, GbcInsideTheAreaIsDeliveredAndRebroadcast) {
   ASSERT_EQ(link.sent().size(), 1u);
   EXPECT_EQ(link.sent()[0].destination, link::kBroadcastMac);
   EXPECT_EQ(link.sent()[0].payload[3], 4);
+}
+
+class CbfRouterTest : public RouterTest {
+ protected:
+  void SetUp() override {
+    RouterConfig config;
+    config.area_forwarding = RouterConfig::AreaForwarding::kContentionBased;
+    start(config);
+    set_position(at(0, 0));
+  }
+  Bytes gbc_from(std::uint8_t source, std::uint16_t sn) {
+    PacketSpec s;
+    s.type = PacketType::kGeoBroadcastCircle;
+    s.source = remote_pv(source, at(-900, 0), now_tst());
+    s.area = circle_at(at(0, 0), 2000);
+    s.rhl = 5;
+    s.mhl = 5;
+    s.sn = sn;
+    return make_packet(s);
+  }
+  void hear_shb_from(std::uint8_t station, const GeoPoint& where) {
+    PacketSpec n;
+    n.source = remote_pv(station, where, now_tst());
+    receive(make_packet(n), mac(station));
+  }
+};
+
+TEST_F(CbfRouterTest, RebroadcastsAfterATimeoutThatShrinksWithTheSendersDistance) {
+  hear_shb_from(3, at(-500, 0));  // the forwarder, 500 m away
+  receive(gbc_from(2, 1), mac(3));
+  ASSERT_EQ(delivered.size(), 2u);  // the SHB and the GBC, at once
+  EXPECT_TRUE(link.sent().empty());
+  EXPECT_EQ(router->stats().cbf_buffered, 1u);
+  // TO = 100 ms − 99 ms × 500 / 1000 = 50.5 ms.
+  rt.advance(50ms);
+  EXPECT_TRUE(link.sent().empty());
+  rt.advance(1ms);
+  ASSERT_EQ(link.sent().size(), 1u);
+  EXPECT_EQ(link.sent()[0].destination, link::kBroadcastMac);
+  EXPECT_EQ(link.sent()[0].payload[3], 4);
+  EXPECT_EQ(router->stats().forwarded, 1u);
+}
+
+TEST_F(CbfRouterTest, UnknownSenderWaitsTheMaximumAndFarSendersTheMinimum) {
+  receive(gbc_from(2, 1), mac(7));  // sender 7 never heard of
+  rt.advance(99ms);
+  EXPECT_TRUE(link.sent().empty());
+  rt.advance(1ms);
+  EXPECT_EQ(link.sent().size(), 1u);
+
+  hear_shb_from(4, at(1500, 0));  // beyond the maximum communication range
+  receive(gbc_from(2, 2), mac(4));
+  rt.advance(1ms);
+  EXPECT_EQ(link.sent().size(), 2u);
+}
+
+TEST_F(CbfRouterTest, HearingTheRebroadcastOfAnotherRouterCancelsOurs) {
+  hear_shb_from(3, at(-100, 0));
+  receive(gbc_from(2, 9), mac(3));
+  rt.advance(30ms);
+  receive(gbc_from(2, 9), mac(5));  // someone farther on was quicker
+  rt.advance(200ms);
+  EXPECT_TRUE(link.sent().empty());
+  EXPECT_EQ(delivered.size(), 2u);  // delivered once
+  EXPECT_EQ(drops.back().reason, DropReason::kContentionLost);
+  EXPECT_EQ(router->stats().forwarded, 0u);
+  // A later copy is a plain duplicate.
+  receive(gbc_from(2, 9), mac(6));
+  EXPECT_EQ(drops.back().reason, DropReason::kDuplicate);
 }
 
 TEST_F(RouterTest, GbcOutsideTheAreaGoesGreedilyToTheNeighbourNearestToIt) {

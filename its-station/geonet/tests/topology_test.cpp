@@ -97,5 +97,43 @@ TEST_F(LineTopology, GbcStopsWhereNoNeighbourLeadsTowardsTheArea) {
   EXPECT_EQ(net.station(2).dropped(DropReason::kNoForwardingNeighbour), 1u);
 }
 
+// Stations 1 and 2 both hear the source 0; only 2 hears 3. With contention-based forwarding 2,
+// being farther from 0, rebroadcasts first and 1 stands down; with simple forwarding both do.
+class ContentionTopology : public ::testing::TestWithParam<RouterConfig::AreaForwarding> {
+ protected:
+  void SetUp() override {
+    RouterConfig config;
+    config.area_forwarding = GetParam();
+    net.add_station(0, at(0, 0), config);
+    net.add_station(1, at(50, 0), config);
+    net.add_station(2, at(100, 0), config);
+    net.add_station(3, at(200, 0), config);
+    net.advance_time(4s, 1ms);
+  }
+  NetworkTopology net{120.0};
+};
+
+TEST_P(ContentionTopology, EveryStationInTheAreaGetsThePacketOnce) {
+  ASSERT_EQ(net.station(0).router->request(DataRequest::geo_broadcast(circle_at(at(100, 0), 500)),
+                                           Bytes{1, 2, 3}),
+            DataConfirm::kAccepted);
+  net.dispatch();
+  net.advance_time(300ms, 1ms);
+  for (std::uint8_t i = 1; i <= 3; ++i)
+    EXPECT_EQ(net.station(i).received.size(), 1u) << int{i};
+  const bool cbf = GetParam() == RouterConfig::AreaForwarding::kContentionBased;
+  std::uint64_t rebroadcasts = 0;
+  for (std::uint8_t i = 1; i <= 3; ++i)
+    rebroadcasts += net.station(i).router->stats().forwarded;
+  EXPECT_EQ(rebroadcasts, cbf ? 2u : 3u);
+  EXPECT_EQ(net.station(1).router->stats().forwarded, cbf ? 0u : 1u);
+  EXPECT_EQ(net.station(1).dropped(DropReason::kContentionLost), cbf ? 1u : 0u);
+  EXPECT_EQ(net.station(2).router->stats().forwarded, 1u);
+}
+
+INSTANTIATE_TEST_SUITE_P(AreaForwarding, ContentionTopology,
+                         ::testing::Values(RouterConfig::AreaForwarding::kSimple,
+                                           RouterConfig::AreaForwarding::kContentionBased));
+
 }  // namespace
 }  // namespace tb::its::geonet
