@@ -79,15 +79,24 @@ async function main() {
     if (gen.status !== 0) throw new Error(`gen-broker-config failed: ${gen.stderr}`);
     const creds = JSON.parse(readFileSync(join(work, 'broker', 'credentials.json'), 'utf8'));
 
-    const broker = spawn('mosquitto', ['-c', join(work, 'broker', 'mosquitto.conf')], { stdio: ['ignore', 'ignore', 'pipe'] });
+    let broker = null;
     let brokerLog = '';
-    broker.stderr.on('data', (d) => { brokerLog += d; });
-    cleanups.unshift(() => broker.kill('SIGTERM'));
-    if (!(await waitForPort(tcp, 5000)) || !(await waitForPort(ws, 5000))) {
-      throw new Error(`mosquitto did not start: ${brokerLog}`);
-    }
+    const startBroker = async () => {
+      broker = spawn('mosquitto', ['-c', join(work, 'broker', 'mosquitto.conf')], { stdio: ['ignore', 'ignore', 'pipe'] });
+      broker.stderr.on('data', (d) => { brokerLog += d; });
+      if (!(await waitForPort(tcp, 5000)) || !(await waitForPort(ws, 5000))) {
+        throw new Error(`mosquitto did not start: ${brokerLog}`);
+      }
+    };
+    const stopBroker = () => new Promise((res) => {
+      if (!broker || broker.exitCode !== null) return res();
+      broker.once('exit', () => res());
+      broker.kill('SIGTERM');
+    });
+    cleanups.unshift(() => stopBroker());
+    await startBroker();
 
-    const page_url = `http://127.0.0.1:${ws}/index.html?station=1001`;
+    const page_url = `http://127.0.0.1:${ws}/index.html`;
     const html = await fetch(page_url).then((r) => r.text()).catch((e) => String(e));
     check('broker serves the HMI over HTTP on the WebSocket listener', html.includes('lcrw-banner'));
 
@@ -125,6 +134,10 @@ async function main() {
     await page.waitForSelector('#conn[data-state="connected"]', { timeout: 10000 }).catch(() => {});
     check('page connects to the broker over WebSockets', (await page.getAttribute('#conn', 'data-state')) === 'connected',
       await page.textContent('#conn'));
+    // The driver picks the car from the stations that announced themselves.
+    await page.waitForSelector('#station option[value="1001"]', { state: 'attached', timeout: 10000 }).catch(() => {});
+    check('station list offers the station', (await page.$('#station option[value="1001"]')) !== null);
+    await page.selectOption('#station', '1001').catch(() => {});
     await page.waitForFunction(() => document.getElementById('speed').textContent === '50', null, { timeout: 10000 }).catch(() => {});
     check('speed shown in km/h', (await page.textContent('#speed')) === '50', await page.textContent('#speed'));
     check('heading shown', (await page.textContent('#heading')) === '90°', await page.textContent('#heading'));
@@ -174,6 +187,27 @@ async function main() {
     await page.waitForSelector('#lcrw-banner', { state: 'hidden', timeout: 10000 }).catch(() => {});
     check('banner cleared with the warning', await page.isHidden('#lcrw-banner'));
     await page.screenshot({ path: join(artifacts, 'cleared.png') });
+
+    // A phone in portrait: everything still on one screen, the banner readable.
+    await pub('its/1001/app/lcrw', warning('raised', 1.2).replace('"severity":"warning"', '"severity":"critical"'));
+    await page.setViewportSize({ width: 390, height: 844 });
+    await page.waitForSelector('#lcrw-banner', { state: 'visible', timeout: 10000 }).catch(() => {});
+    check('critical banner on a phone-sized screen', (await page.getAttribute('#lcrw-banner', 'data-severity')) === 'critical'
+      && (await page.textContent('#lcrw-ttc')) === '1.2 s', await page.textContent('#lcrw-ttc'));
+    await page.screenshot({ path: join(artifacts, 'phone-critical.png') });
+    await page.setViewportSize({ width: 1100, height: 760 });
+
+    // Connection status follows the broker: away, then back (mqtt.js retries every 2 s).
+    station.end(true);
+    await stopBroker();
+    await page.waitForFunction(() => document.getElementById('conn').dataset.state !== 'connected', null, { timeout: 10000 }).catch(() => {});
+    const away = await page.getAttribute('#conn', 'data-state');
+    check('connection status shows the broker gone', away === 'offline' || away === 'reconnecting', away);
+    await page.screenshot({ path: join(artifacts, 'broker-away.png') });
+    await startBroker();
+    await page.waitForSelector('#conn[data-state="connected"]', { timeout: 15000 }).catch(() => {});
+    check('page reconnects when the broker returns', (await page.getAttribute('#conn', 'data-state')) === 'connected',
+      await page.textContent('#conn'));
     check('no script errors in the page', errors.length === 0, errors.join('; '));
   } finally {
     for (const c of cleanups) {
