@@ -48,6 +48,21 @@ void BM_StateFrameToControlsAndForward(benchmark::State& st) {
 }
 BENCHMARK(BM_StateFrameToControlsAndForward);
 
+// One state forwarded through a real UDP socket on loopback (the syscall included).
+void BM_ForwardStateUdp(benchmark::State& st) {
+  boost::asio::io_context io;
+  boost::asio::ip::udp::socket rx(io, {boost::asio::ip::address_v4::loopback(), 0});
+  UdpSink sink(io, "127.0.0.1:" + std::to_string(rx.local_endpoint().port()));
+  clock::SystemClock clk;
+  trace::Tracer off;
+  StateForwarder fwd(clk, sink, off);
+  const wire::VehicleState s = testing::frame(1).vehicles[0];
+  for (auto _ : st)
+    fwd.forward(s);
+  st.counters["failed"] = static_cast<double>(fwd.failed());
+}
+BENCHMARK(BM_ForwardStateUdp);
+
 void BM_LaneFollowUpdate(benchmark::State& st) {
   scenario::MapSpec spec;
   spec.type = scenario::MapType::kRing;
