@@ -1,0 +1,221 @@
+#!/bin/bash
+# The checks inside the VM (run by /sbin/tb-vm-init from the payload disk mounted on /tb).
+# Prints one "CHECK <name>: PASS|FAIL <why>" line per check and, last, the line the host script
+# looks for: "TB-VM-RESULT: PASS (n checks)" or "TB-VM-RESULT: FAIL (names of failed checks)".
+set -u
+export PATH=/tb/bin:/usr/sbin:/usr/bin:/sbin:/bin
+G=/tb/guest
+T=/tmp/tbvm
+mkdir -p "$T"
+tool() { python3 "$G/vmtool.py" "$@"; }
+
+passed=0
+failed=()
+check() { # check NAME OK(0/1) WHY
+  if [[ $2 == 0 ]]; then
+    echo "CHECK $1: PASS $3"
+    passed=$((passed + 1))
+  else
+    echo "CHECK $1: FAIL $3"
+    failed+=("$1")
+  fi
+}
+finish() {
+  echo "---- guest logs ----"
+  for f in "$T"/*.log "$T"/*.json; do
+    [[ -s $f ]] || continue
+    echo "== $f"
+    tail -n 40 "$f"
+  done
+  echo "--------------------"
+  if ((${#failed[@]} == 0 && passed > 0)); then
+    echo "TB-VM-RESULT: PASS ($passed checks, kernel $(uname -r))"
+  else
+    echo "TB-VM-RESULT: FAIL (${failed[*]:-no check ran}; $passed passed)"
+  fi
+}
+trap finish EXIT
+
+# wait_for FILE SECONDS [PATTERN]: until FILE exists (and holds PATTERN).
+wait_for() {
+  local i
+  for ((i = 0; i < $2 * 10; i++)); do
+    if [[ -e $1 ]] && { [[ -z ${3:-} ]] || grep -q "$3" "$1"; }; then return 0; fi
+    sleep 0.1
+  done
+  return 1
+}
+# stop PID SECONDS: SIGTERM, wait, the process's exit code in $stop_rc (137 if it had to be killed).
+stop() {
+  local i
+  kill -TERM "$1" 2>/dev/null
+  for ((i = 0; i < $2 * 10; i++)); do
+    kill -0 "$1" 2>/dev/null || break
+    sleep 0.1
+  done
+  if kill -0 "$1" 2>/dev/null; then
+    kill -KILL "$1"
+  fi
+  wait "$1"
+  stop_rc=$?
+}
+
+echo "guest: kernel $(uname -r), $(nproc) CPUs"
+
+# ---- modules ------------------------------------------------------------------------------
+modprobe vcan && modprobe can-raw
+check modules.can $? "(vcan, can-raw)"
+# radios=0: the medium makes its own radios; the module's two default ones would be extra.
+modprobe mac80211_hwsim radios=0
+check modules.hwsim $? "(mac80211_hwsim radios=0)"
+n=$(ls /sys/class/ieee80211 | wc -l)
+[[ $n == 0 ]]
+check hwsim.no_default_radios $? "($n radios before radio-medium)"
+
+# The scenario: 11 at x=10, 12 at 210, 13 at 460 on a straight road; range 300 m, so 11–12
+# (200 m) and 12–13 (250 m) hear each other and 11–13 (450 m) do not.
+S=$G/scenario-range.json
+for ns in tbvm1 tbvm2 tbvm3; do ip netns add $ns && ip -n $ns link set lo up; done
+
+# ---- CAN: the network emulator's feeder on vcan in station namespaces ----------------------
+for ns in tbvm1 tbvm2; do
+  ip -n $ns link add vcan0 type vcan && ip -n $ns link set vcan0 up
+done
+cat >"$T/stations.json" <<EOF
+{"stations": [
+  {"station_id": 11, "netns": "tbvm1", "can_interface": "vcan0"},
+  {"station_id": 12, "netns": "tbvm2", "can_interface": "vcan0"}
+]}
+EOF
+ip netns exec tbvm1 python3 "$G/vmtool.py" can-read --iface vcan0 --seconds 30 \
+  --ready "$T/can1.ready" --expect-speed-kmh 45 --expect-gear 3 --expect-lights low,brake \
+  >"$T/can1.json" 2>"$T/can1.err" &
+can1=$!
+ip netns exec tbvm2 python3 "$G/vmtool.py" can-read --iface vcan0 --seconds 30 \
+  --ready "$T/can2.ready" --expect-speed-kmh 18 --expect-gear 2 --expect-lights hazard,ind_left,ind_right \
+  >"$T/can2.json" 2>"$T/can2.err" &
+can2=$!
+ip netns exec tbvm1 candump -n 6 -T 20000 -ta vcan0 >"$T/candump.log" 2>&1 &
+candump=$!
+wait_for "$T/can1.ready" 20 && wait_for "$T/can2.ready" 20
+network-emulator --scenario "$S" --stations "$T/stations.json" --can vcan \
+  --dbc /tb/share/vehicle.dbc --listen 127.0.0.1:4700 --status-interval 0 \
+  >"$T/network-emulator.log" 2>&1 &
+emu=$!
+sleep 1
+if ! kill -0 $emu 2>/dev/null; then
+  wait $emu
+  check can.emulator_starts 1 "(network-emulator exited $? at start)"
+else
+  # 12.5 m/s = 45 km/h; 5 m/s = 18 km/h. States every 20 ms of sim time, 60 of them.
+  tool state --to 127.0.0.1:4700 --station 11 --x 10 --speed 12.5 --gear 3 --throttle 0.3 \
+    --lights low,brake --count 60 >"$T/state11.log" 2>&1 &
+  st11=$!
+  tool state --to 127.0.0.1:4700 --station 12 --x 210 --speed 5 --gear 2 --lights hazard \
+    --count 60 >"$T/state12.log" 2>&1
+  wait $st11
+  wait $can1
+  rc1=$?
+  wait $can2
+  rc2=$?
+  check can.station11_decodes $rc1 "$(head -c 600 "$T/can1.json")"
+  check can.station12_decodes $rc2 "$(head -c 600 "$T/can2.json")"
+  wait $candump
+  n=$(grep -c "vcan0" "$T/candump.log")
+  [[ $n -ge 6 ]]
+  check can.candump_sees_frames $? "($n frames, candump -n 6 on tbvm1's vcan0)"
+  stop $emu 10
+  [[ $stop_rc == 0 ]]
+  check can.emulator_exits_cleanly $? "(exit $stop_rc after SIGTERM)"
+  grep -q "CAN frames sent" "$T/network-emulator.log"
+  check can.emulator_status $? "($(grep -o 'CAN frames sent [0-9]* failed [0-9]*' "$T/network-emulator.log" | tail -1))"
+fi
+kill $can1 $can2 $candump 2>/dev/null
+for ns in tbvm1 tbvm2; do ip -n $ns link del vcan0; done
+
+# ---- radios: mac80211_hwsim in OCB mode, driven by radio-medium ----------------------------
+radio-medium --scenario "$S" --stations 11=tbvm1,12=tbvm2,13=tbvm3 --mode hwsim --prefix tbvm \
+  --positions udp://127.0.0.1:4701 --stats "$T/radio-stats.json" --log-level info \
+  >"$T/radio-medium.log" 2>&1 &
+rm_pid=$!
+if ! wait_for "$T/radio-medium.log" 60 "radio-medium: ready"; then
+  check radio.ready 1 "(no 'radio-medium: ready' within 60 s)"
+  stop $rm_pid 10
+  exit 1
+fi
+check radio.ready 0 ""
+n=$(ls /sys/class/ieee80211 | wc -l)
+[[ $n == 4 ]]
+check radio.four_radios $? "($n wiphys: three stations and the monitor)"
+for ns in tbvm1 tbvm2 tbvm3; do
+  info=$(ip netns exec $ns iw dev wlan0 info 2>&1)
+  echo "$info" | grep -q "type ocb" && echo "$info" | grep -q "5900 MHz" &&
+    echo "$info" | grep -q "width: 10 MHz"
+  check "radio.$ns.ocb_5900" $? "($(echo "$info" | grep -E 'type|channel|addr' | tr -s ' \n\t' ' '))"
+done
+ip link show tbvmmon >/dev/null 2>&1
+check radio.monitor_in_host_ns $? "(tbvmmon)"
+
+# Receivers first (they say when they listen), then station 11 sends, then station 12.
+for i in 1 2 3; do
+  ip netns exec tbvm$i python3 "$G/vmtool.py" raw-recv --iface wlan0 --seconds 40 \
+    --ready "$T/rx$i.ready" --stop "$T/rx.stop" --out "$T/rx$i.json" >/dev/null 2>"$T/rx$i.err" &
+  eval "rx$i=\$!"
+done
+python3 "$G/vmtool.py" mon-recv --iface tbvmmon --seconds 40 --ready "$T/mon.ready" \
+  --stop "$T/rx.stop" --out "$T/mon.json" >/dev/null 2>"$T/mon.err" &
+mon=$!
+for r in rx1 rx2 rx3 mon; do wait_for "$T/$r.ready" 20; done
+ip netns exec tbvm1 python3 "$G/vmtool.py" raw-send --iface wlan0 --count 20 --tag A \
+  >"$T/tx11.log" 2>&1
+ip netns exec tbvm2 python3 "$G/vmtool.py" raw-send --iface wlan0 --count 20 --tag B \
+  >"$T/tx12.log" 2>&1
+sleep 2
+touch "$T/rx.stop"
+wait $rx1 $rx2 $rx3 $mon
+count() { # count FILE TAG
+  python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["tags"].get(sys.argv[2], {}).get("count", 0))' "$1" "$2" 2>/dev/null || echo 0
+}
+a2=$(count "$T/rx2.json" A) a3=$(count "$T/rx3.json" A) a1=$(count "$T/rx1.json" A)
+b1=$(count "$T/rx1.json" B) b3=$(count "$T/rx3.json" B)
+ma=$(count "$T/mon.json" A) mb=$(count "$T/mon.json" B)
+[[ $a2 == 20 ]]
+check radio.11_to_12_in_range $? "($a2/20 frames at 200 m)"
+[[ $b1 == 20 && $b3 == 20 ]]
+check radio.12_to_11_and_13 $? "($b1/20 at 11, $b3/20 at 13, 200 m and 250 m)"
+[[ $a3 == 0 ]]
+check radio.range_cut_11_to_13 $? "($a3/20 frames at 450 m, range 300 m)"
+[[ $a1 == 0 ]]
+check radio.no_echo_to_sender $? "($a1 own frames)"
+[[ $ma == 20 && $mb == 20 ]]
+check radio.monitor_sees_frames $? "($ma/20 from 11, $mb/20 from 12 on tbvmmon)"
+
+stop $rm_pid 20
+[[ $stop_rc == 0 ]]
+check radio.exits_cleanly $? "(exit $stop_rc after SIGTERM)"
+python3 - "$T/radio-stats.json" <<'EOF'
+import json, sys
+j = json.load(open(sys.argv[1]))
+links = {(l["from"], l["to"]): l for l in j["links"]}
+cut = links[(11, 13)]["dropped"]["out_of_range"]
+ok = links[(11, 12)]["delivered"] >= 20 and cut >= 20 and links[(12, 13)]["delivered"] >= 20
+print(f"11->12 delivered {links[(11, 12)]['delivered']}, 11->13 out_of_range {cut}, "
+      f"12->13 delivered {links[(12, 13)]['delivered']}")
+sys.exit(0 if ok else 1)
+EOF
+check radio.stats_out_of_range $? "(radio-medium --stats: $(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["totals"])' "$T/radio-stats.json" 2>&1 | head -c 300))"
+
+# ---- teardown: nothing left ----------------------------------------------------------------
+n=$(ls /sys/class/ieee80211 | wc -l)
+[[ $n == 0 ]]
+check teardown.no_wiphys $? "($n left in /sys/class/ieee80211)"
+left=$(iw dev 2>&1; for ns in tbvm1 tbvm2 tbvm3; do ip netns exec $ns iw dev 2>&1; done)
+[[ -z $left ]]
+check teardown.iw_dev_empty $? "(${left:-nothing})"
+links=$({
+  ip -o link show | grep tbvm
+  for ns in tbvm1 tbvm2 tbvm3; do ip -n $ns -o link show wlan0 2>/dev/null; done
+} | cut -d: -f2 | tr -d '\n')
+[[ -z $links ]]
+check teardown.no_interfaces $? "(${links:-no tbvm* and no wlan0 left})"
+for ns in tbvm1 tbvm2 tbvm3; do ip netns del $ns; done
