@@ -55,6 +55,8 @@ std::string to_string(DropReason r) {
       return "not forwarded: link error";
     case DropReason::kContentionLost:
       return "not forwarded: another router rebroadcast it first";
+    case DropReason::kLocationTableFull:
+      return "location table full";
     case DropReason::kCount:
       break;
   }
@@ -103,6 +105,8 @@ Router::Router(clock::Runtime& runtime, link::LinkLayer& link, const PositionPro
   if (config_.cbf_min_time <= clock::Duration::zero() ||
       config_.cbf_max_time < config_.cbf_min_time || config_.max_communication_range_m <= 0.0)
     throw std::invalid_argument("GN router: need 0 < CBF min time <= CBF max time, range > 0");
+  if (config_.max_location_entries == 0)
+    throw std::invalid_argument("GN router: the location table must hold at least one entry");
   if (config_.default_hop_limit == 0)
     throw std::invalid_argument("GN router: default hop limit must be at least 1");
   if (config_.default_lifetime <= clock::Duration::zero() ||
@@ -396,6 +400,14 @@ void Router::on_frame(const link::ReceivedFrame& frame) {
     }
   }
 
+  if (table_.size() >= config_.max_location_entries &&
+      table_.find(so.address.mid_key(), now) == nullptr) {
+    table_.purge(now);
+    if (table_.size() >= config_.max_location_entries) {
+      drop(DropReason::kLocationTableFull);
+      return;
+    }
+  }
   bool created = false;
   LocationTableEntry& entry = table_.find_or_create(so.address, now, created);
   switch (p.common.type) {

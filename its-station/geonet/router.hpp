@@ -38,6 +38,9 @@ struct RouterConfig {
   clock::Duration max_lifetime = 600s;            ///< itsGnMaxPacketLifetime
   std::uint8_t default_hop_limit = 10;            ///< itsGnDefaultHopLimit
   std::size_t max_sdu_size = 1398;                ///< itsGnMaxSduSize
+  /// Bound on location table entries, so that a flood of made-up sources cannot exhaust
+  /// memory (the standard sets none); packets from new sources beyond it are dropped.
+  std::size_t max_location_entries = 10'000;
   /// Seeds the beacon jitter; 0 derives a seed from the MAC so that stations differ.
   std::uint32_t random_seed = 0;
 
@@ -130,7 +133,8 @@ enum class DropReason {
   kNotForwardedHopLimit,    ///< delivered, but RHL reached 0 so not forwarded
   kNoForwardingNeighbour,   ///< greedy forwarding towards the area found no one
   kForwardLinkError,
-  kContentionLost,  ///< CBF: another router rebroadcast it first, so we do not
+  kContentionLost,     ///< CBF: another router rebroadcast it first, so we do not
+  kLocationTableFull,  ///< a new source while max_location_entries live entries exist
   kCount
 };
 std::string to_string(DropReason r);

@@ -90,6 +90,7 @@ TEST_F(RouterTest, ConfigurationsThatCannotWorkAreRefused) {
   EXPECT_THROW(make([](RouterConfig& c) { c.default_hop_limit = 0; }), std::invalid_argument);
   EXPECT_THROW(make([](RouterConfig& c) { c.default_lifetime = 601s; }), std::invalid_argument);
   EXPECT_THROW(make([](RouterConfig& c) { c.cbf_max_time = 0ms; }), std::invalid_argument);
+  EXPECT_THROW(make([](RouterConfig& c) { c.max_location_entries = 0; }), std::invalid_argument);
   EXPECT_THROW(make([](RouterConfig& c) { c.max_communication_range_m = 0; }),
                std::invalid_argument);
   EXPECT_NO_THROW(make([](RouterConfig&) {}));
@@ -506,6 +507,33 @@ TEST_F(RouterTest, GbcRequestFromOutsideTheAreaNeedsANeighbourTowardsIt) {
   EXPECT_EQ(router->request(gbc, Bytes{1}), DataConfirm::kAccepted);
   ASSERT_EQ(link.sent().size(), 1u);
   EXPECT_EQ(link.sent()[0].destination, mac(9));
+}
+
+TEST_F(RouterTest, AFullLocationTableTurnsAwayNewSourcesButNotKnownOnes) {
+  RouterConfig config;
+  config.max_location_entries = 2;
+  start(config);
+  set_position(at(0, 0));
+  for (std::uint8_t i = 2; i <= 4; ++i) {
+    PacketSpec s;
+    s.source = remote_pv(i, at(10.0 * i, 0), now_tst());
+    receive(make_packet(s), mac(i));
+  }
+  EXPECT_EQ(delivered.size(), 2u);
+  EXPECT_EQ(drop_reasons(), std::vector{DropReason::kLocationTableFull});
+  rt.advance(10ms);
+  set_position(at(0, 0));
+  PacketSpec known;
+  known.source = remote_pv(2, at(20, 0), now_tst());
+  receive(make_packet(known), mac(2));
+  EXPECT_EQ(delivered.size(), 3u);
+  // Once the entries expire there is room again.
+  rt.advance(21s);
+  set_position(at(0, 0));
+  PacketSpec late;
+  late.source = remote_pv(4, at(40, 0), now_tst());
+  receive(make_packet(late), mac(4));
+  EXPECT_EQ(delivered.size(), 4u);
 }
 
 TEST_F(RouterTest, LocationTableEntriesExpireAfterTwentySeconds) {
