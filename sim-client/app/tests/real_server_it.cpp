@@ -1,0 +1,180 @@
+// sim-client against the real sim-server process from $TESTBED_BIN: the lane-following driver
+// on the server's Bullet vehicle, and keyboard input reaching the server's physics.
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fcntl.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <thread>
+
+#include <boost/asio/ip/udp.hpp>
+
+#include "sim-client/app/client_app.hpp"
+
+namespace tb::client {
+namespace {
+
+namespace asio = boost::asio;
+using namespace std::chrono_literals;
+
+constexpr const char* kScenario = R"({
+  "name": "sim-client-it",
+  "map": { "type": "straight", "lanes": 2, "lane_width": 3.5, "length": 2000 },
+  "origin": { "lat": 41.1, "lon": 29.0, "alt": 60 },
+  "vehicles": [
+    { "id": "me", "station_id": 2001, "color": "#20a040",
+      "spawn": { "lane": 0, "s": 20, "speed": 0 }, "driver": "human" },
+    { "id": "lf", "station_id": 2002, "color": "#d02020",
+      "spawn": { "lane": 0, "s": 200, "speed": 8 },
+      "driver": { "type": "lane_follow", "speed_profile": [ { "t": 0, "speed": 12 } ] } }
+  ]
+})";
+
+// The real sim-server on a free port, stopped with SIGTERM (then SIGKILL) at the end.
+class SimServerProcess {
+ public:
+  SimServerProcess() {
+    const char* b = std::getenv("TESTBED_BIN");
+    exe_ = std::string(b != nullptr ? b : "build/bin") + "/sim-server";
+    if (!std::filesystem::exists(exe_))
+      return;
+    dir_ = ::testing::TempDir() + "/simclient_real_" + std::to_string(getpid());
+    std::filesystem::create_directories(dir_);
+    std::ofstream(dir_ + "/scenario.json") << kScenario;
+    log_ = dir_ + "/server.log";
+    pid_ = fork();
+    if (pid_ == 0) {
+      const int fd = ::open(log_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      dup2(fd, 1);
+      dup2(fd, 2);
+      const std::string scen = dir_ + "/scenario.json";
+      execl(exe_.c_str(), exe_.c_str(), "--scenario", scen.c_str(), "--port", "0", "--bind",
+            "127.0.0.1", static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    const std::regex listening(R"(listening on [^ ]*:(\d+))");
+    for (int i = 0; i < 250 && port_ == 0; ++i) {
+      std::this_thread::sleep_for(20ms);
+      std::ifstream in(log_);
+      std::stringstream s;
+      s << in.rdbuf();
+      const std::string text = s.str();
+      std::smatch m;
+      if (std::regex_search(text, m, listening))
+        port_ = static_cast<std::uint16_t>(std::stoi(m[1]));
+    }
+  }
+  ~SimServerProcess() {
+    if (pid_ > 0) {
+      kill(pid_, SIGTERM);
+      int status = 0;
+      for (int i = 0; i < 100 && waitpid(pid_, &status, WNOHANG) == 0; ++i)
+        std::this_thread::sleep_for(20ms);
+      if (waitpid(pid_, &status, WNOHANG) == 0) {
+        kill(pid_, SIGKILL);
+        waitpid(pid_, &status, 0);
+      }
+    }
+    if (!dir_.empty())
+      std::filesystem::remove_all(dir_);
+  }
+  bool available() const { return std::filesystem::exists(exe_); }
+  std::uint16_t port() const { return port_; }
+  std::string log() const {
+    std::ifstream in(log_);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }
+
+ private:
+  std::string exe_, dir_, log_;
+  pid_t pid_ = -1;
+  std::uint16_t port_ = 0;
+};
+
+void pump(asio::io_context& io, std::chrono::milliseconds d) {
+  io.restart();
+  io.run_for(d);
+}
+
+TEST(RealSimServer, LaneFollowerHoldsTargetSpeedInLaneAndKeysDriveTheCar) {
+  SimServerProcess server;
+  if (!server.available())
+    GTEST_SKIP() << "no sim-server in $TESTBED_BIN";
+  ASSERT_NE(server.port(), 0) << server.log();
+
+  asio::io_context io;
+  asio::ip::udp::socket rx(io, {asio::ip::address_v4::loopback(), 0});
+  rx.non_blocking(true);
+  AppOptions o;
+  o.server = "127.0.0.1:" + std::to_string(server.port());
+  o.emulator = "127.0.0.1:" + std::to_string(rx.local_endpoint().port());
+  o.session.vehicles = {"me"};
+  o.session.scripted = true;
+  o.headless = true;
+  ClientApp app(io, o);
+  app.start();
+
+  scenario::MapSpec spec;
+  spec.length = 2000.0;
+  const map::RoadMap road(spec);
+  const double margin = (3.5 - scenario::VehicleModel{}.width_m) / 2.0;
+  std::size_t forwarded = 0, checked = 0;
+  double max_lateral = 0.0;
+  bool pressed = false;
+  float me_throttle = 0.0f, me_speed = 0.0f;
+  std::array<std::uint8_t, 512> buf{};
+  const auto deadline = std::chrono::steady_clock::now() + 40s;
+  double lf_time = 0.0;
+  while (lf_time < 12.0 && std::chrono::steady_clock::now() < deadline && !app.stopped()) {
+    pump(io, 20ms);
+    if (!pressed && app.session().frames() > 10) {
+      SDL_Event e{};
+      e.type = SDL_KEYDOWN;
+      e.key.state = SDL_PRESSED;
+      e.key.keysym.scancode = SDL_SCANCODE_W;
+      ASSERT_EQ(SDL_PushEvent(&e), 1);
+      pressed = true;
+    }
+    boost::system::error_code ec;
+    for (std::size_t n = rx.receive(asio::buffer(buf), 0, ec); !ec;
+         n = rx.receive(asio::buffer(buf), 0, ec)) {
+      const auto st = wire::decode(std::span<const std::uint8_t>(buf.data(), n));
+      ASSERT_TRUE(st.has_value()) << to_string(st.error());
+      ++forwarded;
+      if (st->station_id == 2001) {
+        me_throttle = st->controls.throttle;  // what the server applied
+        me_speed = st->speed;
+        continue;
+      }
+      ASSERT_EQ(st->station_id, 2002u);
+      lf_time = st->sim_time_ns * 1e-9;
+      const auto pr = map::project(road.lane(0, 0).centre, {st->position[0], st->position[1]});
+      max_lateral = std::max(max_lateral, std::abs(pr.lateral));
+      if (lf_time > 6.0) {
+        ASSERT_NEAR(st->speed, 12.0, 0.5) << "at sim time " << lf_time << " s";
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 100u) << server.log();
+  EXPECT_LT(max_lateral, margin);
+  EXPECT_GT(forwarded, 1000u);
+  // W held for seconds: the server applies full throttle and the car moves.
+  EXPECT_FLOAT_EQ(me_throttle, 1.0f);
+  EXPECT_GT(me_speed, 5.0f);
+  app.stop(0);
+}
+
+}  // namespace
+}  // namespace tb::client
