@@ -36,7 +36,7 @@ Emulator::Emulator(const scenario::Scenario& scenario, const tb::can::Database& 
   }
 }
 
-void Emulator::handle_datagram(std::span<const std::uint8_t> bytes) {
+bool Emulator::handle_datagram(std::span<const std::uint8_t> bytes) {
   ++counters_.datagrams;
   auto state = wire::decode(bytes);
   if (!state) {
@@ -52,7 +52,7 @@ void Emulator::handle_datagram(std::span<const std::uint8_t> bytes) {
             bytes.size(), wire::to_string(state.error()));
       }
     }
-    return;
+    return false;
   }
   const auto it = stations_.find(state->station_id);
   if (it == stations_.end()) {
@@ -64,7 +64,7 @@ void Emulator::handle_datagram(std::span<const std::uint8_t> bytes) {
           "(logged once; see the status line for counts)",
           state->station_id);
     }
-    return;
+    return true;
   }
   ++counters_.states;
   Station& s = *it->second;
@@ -73,6 +73,7 @@ void Emulator::handle_datagram(std::span<const std::uint8_t> bytes) {
     send_nmea(s, *state, *nmea);
   if (const auto frames = s.can.on_state(*state); !frames.empty())
     send_can(s, *state, frames);
+  return true;
 }
 
 void Emulator::send_nmea(Station& s, const wire::VehicleState& state, std::string_view nmea) {

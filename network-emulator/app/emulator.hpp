@@ -61,8 +61,9 @@ class Emulator {
            const std::vector<StationEndpoints>& stations, const StationIoFactory& make_io,
            const clock::Clock& clock, trace::Tracer& tracer, std::uint64_t seed = 1);
 
-  /// Handles one received datagram (a tb::wire::VehicleState).
-  void handle_datagram(std::span<const std::uint8_t> bytes);
+  /// Handles one received datagram. Returns whether it was a valid tb::wire::VehicleState
+  /// (of any station), which the program passes on to --forward receivers.
+  bool handle_datagram(std::span<const std::uint8_t> bytes);
 
   const Counters& counters() const { return counters_; }
   std::size_t station_count() const { return stations_.size(); }

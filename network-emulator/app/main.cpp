@@ -78,8 +78,13 @@ void raise_fd_limit() {
 /// The UDP receiver of vehicle states: one async wait, then drains the socket without blocking.
 class StateReceiver {
  public:
-  StateReceiver(asio::io_context& io, const udp::endpoint& listen, emu::Emulator& emulator)
-      : socket_(io), emulator_(emulator) {
+  StateReceiver(asio::io_context& io, const udp::endpoint& listen, emu::Emulator& emulator,
+                std::vector<udp::endpoint> forward)
+      : socket_(io), forward_socket_(io), emulator_(emulator), forward_(std::move(forward)) {
+    if (!forward_.empty()) {
+      forward_socket_.open(udp::v4());
+      forward_socket_.non_blocking(true);
+    }
     socket_.open(listen.protocol());
     socket_.set_option(udp::socket::reuse_address(true));
     // 1000 vehicles at 100 Hz are 100k datagrams/s: a deep buffer rides out scheduling gaps.
@@ -121,7 +126,14 @@ class StateReceiver {
       for (int i = 0; i < n; ++i) {
         const auto k = static_cast<std::size_t>(i);
         // A datagram longer than the buffer arrives cut (MSG_TRUNC) and fails the size check.
-        emulator_.handle_datagram({buffers_[k].data(), msgs[k].msg_len});
+        const std::span<const std::uint8_t> d(buffers_[k].data(), msgs[k].msg_len);
+        if (emulator_.handle_datagram(d))
+          for (const auto& to : forward_) {
+            // Best effort, like the datagram itself: a full buffer or an absent radio-medium
+            // loses this state, never blocks the feeds.
+            boost::system::error_code ignored;
+            forward_socket_.send_to(asio::buffer(d.data(), d.size()), to, 0, ignored);
+          }
       }
       if (n < static_cast<int>(kBatch))
         return;
@@ -130,7 +142,9 @@ class StateReceiver {
 
   static constexpr std::size_t kBatch = 64;
   udp::socket socket_;
+  udp::socket forward_socket_;
   emu::Emulator& emulator_;
+  std::vector<udp::endpoint> forward_;
   /// Larger than a state datagram, so that a longer one is seen as too long, not as a state.
   std::array<std::array<std::uint8_t, 512>, kBatch> buffers_{};
 };
@@ -151,6 +165,10 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"udp", "vcan", "auto"}))
       ->capture_default_str();
   app.add_option("--dbc", dbc_file, "CAN database")->capture_default_str();
+  std::vector<std::string> forward_to;
+  app.add_option(
+      "--forward", forward_to,
+      "pass every valid state on to ADDRESS:PORT (radio-medium --positions; repeatable)");
   app.add_option("--trace", trace_file, "write trace records (JSON lines) to FILE");
   app.add_option("--seed", seed, "seed of the GNSS error model")->capture_default_str();
   app.add_option("--status-interval", status_interval, "seconds between status lines (0: none)")
@@ -187,6 +205,15 @@ int main(int argc, char** argv) {
   if (!listen_ep) {
     spdlog::error("--listen {}: expected ADDRESS:PORT, e.g. 0.0.0.0:4700", listen);
     return kExitFailure;
+  }
+  std::vector<udp::endpoint> forward;
+  for (const auto& f : forward_to) {
+    const auto ep = parse_endpoint(f);
+    if (!ep || !ep->address().is_v4()) {
+      spdlog::error("--forward {}: expected IPv4ADDRESS:PORT, e.g. 127.0.0.1:4701", f);
+      return kExitFailure;
+    }
+    forward.push_back(*ep);
   }
   try {
     if (!trace_file.empty())
@@ -260,12 +287,14 @@ int main(int argc, char** argv) {
 
   std::unique_ptr<StateReceiver> receiver;
   try {
-    receiver = std::make_unique<StateReceiver>(io, *listen_ep, *emulator);
+    receiver = std::make_unique<StateReceiver>(io, *listen_ep, *emulator, forward);
   } catch (const boost::system::system_error& e) {
     spdlog::error("cannot listen for vehicle states on {}: {}", listen, e.code().message());
     return kExitFailure;
   }
   receiver->start();
+  for (const auto& f : forward_to)
+    spdlog::info("passing vehicle states on to {}", f);
   spdlog::info("scenario {} ({}): {} stations, GNSS {} Hz, CAN {}/{} Hz; listening on {}",
                scen.name, scenario_file, emulator->station_count(), scen.rates.gnss_hz,
                scen.rates.can_dynamics_hz, scen.rates.can_body_hz,

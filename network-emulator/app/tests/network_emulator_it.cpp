@@ -145,7 +145,7 @@ std::array<std::uint8_t, wire::kVehicleStateSize> state(std::uint32_t station, s
 }
 
 TEST_F(NetworkEmulatorIt, FeedsStationsAndSurvivesOneWithoutReceiver) {
-  Socket gnss_a, can_a, can_b, sender;
+  Socket gnss_a, can_a, can_b, sender, radio;
   const int gnss_b_port = free_port();  // nobody listens: station 1002's gpsd is "gone"
   const int listen_port = free_port();
   std::ofstream(dir_ / "stations.json")
@@ -154,11 +154,11 @@ TEST_F(NetworkEmulatorIt, FeedsStationsAndSurvivesOneWithoutReceiver) {
       << "}, {\"station_id\": 1002, \"gnss_port\": " << gnss_b_port
       << ", \"can_port\": " << can_b.port << "}]}";
   const fs::path log = dir_ / "emu.log";
-  Program emu(
-      {"--scenario", (dir_ / "scenario.json").string(), "--stations",
-       (dir_ / "stations.json").string(), "--listen", "127.0.0.1:" + std::to_string(listen_port),
-       "--can", "udp", "--status-interval", "0.2"},
-      log);
+  Program emu({"--scenario", (dir_ / "scenario.json").string(), "--stations",
+               (dir_ / "stations.json").string(), "--listen",
+               "127.0.0.1:" + std::to_string(listen_port), "--can", "udp", "--status-interval",
+               "0.2", "--forward", "127.0.0.1:" + std::to_string(radio.port)},
+              log);
   ASSERT_TRUE(emu.started());
 
   // Until the program listens, states are lost; send the first one until NMEA comes back.
@@ -178,7 +178,12 @@ TEST_F(NetworkEmulatorIt, FeedsStationsAndSurvivesOneWithoutReceiver) {
 
   std::vector<std::string> nmea;
   std::map<std::uint32_t, int> frames_a, frames_b;
+  int forwarded = 0, forwarded_bad = 0;
   auto drain = [&] {
+    while (auto d = radio.receive())
+      (wire::decode({reinterpret_cast<const std::uint8_t*>(d->data()), d->size()})
+           ? forwarded
+           : forwarded_bad)++;
     while (auto d = gnss_a.receive())
       nmea.push_back(*d);
     for (auto* sock : {&can_a, &can_b})
@@ -209,6 +214,9 @@ TEST_F(NetworkEmulatorIt, FeedsStationsAndSurvivesOneWithoutReceiver) {
   EXPECT_EQ(frames_a[512], 15);
   // Station 1002's gpsd is gone, but its CAN reader is there and got everything.
   EXPECT_EQ(frames_b[256], 149);
+  // --forward passed on the valid states (also station 999's), not the junk.
+  EXPECT_GE(forwarded, 2 * 149 + 1);
+  EXPECT_EQ(forwarded_bad, 0);
 
   EXPECT_EQ(emu.wait_exit(true), 0);
   const std::string text = read_file(log);
