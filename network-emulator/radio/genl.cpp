@@ -118,7 +118,10 @@ int on_valid(nl_msg* msg, void* arg) {
 GenlAnswer GenlSocket::request(NlMsgPtr msg, const std::function<void(nl_msg*)>& on_reply) {
   RequestState st;
   st.on_reply = &on_reply;
-  nlmsg_hdr(msg.get())->nlmsg_flags |= NLM_F_ACK;
+  // A dump ends with NLMSG_DONE; asking it for an ACK as well would leave a stray message for
+  // the next request to trip over.
+  if (!(nlmsg_hdr(msg.get())->nlmsg_flags & NLM_F_DUMP))
+    nlmsg_hdr(msg.get())->nlmsg_flags |= NLM_F_ACK;
   std::unique_ptr<nl_cb, void (*)(nl_cb*)> cb(nl_cb_alloc(NL_CB_DEFAULT), nl_cb_put);
   nl_cb_err(cb.get(), NL_CB_CUSTOM, on_error, &st);
   nl_cb_set(cb.get(), NL_CB_ACK, NL_CB_CUSTOM, on_ack, &st);

@@ -294,8 +294,9 @@ int run(const Options& opt) {
   io.run();
   write_stats(opt.stats_file, channel);
   const auto t = channel.totals();
-  spdlog::info("radio-medium: {} frames in, {} delivered, {} dropped", medium.frames_in(),
-               t.delivered, t.dropped_total());
+  const std::uint64_t frames_in = hwsim_medium ? hwsim_medium->frames_in() : medium.frames_in();
+  spdlog::info("radio-medium: {} frames in, {} delivered, {} dropped", frames_in, t.delivered,
+               t.dropped_total());
   return 0;
 }
 
