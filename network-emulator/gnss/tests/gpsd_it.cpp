@@ -233,5 +233,35 @@ TEST_F(GpsdFeed, ErrorEstimatesFollowTheConfiguredModel) {
   EXPECT_GE(checked, 10);
 }
 
+TEST_F(GpsdFeed, FixLossWindowIsReportedAsNoFix) {
+  AgentConfig c = agent_config();
+  c.errors.fix_loss = {{1.0, 1.5}};
+  GpsAgent agent(c, frame());
+  wire::VehicleState s;
+  s.station_id = 7;
+  s.position = {0.0, 0.0, 0.0};
+  for (int i = 0; i < 25; ++i) {
+    s.sim_time_ns = std::int64_t{i} * 100'000'000;
+    send(*agent.on_state(s));
+    std::this_thread::sleep_for(10ms);
+  }
+  const auto fixes = read_fixes(1500ms);
+  const auto start_ns =
+      std::chrono::duration_cast<std::chrono::nanoseconds>(c.start_time.time_since_epoch()).count();
+  int lost = 0, regained = 0;
+  for (const auto& [t, fix] : fixes) {
+    const double sim_s = static_cast<double>(t - start_ns) * 1e-9;
+    if (sim_s >= 1.0 && sim_s < 1.45) {
+      EXPECT_LE(fix.mode, MODE_NO_FIX) << "at " << sim_s << " s";
+      ++lost;
+    } else if (sim_s >= 1.65) {
+      EXPECT_EQ(fix.mode, MODE_3D) << "at " << sim_s << " s";
+      ++regained;
+    }
+  }
+  EXPECT_GE(lost, 3);
+  EXPECT_GE(regained, 5);
+}
+
 }  // namespace
 }  // namespace tb::emu::gnss
