@@ -190,6 +190,83 @@ check radio.no_echo_to_sender $? "($a1 own frames)"
 [[ $ma == 20 && $mb == 20 ]]
 check radio.monitor_sees_frames $? "($ma/20 from 11, $mb/20 from 12 on tbvmmon)"
 
+src=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["tags"]["A"]["src"])' "$T/rx2.json" 2>/dev/null)
+[[ $src == 02:00:00:00:00:0b ]]
+check radio.station_mac $? "(frames from station 11 carry ${src:-no address}; want 02:00:00:00:00:0b)"
+
+# The project's own GN/BTP stack on the hwsim radios: SHB from 11 reaches 12 (200 m) and not
+# 13 (450 m).
+probe_pos=(--position 41.1 29.0)
+ip netns exec tbvm2 its-gn-probe --receive-count 10 --duration-s 40 "${probe_pos[@]}" \
+  >"$T/gn-rx12.log" 2>&1 &
+gn12=$!
+ip netns exec tbvm3 its-gn-probe --duration-s 12 "${probe_pos[@]}" >"$T/gn-rx13.log" 2>&1 &
+gn13=$!
+wait_for "$T/gn-rx12.log" 20 '"ready"' && wait_for "$T/gn-rx13.log" 20 '"ready"'
+ip netns exec tbvm1 its-gn-probe --send shb --count 10 --interval-ms 100 --duration-s 4 \
+  "${probe_pos[@]}" >"$T/gn-tx11.log" 2>&1
+tx_rc=$?
+wait $gn12
+rc12=$?
+wait $gn13
+rc13=$?
+[[ $tx_rc == 0 && $rc12 == 0 ]]
+check gn.shb_11_to_12 $? "(its-gn-probe: sender exit $tx_rc, receiver exit $rc12: $(grep summary "$T/gn-rx12.log"))"
+got13=$(grep summary "$T/gn-rx13.log" | python3 -c 'import json,sys; print(json.loads(sys.stdin.read())["received"])' 2>/dev/null)
+[[ $rc13 == 0 && $got13 == 0 ]]
+check gn.range_cut_11_to_13 $? "(its-gn-probe at 450 m: exit $rc13, received ${got13:-?})"
+
+# ---- its-station: CAMs over hwsim, fed by the emulator (gpsd + vcan) ------------------------
+# Sim time starts now, so that the NMEA times gpsd reports are current for the stations.
+sed "s/\"start_time\": \"[^\"]*\"/\"start_time\": \"$(date -u +%Y-%m-%dT%H:%M:%SZ)\"/" "$S" \
+  >"$T/scenario-now.json"
+printf '{"stations": [%s]}\n' \
+  '{"station_id": 11, "netns": "tbvm1"}, {"station_id": 12, "netns": "tbvm2"}, {"station_id": 13, "netns": "tbvm3"}' \
+  >"$T/stations3.json"
+its=()
+for i in 1 2 3; do
+  ip -n tbvm$i link add vcan0 type vcan && ip -n tbvm$i link set vcan0 up
+  ip netns exec tbvm$i its-station --station-id 1$i --scenario "$T/scenario-now.json" \
+    --radio wlan0 --can socketcan --can-interface vcan0 --dbc /tb/share/vehicle.dbc \
+    --cam-policy fixed --cam-period-ms 100 --gpsd-wait 30 --status-file "$T/station1$i.json" \
+    --log-level info >"$T/its-station1$i.log" 2>&1 &
+  its+=($!)
+done
+network-emulator --scenario "$T/scenario-now.json" --stations "$T/stations3.json" --can vcan \
+  --dbc /tb/share/vehicle.dbc --listen 127.0.0.1:4700 --status-interval 0 \
+  >"$T/network-emulator-cam.log" 2>&1 &
+emu=$!
+sleep 1
+# 8 s of states at 20 Hz; speeds differ so that each neighbour can be told apart.
+speeds=(0 10 5 7.5)
+xs=(0 10 210 460)
+stc=()
+for i in 1 2 3; do
+  tool state --to 127.0.0.1:4700 --station 1$i --x ${xs[$i]} --speed ${speeds[$i]} --gear 3 \
+    --count 160 --interval 0.05 >"$T/state-cam1$i.log" 2>&1 &
+  stc+=($!)
+done
+wait "${stc[@]}"
+sleep 1
+cam_check() { # cam_check STATION WANT_NEIGHBOURS...
+  python3 "$G/cam_check.py" "$T/station$1.json" "${@:2}"
+}
+why=$(cam_check 11 12)
+check cam.ldm_11_sees_12_only $? "($why)"
+why=$(cam_check 12 11 13)
+check cam.ldm_12_sees_11_and_13 $? "($why)"
+why=$(cam_check 13 12)
+check cam.ldm_13_sees_12_only $? "($why)"
+rcs=""
+for p in "${its[@]}"; do
+  stop $p 15
+  rcs+="$stop_rc "
+done
+[[ $rcs == "0 0 0 " ]]
+check cam.stations_exit_cleanly $? "(exit codes $rcs)"
+stop $emu 10
+for i in 1 2 3; do ip -n tbvm$i link del vcan0; done
+
 stop $rm_pid 20
 [[ $stop_rc == 0 ]]
 check radio.exits_cleanly $? "(exit $stop_rc after SIGTERM)"
