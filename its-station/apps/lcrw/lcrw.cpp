@@ -263,6 +263,7 @@ std::vector<LcrwWarning> Lcrw::evaluate(const VehicleKinematics& own,
   const clock::WallTime now = clock_.wall_now();
   std::vector<LcrwWarning> events;
   std::set<std::uint32_t> seen;
+  assessed_.clear();
 
   auto clear = [&](LcrwWarning w, ClearReason why) {
     w.event = WarningEvent::kCleared;
@@ -281,6 +282,7 @@ std::vector<LcrwWarning> Lcrw::evaluate(const VehicleKinematics& own,
     }
     seen.insert(n.station_id);
     const PairAssessment a = assess(own, n, now, cfg_);
+    assessed_[n.station_id] = a;
     const bool relevant = a.in_path && (a.ahead || cfg_.include_vehicles_behind);
     const bool moving_apart = a.closing_speed_mps < 0.0;
 

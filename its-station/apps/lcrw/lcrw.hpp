@@ -152,12 +152,15 @@ class Lcrw {
 
   /// The active warnings, by other station id.
   const std::map<std::uint32_t, LcrwWarning>& active() const { return active_; }
+  /// What the last evaluate() computed for each neighbour it assessed, by station id.
+  const std::map<std::uint32_t, PairAssessment>& last_assessments() const { return assessed_; }
   const LcrwConfig& config() const { return cfg_; }
 
  private:
   const clock::Clock& clock_;
   LcrwConfig cfg_;
   std::map<std::uint32_t, LcrwWarning> active_;
+  std::map<std::uint32_t, PairAssessment> assessed_;
 };
 
 }  // namespace tb::its::apps

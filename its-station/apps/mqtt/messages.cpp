@@ -8,10 +8,6 @@ namespace {
 
 using nlohmann::json;
 
-/// Unix time of 2004-01-01T00:00:00Z in ms; the same definition as
-/// its-station/facilities/its_time.hpp so that MQTT subscribers and the air agree.
-constexpr std::int64_t kItsEpochUnixMs = 1'072'915'200'000;
-
 std::int64_t scaled(double v, double unit, std::int64_t lo, std::int64_t hi) {
   return std::clamp<std::int64_t>(std::llround(v / unit), lo, hi);
 }
@@ -99,14 +95,6 @@ std::string_view to_string(GnssFix f) {
       return "3d";
   }
   return "unknown";
-}
-
-std::int64_t unix_ms(clock::WallTime t) {
-  return std::chrono::duration_cast<std::chrono::milliseconds>(t.time_since_epoch()).count();
-}
-
-std::int64_t timestamp_its(clock::WallTime t) {
-  return unix_ms(t) - kItsEpochUnixMs;
 }
 
 json envelope(std::string_view type, std::string_view origin, std::uint32_t source,

@@ -14,6 +14,7 @@
 
 #include "common/clock/clock.hpp"
 #include "its-station/apps/den/den_port.hpp"
+#include "its-station/apps/its_time.hpp"
 #include "its-station/apps/lcrw/lcrw.hpp"
 
 namespace tb::its::apps::mqtt {
@@ -88,11 +89,9 @@ struct DenmView {
   std::uint32_t validity_duration_s = 600;
 };
 
-/// ms since the Unix epoch (the envelope's timestamp).
-std::int64_t unix_ms(clock::WallTime t);
-/// CDD TimestampIts: ms since 2004-01-01T00:00:00Z (UTC, leap seconds since then ignored as
-/// the ITS stacks of the field do).
-std::int64_t timestamp_its(clock::WallTime t);
+/// ms since the Unix epoch (the envelope's timestamp) and CDD TimestampIts (its_time.hpp).
+using apps::timestamp_its;
+using apps::unix_ms;
 
 nlohmann::json envelope(std::string_view type, std::string_view origin, std::uint32_t source,
                         clock::WallTime now, nlohmann::json message);

@@ -35,7 +35,14 @@ bool StationPublisher::publish_cam(const ReceivedCam& c) {
   if (last_cam_.size() > 256) {
     std::erase_if(last_cam_, [&](const auto& kv) { return now - kv.second > kForgetSourceAfter; });
   }
-  send(topics_.cam_in(c.station_id), "cam", kOriginRemote, cam_message(c), Qos::kAtMostOnce, false);
+  const std::string topic = topics_.cam_in(c.station_id);
+  send(topic, "cam", kOriginRemote, cam_message(c), Qos::kAtMostOnce, false);
+  if (tracer_ != nullptr) {
+    tracer_->record("its.mqtt", {{"station", cfg_.station_id},
+                                 {"topic", std::string_view{topic}},
+                                 {"from", c.station_id},
+                                 {"gdt", unsigned{c.generation_delta_time}}});
+  }
   return true;
 }
 
@@ -49,8 +56,14 @@ void StationPublisher::publish_denm_sent(const DenmView& d) {
 }
 
 void StationPublisher::publish_warning(const LcrwWarning& w) {
-  send(topics_.lcrw(), "lcrw_warning", kOriginApplication, lcrw_message(w), Qos::kAtLeastOnce,
-       false);
+  const std::string topic = topics_.lcrw();
+  send(topic, "lcrw_warning", kOriginApplication, lcrw_message(w), Qos::kAtLeastOnce, false);
+  if (tracer_ != nullptr) {
+    tracer_->record("its.mqtt", {{"station", cfg_.station_id},
+                                 {"topic", std::string_view{topic}},
+                                 {"from", w.other_station_id},
+                                 {"gdt", unsigned{generation_delta_time(w.other_state_time)}}});
+  }
 }
 
 }  // namespace tb::its::apps::mqtt

@@ -6,6 +6,7 @@
 #include <map>
 
 #include "common/clock/clock.hpp"
+#include "common/trace/tracer.hpp"
 #include "its-station/apps/lcrw/lcrw.hpp"
 #include "its-station/apps/mqtt/messages.hpp"
 #include "its-station/apps/mqtt/sink.hpp"
@@ -34,6 +35,10 @@ class StationPublisher {
   /// QoS 1, not retained (a stale warning must not greet a late subscriber).
   void publish_warning(const LcrwWarning& w);
 
+  /// `its.mqtt` records (docs/tracing.md: station, topic, from, gdt) for received CAMs and
+  /// LCRW warnings go to @p tracer; null: none.
+  void set_tracer(trace::Tracer* tracer) { tracer_ = tracer; }
+
   const Topics& topics() const { return topics_; }
   std::uint64_t cams_suppressed() const { return cams_suppressed_; }
 
@@ -47,6 +52,7 @@ class StationPublisher {
   Topics topics_;
   std::map<std::uint32_t, clock::SteadyTime> last_cam_;
   std::uint64_t cams_suppressed_ = 0;
+  trace::Tracer* tracer_ = nullptr;
 };
 
 }  // namespace tb::its::apps::mqtt

@@ -3,7 +3,11 @@
 #include "its-station/apps/lcrw/lcrw_app.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <vector>
 
 namespace tb::its::apps {
@@ -150,7 +154,7 @@ TEST(LcrwApplication, ForwardsEventsAndKeepsDenmsInStep) {
   own.time = clk.wall_now();
   VehicleKinematics other = own;
   other.station_id = 2;
-  other.y = 24;  // stopped, 20 m gap, TTC 2 s
+  other.y = 24;  // stopped, 19.5 m gap (default lengths 4.5 m), TTC 1.95 s
   other.speed_mps = 0;
   app.update(own, std::vector{other});
   ASSERT_EQ(seen.size(), 1u);
@@ -160,6 +164,61 @@ TEST(LcrwApplication, ForwardsEventsAndKeepsDenmsInStep) {
   ASSERT_EQ(seen.size(), 2u);
   EXPECT_EQ(seen[1].clear_reason, ClearReason::kNeighbourLost);
   EXPECT_EQ(den.terminated.size(), 1u);
+}
+
+}  // namespace
+}  // namespace tb::its::apps
+
+namespace tb::its::apps {
+namespace {
+
+TEST(LcrwApplication, TracesEachDecisionWithTheNeighboursCam) {
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("hmi-lcrw-trace-" + std::to_string(::getpid()) + ".jsonl");
+  clock::ManualClock clk;
+  {
+    trace::Tracer tracer(path.string(), "its-station");
+    LcrwApplication app(clk, LcrwConfig{}, nullptr, nullptr, &tracer);
+    VehicleKinematics own;
+    own.station_id = 1;
+    own.speed_mps = 10;
+    own.time = clk.wall_now();
+    VehicleKinematics near = own, far = own;
+    near.station_id = 2;
+    near.y = 24;  // stopped
+    near.speed_mps = 0;
+    far.station_id = 3;
+    far.y = 500;
+    far.speed_mps = 10;
+    far.time = clk.wall_now() - std::chrono::milliseconds(100);
+    app.update(own, std::vector{own, near, far});
+    tracer.flush();
+  }
+  std::ifstream in(path);
+  std::vector<nlohmann::json> records;
+  for (std::string line; std::getline(in, line);) {
+    records.push_back(nlohmann::json::parse(line));
+  }
+  std::filesystem::remove(path);
+  ASSERT_EQ(records.size(), 2u) << "one per neighbour, none for the own station";
+  EXPECT_EQ(records[0]["ev"], "its.lcrw");
+  EXPECT_EQ(records[0]["station"], 1);
+  EXPECT_EQ(records[0]["from"], 2);
+  EXPECT_EQ(records[0]["gdt"], generation_delta_time(clk.wall_now()));
+  EXPECT_EQ(records[0]["warn"], true);
+  EXPECT_DOUBLE_EQ(records[0]["ttc"].get<double>(), 1.95);  // 24 m − 4.5 m at 10 m/s
+  EXPECT_EQ(records[1]["from"], 3);
+  EXPECT_EQ(records[1]["warn"], false);
+  EXPECT_TRUE(records[1]["ttc"].is_null()) << "no contact: infinite TTC";
+  EXPECT_EQ(records[1]["gdt"], generation_delta_time(clk.wall_now()) - 100);
+}
+
+TEST(ItsTime, GenerationDeltaTimeWrapsEvery65536Ms) {
+  const clock::WallTime epoch{std::chrono::milliseconds{kItsEpochUnixMs}};
+  EXPECT_EQ(generation_delta_time(epoch), 0);
+  EXPECT_EQ(generation_delta_time(epoch + std::chrono::milliseconds{65535}), 65535);
+  EXPECT_EQ(generation_delta_time(epoch + std::chrono::milliseconds{65537}), 1);
+  EXPECT_EQ(generation_delta_time(epoch - std::chrono::milliseconds{1}), 65535);
 }
 
 }  // namespace

@@ -3,7 +3,10 @@
 #include "its-station/apps/mqtt/mosquitto_client.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <filesystem>
+#include <fstream>
 #include <vector>
 
 namespace tb::its::apps::mqtt {
@@ -135,6 +138,46 @@ TEST(MosquittoClientPrefix, StatusTopicMustBeUnderThePrefix) {
   cfg.publish_prefix = "its/1001/";
   cfg.status_topic = "its/1002/status";
   EXPECT_THROW(MosquittoClient(clk, cfg), MqttError);
+}
+
+}  // namespace
+}  // namespace tb::its::apps::mqtt
+
+namespace tb::its::apps::mqtt {
+namespace {
+
+TEST_F(PublisherTest, TracesPublishedCamsAndWarnings) {
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("hmi-mqtt-trace-" + std::to_string(::getpid()) + ".jsonl");
+  {
+    trace::Tracer tracer(path.string(), "its-station");
+    pub.set_tracer(&tracer);
+    auto c = cam(7);
+    c.generation_delta_time = 4242;
+    pub.publish_cam(c);
+    pub.publish_cam(c);  // rate-limited: not published, not traced
+    LcrwWarning w;
+    w.station_id = 1001;
+    w.other_station_id = 7;
+    w.other_state_time = clock::WallTime{std::chrono::milliseconds{kItsEpochUnixMs + 70000}};
+    pub.publish_warning(w);
+    pub.set_tracer(nullptr);
+    tracer.flush();
+  }
+  std::ifstream in(path);
+  std::vector<json> r;
+  for (std::string line; std::getline(in, line);) {
+    r.push_back(json::parse(line));
+  }
+  std::filesystem::remove(path);
+  ASSERT_EQ(r.size(), 2u);
+  EXPECT_EQ(r[0]["ev"], "its.mqtt");
+  EXPECT_EQ(r[0]["station"], 1001);
+  EXPECT_EQ(r[0]["topic"], "its/1001/in/cam/7");
+  EXPECT_EQ(r[0]["from"], 7);
+  EXPECT_EQ(r[0]["gdt"], 4242);
+  EXPECT_EQ(r[1]["topic"], "its/1001/app/lcrw");
+  EXPECT_EQ(r[1]["gdt"], 70000 - 65536);
 }
 
 }  // namespace
