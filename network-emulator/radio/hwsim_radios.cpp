@@ -8,6 +8,7 @@
 #include <netlink/netlink.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -378,13 +379,17 @@ void HwsimMedium::on_message(nl_msg* msg) {
   ++frames_in_;
   const HwsimRouter::Plan plan = router_.plan(tx->transmitter, tx->frame);
   auto frame = std::make_shared<const std::vector<std::uint8_t>>(tx->frame);
+  const clock::SteadyTime now = runtime_.steady_now();
   for (const auto& d : plan.deliveries) {
-    if (d.delay == clock::Duration{0}) {
+    // As in Medium: a receiver gets frames in the order they were sent, whatever the jitter.
+    clock::SteadyTime& last_due = last_due_[d.receiver];
+    if (d.delay == clock::Duration{0} && last_due <= now) {
       send_frame(d.receiver, *frame, d.signal_dbm, tx->freq_mhz);
       continue;
     }
+    last_due = std::max(now + d.delay, last_due);
     auto id = std::make_shared<clock::TimerId>(0);
-    *id = runtime_.schedule_in(d.delay, [this, d, frame, freq = tx->freq_mhz, id] {
+    *id = runtime_.schedule_at(last_due, [this, d, frame, freq = tx->freq_mhz, id] {
       timers_.erase(*id);
       send_frame(d.receiver, *frame, d.signal_dbm, freq);
     });

@@ -137,6 +137,7 @@ class HwsimMedium {
   int family_ = 0;
   boost::asio::posix::stream_descriptor descriptor_;
   std::set<clock::TimerId> timers_;
+  std::map<MacAddress, clock::SteadyTime> last_due_;
   std::uint64_t frames_in_ = 0;
   std::uint64_t bad_messages_ = 0;
 };

@@ -41,7 +41,8 @@ base = {
   "origin": {"lat": 41.1, "lon": 29.0, "alt": 60}, "start_time": "2025-06-02T09:00:00Z",
   "vehicles": [{"id": v, "station_id": s, "spawn": {"x": x, "y": 0, "heading_deg": 90},
                 "driver": "human"} for v, s, x in (("a", 11, 10), ("b", 12, 210), ("c", 13, 460))]}
-for name, channel in (("range", {"model": "range", "range_m": 300}), ("ideal", {"model": "ideal"})):
+for name, channel in (("range", {"model": "range", "range_m": 300}), ("ideal", {"model": "ideal"}),
+                      ("delay", {"model": "ideal", "delay_ms": 2, "jitter_ms": 2})):
     json.dump(dict(base, channel=channel), open(f"{sys.argv[1]}/{name}.json", "w"))
 PY
 cat >"$ROOT/opt/radio/init.sh" <<'SH'
@@ -77,6 +78,7 @@ check() {  # label scenario expected-at-12 expected-at-13
 }
 check range range.json 100 0
 check ideal ideal.json 100 100
+check delay delay.json 100 100
 echo "RESULT END"
 echo o >/proc/sysrq-trigger
 SH
