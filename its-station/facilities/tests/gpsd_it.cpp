@@ -22,6 +22,7 @@
 #include "common/clock/asio_runtime.hpp"
 #include "its-station/facilities/gpsd_position_provider.hpp"
 #include "its-station/facilities/gpsd_process.hpp"
+#include "its-station/facilities/tests/nmea_feed.hpp"
 
 namespace tb::its::facilities {
 namespace {
@@ -41,21 +42,8 @@ int free_port(int type) {
   return ntohs(a.sin_port);
 }
 
-std::string sentence(const std::string& body) {
-  unsigned cs = 0;
-  for (char c : body)
-    cs ^= static_cast<unsigned char>(c);
-  return fmt::format("${}*{:02X}\r\n", body, cs);
-}
-
-std::string nmea_angle(double deg, int deg_digits) {
-  const double a = std::abs(deg);
-  const int d = static_cast<int>(a);
-  return fmt::format("{:0{}d}{:09.6f}", d, deg_digits, (a - d) * 60.0);
-}
-
-/// One epoch (RMC + GGA + GSA in one datagram, the same time in each, as gpsd's cycle
-/// detection wants) of a car driving north-east at 10 m/s from (48.1, 11.5).
+/// An epoch of a car driving north-east at 10 m/s from (48.1, 11.5): 1 m north and 1 m east
+/// per step (8.99e-6° of latitude, 1.347e-5° of longitude at 48.1°).
 struct Epoch {
   clock::WallTime time;
   double lat, lon;
@@ -63,33 +51,10 @@ struct Epoch {
 };
 
 Epoch make_epoch(clock::WallTime t, int k) {
-  Epoch e;
-  // Whole hundredths of a second, as NMEA carries them.
-  e.time = clock::WallTime{
-      std::chrono::duration_cast<std::chrono::milliseconds>(t.time_since_epoch()) / 10 * 10};
-  // 1 m north and 1 m east per step: 8.99e-6° lat, 1.347e-5° lon at 48.1°.
-  e.lat = 48.1 + k * 8.99e-6;
-  e.lon = 11.5 + k * 1.347e-5;
-  const auto tt = std::chrono::system_clock::to_time_t(
-      std::chrono::time_point_cast<std::chrono::system_clock::duration>(e.time));
-  std::tm utc{};
-  gmtime_r(&tt, &utc);
-  const int cs =
-      static_cast<int>(
-          std::chrono::duration_cast<std::chrono::milliseconds>(e.time.time_since_epoch()).count() %
-          1000) /
-      10;
-  const auto hhmmss =
-      fmt::format("{:02d}{:02d}{:02d}.{:02d}", utc.tm_hour, utc.tm_min, utc.tm_sec, cs);
-  const auto ddmmyy =
-      fmt::format("{:02d}{:02d}{:02d}", utc.tm_mday, utc.tm_mon + 1, utc.tm_year % 100);
-  const auto lat = nmea_angle(e.lat, 2);
-  const auto lon = nmea_angle(e.lon, 3);
-  e.datagram =
-      sentence(fmt::format("GPRMC,{},A,{},N,{},E,19.438,45.0,{},,,A", hhmmss, lat, lon, ddmmyy)) +
-      sentence(fmt::format("GPGGA,{},{},N,{},E,1,09,0.9,500.0,M,47.0,M,,", hhmmss, lat, lon)) +
-      sentence("GPGSA,A,3,01,02,03,04,05,06,07,08,09,,,,1.5,0.9,1.2");
-  return e;
+  const double lat = 48.1 + k * 8.99e-6;
+  const double lon = 11.5 + k * 1.347e-5;
+  auto e = testing::nmea_epoch(t, lat, lon, 10.0, 45.0);
+  return {e.time, lat, lon, e.datagram};
 }
 
 class GpsdIt : public ::testing::Test {
