@@ -70,13 +70,16 @@ std::vector<unsigned> Signal::bit_positions() const {
 
 void Signal::insert_raw(std::int64_t raw, std::span<std::uint8_t> data) const {
   const auto u = static_cast<std::uint64_t>(raw);
-  if (byte_order == ByteOrder::kIntel && start_bit % 8 == 0 && length % 8 == 0) {
+  if (byte_order == ByteOrder::kIntel && start_bit % 8 == 0 && length % 8 == 0 &&
+      start_bit / 8 + length / 8 <= data.size()) {
     // Whole little-endian bytes: the common case, done without the bit loop.
     for (unsigned b = 0; b < length / 8; ++b)
       data[start_bit / 8 + b] = static_cast<std::uint8_t>(u >> (8 * b));
     return;
   }
   for_each_bit(*this, [&](unsigned pos, unsigned bit) {
+    if (pos / 8 >= data.size())
+      return;  // a frame shorter than the DBC says: write what fits, never past the end
     const auto mask = static_cast<std::uint8_t>(1u << (pos % 8));
     if ((u >> bit) & 1u)
       data[pos / 8] |= mask;

@@ -42,10 +42,12 @@ struct Signal {
   std::int64_t to_raw(double physical) const;
   double to_physical(std::int64_t raw) const { return static_cast<double>(raw) * factor + offset; }
 
-  /// Writes @p raw (two's complement for signed signals) into the signal's bits of @p data.
-  /// @p data must cover the signal (Database::parse checks every signal against its DLC).
+  /// Writes @p raw (two's complement for signed signals) into the signal's bits of @p data;
+  /// bits beyond the end of @p data are left out (Database::parse checks every signal against
+  /// its DLC, so a frame of the DLC's length holds them all).
   void insert_raw(std::int64_t raw, std::span<std::uint8_t> data) const;
-  /// Reads the signal's bits, sign-extended for signed signals.
+  /// Reads the signal's bits, sign-extended for signed signals; bits beyond the end of @p data
+  /// (a short frame from the network) read as 0.
   std::int64_t extract_raw(std::span<const std::uint8_t> data) const;
 
   void encode(double physical, std::span<std::uint8_t> data) const {

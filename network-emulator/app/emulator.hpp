@@ -60,6 +60,9 @@ class Emulator {
   Emulator(const scenario::Scenario& scenario, const tb::can::Database& dbc,
            const std::vector<StationEndpoints>& stations, const StationIoFactory& make_io,
            const clock::Clock& clock, trace::Tracer& tracer, std::uint64_t seed = 1);
+  // The GPS agents refer to frame_: the emulator stays where it was made.
+  Emulator(const Emulator&) = delete;
+  Emulator& operator=(const Emulator&) = delete;
 
   /// Handles one received datagram. Returns whether it was a valid tb::wire::VehicleState
   /// (of any station), which the program passes on to --forward receivers.

@@ -200,6 +200,20 @@ TEST(Dbc, SkipsVectorIndependentSignals) {
   EXPECT_EQ(db.messages[0].name, "Real");
 }
 
+TEST(Dbc, ShortFramesNeverReadOrWritePastTheirEnd) {
+  const Database db = parse_ok(kSmall);
+  const Signal& u16 = db.messages[0].signals[0];  // bytes 0-1
+  const Signal& s12 = db.messages[0].signals[1];  // bits 16..27
+  std::array<std::uint8_t, 1> one{0x6F};
+  EXPECT_DOUBLE_EQ(u16.decode(one), 0x6F * 0.5 - 10);  // byte 1 missing: reads as 0
+  EXPECT_EQ(s12.extract_raw(one), 0);
+  u16.encode(45.5, std::span(one));  // only byte 0 fits
+  EXPECT_EQ(one[0], 0x6F);
+  std::array<std::uint8_t, 3> three{};
+  s12.encode(-2, three);  // bits 16..23 fit, 24..27 do not
+  EXPECT_EQ(three[2], 0xFE);
+}
+
 TEST(Dbc, SixtyFourBitSignalsRoundTrip) {
   const Database db = parse_ok("BO_ 1 A: 8 X\n SG_ S : 0|64@1- (1,0) [0|0] \"\" X\n");
   const Signal& s = db.messages[0].signals[0];
