@@ -180,6 +180,10 @@ TEST_F(TsharkTest, EveryPacketTypeDecodesAsSentWithoutWarnings) {
   };
   EXPECT_EQ(lines(tshark(fields_args(), false)), expected);
   EXPECT_EQ(tshark(kProblemArgs, false), "") << "tshark reports malformed packets or expert info";
+  // The expert summary (-z expert) agrees: no errors and no warnings.
+  const std::string expert = tshark("-q -z expert", false);
+  EXPECT_EQ(expert.find("Errors ("), std::string::npos) << expert;
+  EXPECT_EQ(expert.find("Warns ("), std::string::npos) << expert;
 }
 
 TEST_F(TsharkTest, TheWarningCheckCatchesAMalformedFrame) {
@@ -194,6 +198,9 @@ TEST_F(TsharkTest, TheWarningCheckCatchesAMalformedFrame) {
   // The beacon and the SHB are fine; only the frame written by hand is reported.
   const std::string bad_frame = std::to_string(link.sent().size() + 1);
   EXPECT_EQ(tshark(kProblemArgs, false).substr(0, bad_frame.size() + 1), bad_frame + "\t");
+  const std::string expert = tshark("-q -z expert", false);
+  EXPECT_NE(expert.find("Errors ("), std::string::npos) << expert;
+  EXPECT_NE(expert.find("Bogus GeoNetworking length"), std::string::npos) << expert;
 }
 
 }  // namespace
