@@ -61,6 +61,8 @@ stop() {
 }
 
 echo "guest: kernel $(uname -r), $(nproc) CPUs"
+# Nothing configures the VM's own loopback: the programs talk over 127.0.0.1.
+ip link set lo up
 
 # ---- modules ------------------------------------------------------------------------------
 modprobe vcan && modprobe can-raw
@@ -113,7 +115,10 @@ else
   st11=$!
   tool state --to 127.0.0.1:4700 --station 12 --x 210 --speed 5 --gear 2 --lights hazard \
     --count 60 >"$T/state12.log" 2>&1
+  rc12=$?
   wait $st11
+  [[ $? == 0 && $rc12 == 0 ]]
+  check can.states_sent $? "($(cat "$T/state11.log" "$T/state12.log" | tr '\n' ' '))"
   wait $can1
   rc1=$?
   wait $can2
@@ -144,12 +149,15 @@ if ! wait_for "$T/radio-medium.log" 60 "radio-medium: ready"; then
   exit 1
 fi
 check radio.ready 0 ""
-n=$(ls /sys/class/ieee80211 | wc -l)
-[[ $n == 4 ]]
-check radio.four_radios $? "($n wiphys: three stations and the monitor)"
+# /sys/class/ieee80211 lists the wiphys of the reader's namespace only (ip netns exec remounts
+# /sys), so count per namespace: the monitor here, one radio in each station.
+wiphys() { ls /sys/class/ieee80211 | wc -l; for ns in tbvm1 tbvm2 tbvm3; do ip netns exec $ns ls /sys/class/ieee80211 | wc -l; done; }
+n=$(wiphys | tr '\n' ' ')
+[[ $n == "1 1 1 1 " ]]
+check radio.four_radios $? "(wiphys in the host namespace and tbvm1..3: $n; want 1 1 1 1)"
 for ns in tbvm1 tbvm2 tbvm3; do
   info=$(ip netns exec $ns iw dev wlan0 info 2>&1)
-  echo "$info" | grep -q "type ocb" && echo "$info" | grep -q "5900 MHz" &&
+  echo "$info" | grep -Eq "type (ocb|outside context of a BSS)" && echo "$info" | grep -q "5900 MHz" &&
     echo "$info" | grep -q "width: 10 MHz"
   check "radio.$ns.ocb_5900" $? "($(echo "$info" | grep -E 'type|channel|addr' | tr -s ' \n\t' ' '))"
 done
@@ -246,7 +254,13 @@ for i in 1 2 3; do
     --count 160 --interval 0.05 >"$T/state-cam1$i.log" 2>&1 &
   stc+=($!)
 done
-wait "${stc[@]}"
+rcs=""
+for p in "${stc[@]}"; do
+  wait $p
+  rcs+="$? "
+done
+[[ $rcs == "0 0 0 " ]]
+check cam.states_sent $? "(exit codes $rcs)"
 sleep 1
 cam_check() { # cam_check STATION WANT_NEIGHBOURS...
   python3 "$G/cam_check.py" "$T/station$1.json" "${@:2}"
@@ -283,9 +297,9 @@ EOF
 check radio.stats_out_of_range $? "(radio-medium --stats: $(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["totals"])' "$T/radio-stats.json" 2>&1 | head -c 300))"
 
 # ---- teardown: nothing left ----------------------------------------------------------------
-n=$(ls /sys/class/ieee80211 | wc -l)
-[[ $n == 0 ]]
-check teardown.no_wiphys $? "($n left in /sys/class/ieee80211)"
+n=$(wiphys | tr '\n' ' ')
+[[ $n == "0 0 0 0 " ]]
+check teardown.no_wiphys $? "(wiphys in the host namespace and tbvm1..3: $n)"
 left=$(iw dev 2>&1; for ns in tbvm1 tbvm2 tbvm3; do ip netns exec $ns iw dev 2>&1; done)
 [[ -z $left ]]
 check teardown.iw_dev_empty $? "(${left:-nothing})"
