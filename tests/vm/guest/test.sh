@@ -226,8 +226,9 @@ check gn.range_cut_11_to_13 $? "(its-gn-probe at 450 m: exit $rc13, received ${g
 
 # ---- its-station: CAMs over hwsim, fed by the emulator (gpsd + vcan) ------------------------
 # Sim time starts now, so that the NMEA times gpsd reports are current for the stations.
-sed "s/\"start_time\": \"[^\"]*\"/\"start_time\": \"$(date -u +%Y-%m-%dT%H:%M:%SZ)\"/" "$S" \
-  >"$T/scenario-now.json"
+start_unix=$(date -u +%s)
+sed "s/\"start_time\": \"[^\"]*\"/\"start_time\": \"$(date -u -d @$start_unix +%Y-%m-%dT%H:%M:%SZ)\"/" \
+  "$S" >"$T/scenario-now.json"
 printf '{"stations": [%s]}\n' \
   '{"station_id": 11, "netns": "tbvm1"}, {"station_id": 12, "netns": "tbvm2"}, {"station_id": 13, "netns": "tbvm3"}' \
   >"$T/stations3.json"
@@ -251,7 +252,7 @@ xs=(0 10 210 460)
 stc=()
 for i in 1 2 3; do
   tool state --to 127.0.0.1:4700 --station 1$i --x ${xs[$i]} --speed ${speeds[$i]} --gear 3 \
-    --count 160 --interval 0.05 >"$T/state-cam1$i.log" 2>&1 &
+    --count 160 --interval 0.05 --start-unix $start_unix >"$T/state-cam1$i.log" 2>&1 &
   stc+=($!)
 done
 rcs=""

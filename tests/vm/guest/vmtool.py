@@ -55,10 +55,13 @@ def cmd_state(a):
     for i in range(a.count):
         tick = a.tick0 + i
         now = time.time_ns()
+        # With --start-unix, sim time follows the wall clock from the scenario's start_time, as
+        # in a live run; otherwise it advances one --interval per state.
+        sim_ns = now - a.start_unix * 10**9 if a.start_unix is not None else tick * step_ns
         v = (a.speed * math.cos(yaw), a.speed * math.sin(yaw), 0.0)
         flags = (1 if a.speed < 0 else 0)
         data = struct.pack(
-            STATE_FMT, b"VS", 1, 0, a.station, tick, tick * step_ns, now, now,
+            STATE_FMT, b"VS", 1, 0, a.station, tick, sim_ns, now, now,
             a.x, a.y, 0.0, 0.0, 0.0, yaw, *v, 0.0, 0.0, 0.0, a.accel, 0.0, 0.0,
             a.speed, 0.0, a.steer_rad, *([a.speed] * 4), a.throttle, a.brake, 0.0, flags,
             a.gear, lights, a.rpm)
@@ -273,6 +276,7 @@ def main():
     st.add_argument("--count", type=int, default=1)
     st.add_argument("--interval", type=float, default=0.02)
     st.add_argument("--tick0", type=int, default=1)
+    st.add_argument("--start-unix", type=int, help="the scenario's start_time, Unix seconds")
     cr = sub.add_parser("can-read")
     cr.add_argument("--iface", required=True)
     cr.add_argument("--seconds", type=float, default=5.0)
