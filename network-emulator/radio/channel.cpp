@@ -173,6 +173,8 @@ Decision Channel::decide(StationId from, StationId to) {
     ++s.delivered;
   else
     ++s.dropped[static_cast<std::size_t>(d.reason)];
+  if (observer_)
+    observer_(from, to, d);
   return d;
 }
 

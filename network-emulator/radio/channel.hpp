@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <random>
@@ -94,6 +95,11 @@ class Channel {
   /// Decides one frame from @p from to @p to and records the outcome in that link's stats.
   Decision decide(StationId from, StationId to);
 
+  /// Sees every decision as it is made (radio-medium writes them as `medium.frame` trace
+  /// records, docs/tracing.md). Called from decide(); must not call back into the channel.
+  using Observer = std::function<void(StationId from, StationId to, const Decision&)>;
+  void set_observer(Observer o) { observer_ = std::move(o); }
+
   const scenario::ChannelModel& model() const { return model_; }
   const std::map<std::pair<StationId, StationId>, LinkStats>& links() const { return links_; }
   LinkStats totals() const;
@@ -110,6 +116,7 @@ class Channel {
   std::uint64_t seed_;
   std::mt19937_64 rng_;
   std::map<std::pair<StationId, StationId>, LinkStats> links_;
+  Observer observer_;
 };
 
 }  // namespace tb::emu::radio

@@ -22,6 +22,7 @@
 #include "common/clock/asio_runtime.hpp"
 #include "common/map/road_map.hpp"
 #include "common/scenario/loader.hpp"
+#include "common/trace/tracer.hpp"
 #include "common/wire/vehicle_state.hpp"
 #include "network-emulator/radio/channel.hpp"
 #include "network-emulator/radio/hwsim_radios.hpp"
@@ -48,6 +49,7 @@ struct Options {
   double stats_interval_s = 0.0;
   std::uint64_t seed = 1;
   std::string log_level = "info";
+  std::string trace_file;
 };
 
 class UsageError : public std::runtime_error {
@@ -217,6 +219,27 @@ int run(const Options& opt) {
   radio::PositionTable positions;
   seed_positions(sc, positions);
   radio::Channel channel(sc.channel, positions, opt.seed);
+  // One `medium.frame` record per frame and possible receiver (docs/tracing.md): ok says
+  // whether it was delivered; delayed frames carry the delay they were given.
+  const std::string trace_path =
+      opt.trace_file.empty() ? tb::trace::configure_from_env("radio-medium") : opt.trace_file;
+  if (!opt.trace_file.empty())
+    tb::trace::configure(opt.trace_file, "radio-medium");
+  if (tb::trace::global().enabled()) {
+    spdlog::info("radio-medium: trace records to {}", trace_path);
+    channel.set_observer([](radio::StationId from, radio::StationId to, const radio::Decision& d) {
+      auto& t = tb::trace::global();
+      if (d.deliver)
+        t.record("medium.frame", {{"src", from},
+                                  {"dst", to},
+                                  {"ok", true},
+                                  {"delay_ns", static_cast<std::int64_t>(d.delay.count())}});
+      else
+        t.record(
+            "medium.frame",
+            {{"src", from}, {"dst", to}, {"ok", false}, {"reason", radio::to_string(d.reason)}});
+    });
+  }
 
   const radio::MediumChoice choice = radio::choose_medium(opt.mode);
   spdlog::info("radio-medium: using {} ({})", radio::to_string(choice.kind), choice.why);
@@ -293,6 +316,7 @@ int run(const Options& opt) {
 
   io.run();
   write_stats(opt.stats_file, channel);
+  tb::trace::global().flush();
   const auto t = channel.totals();
   const std::uint64_t frames_in = hwsim_medium ? hwsim_medium->frames_in() : medium.frames_in();
   spdlog::info("radio-medium: {} frames in, {} delivered, {} dropped", frames_in, t.delivered,
@@ -320,6 +344,9 @@ int main(int argc, char** argv) {
   app.add_option("--stats", opt.stats_file, "write per-link statistics (JSON) here on exit");
   app.add_option("--stats-interval", opt.stats_interval_s, "and every this many seconds");
   app.add_option("--seed", opt.seed, "seed of the channel model's random numbers");
+  app.add_option("--trace", opt.trace_file,
+                 "write medium.frame trace records (JSON lines) to FILE; default "
+                 "$TESTBED_TRACE_DIR/radio-medium.jsonl when that is set");
   app.add_option("--log-level", opt.log_level, "trace, debug, info, warn, error")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
   CLI11_PARSE(app, argc, argv);

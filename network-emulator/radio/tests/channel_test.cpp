@@ -1,6 +1,8 @@
 #include "network-emulator/radio/channel.hpp"
 
 #include <cmath>
+#include <tuple>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -193,6 +195,27 @@ TEST_F(ChannelTest, StatsAddUpPerLinkAndInJson) {
   }
   EXPECT_EQ(json_sum, j["totals"]["sent"].get<std::uint64_t>());
   EXPECT_EQ(j["links"][0]["dropped"].size(), kDropReasonCount);
+}
+
+TEST_F(ChannelTest, ObserverSeesEveryDecision) {
+  auto m = model(Kind::kRange);
+  m.range_m = 100;
+  m.delay_ms = 1;
+  place(1, 0.0);
+  place(2, 50.0);
+  place(3, 500.0);
+  Channel ch(m, positions, 1);
+  std::vector<std::tuple<StationId, StationId, bool, DropReason, clock::Duration>> seen;
+  ch.set_observer([&](StationId from, StationId to, const Decision& d) {
+    seen.emplace_back(from, to, d.deliver, d.reason, d.delay);
+  });
+  ch.decide(1, 2);
+  ch.decide(1, 3);
+  ASSERT_EQ(seen.size(), 2u);
+  EXPECT_EQ(seen[0], std::make_tuple(1u, 2u, true, DropReason::kOutOfRange,
+                                     clock::Duration{std::chrono::milliseconds(1)}));
+  EXPECT_EQ(std::get<2>(seen[1]), false);
+  EXPECT_EQ(std::get<3>(seen[1]), DropReason::kOutOfRange);
 }
 
 TEST(PositionTableTest, IgnoresOlderStates) {

@@ -323,8 +323,12 @@ void expect_links_add_up(const nlohmann::json& stats) {
 TEST_F(VethMediumIT, RangeModelReachesStationsInRangeAndNoneBeyond) {
   const fs::path scenario = write_scenario(R"({ "model": "range", "range_m": 300 })");
   const fs::path stats = scenario.parent_path() / "range-stats.json";
+  const fs::path trace = scenario.parent_path() / "range-trace.jsonl";
+  fs::remove(trace);
   const unsigned short port = free_udp_port();
-  MediumProcess medium(args(scenario, stats, port));
+  auto argv = args(scenario, stats, port);
+  argv.insert(argv.end(), {"--trace", trace.string()});
+  MediumProcess medium(argv);
   ASSERT_TRUE(medium.wait_ready());
   Station a(11, ns_[0]->name()), b(12, ns_[1]->name()), c(13, ns_[2]->name());
   std::vector<Station*> all{&a, &b, &c};
@@ -370,6 +374,24 @@ TEST_F(VethMediumIT, RangeModelReachesStationsInRangeAndNoneBeyond) {
   EXPECT_EQ(link(j, 12, 11)["delivered"], 300u);
   EXPECT_EQ(link(j, 12, 13)["delivered"], 300u);
   EXPECT_EQ(j["totals"]["sent"], 2 * (300u + probes) + 2 * 300u);
+
+  // One medium.frame trace record per decision, agreeing with the statistics.
+  std::map<std::pair<int, int>, std::pair<std::uint64_t, std::uint64_t>> traced;  // ok, dropped
+  std::ifstream lines(trace);
+  std::string line;
+  while (std::getline(lines, line)) {
+    const auto r = nlohmann::json::parse(line);
+    ASSERT_EQ(r["ev"], "medium.frame");
+    ASSERT_EQ(r["proc"], "radio-medium");
+    auto& n = traced[std::make_pair(r["src"].get<int>(), r["dst"].get<int>())];
+    (r["ok"].get<bool>() ? n.first : n.second)++;
+  }
+  const auto a_b = traced[std::make_pair(11, 12)];
+  const auto a_c = traced[std::make_pair(11, 13)];
+  const auto b_c = traced[std::make_pair(12, 13)];
+  EXPECT_EQ(a_b.first, link(j, 11, 12)["delivered"].get<std::uint64_t>());
+  EXPECT_EQ(a_c.second, link(j, 11, 13)["dropped"]["out_of_range"].get<std::uint64_t>());
+  EXPECT_EQ(b_c.first, 300u);
 }
 
 TEST_F(VethMediumIT, IdealModelLosesNoneOfTenThousandFrames) {
