@@ -279,6 +279,8 @@ class VethMediumIT : public ::testing::Test {
       ns_.push_back(std::make_unique<TestNetns>("tbrit" + kTag + s));
   }
   void TearDown() override {
+    std::error_code ignored;
+    fs::remove_all(fs::temp_directory_path() / ("radio-it-" + kTag), ignored);
     // Whatever happened, no interface of ours is left behind.
     EXPECT_TRUE(host_links_with_prefix().empty());
     for (const auto& n : ns_)
