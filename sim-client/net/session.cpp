@@ -122,6 +122,13 @@ bool SimSession::handle(const sim::ServerMessage& m) {
   if (const auto* d = std::get_if<sim::DriverChanged>(&m)) {
     if (d->vehicle < welcome_->vehicles.size())
       welcome_->vehicles[d->vehicle].driver = d->driver;
+    // A vehicle we drove before a reconnection, still held by our old connection then: take
+    // it back as soon as the server lets it go.
+    const auto it = driven_.find(d->vehicle);
+    if (d->driver.empty() && it != driven_.end() && it->second.answered && !it->second.attached) {
+      it->second.answered = false;
+      send_(sim::encode(sim::Attach{sim::Role::kDriver, d->vehicle}));
+    }
     return true;
   }
   const auto& c = std::get<sim::Closing>(m);
@@ -217,14 +224,22 @@ void SimSession::on_attach_result(const sim::AttachResult& r) {
   const std::string& id = welcome_->vehicles[r.vehicle].id;
   if (r.status == sim::AttachStatus::kOk) {
     d.attached = true;
+    d.ever_attached = true;
     spdlog::info("driving vehicle {} (station {}) with {}", id, d.station_id,
                  d.script ? "its scenario's script" : "the human input");
     return;
   }
+  if (d.ever_attached && r.status == sim::AttachStatus::kAlreadyDriven) {
+    // After a reconnection the server may not yet have noticed that our old connection is
+    // gone; DriverChanged will say when the vehicle is free.
+    spdlog::warn("vehicle {} is still held ({}); attaching again when it is free", id, r.reason);
+    return;
+  }
   spdlog::error("cannot drive vehicle {}: {}{}{}", id, to_string(r.status),
                 r.reason.empty() ? "" : ": ", r.reason);
-  if (std::all_of(driven_.begin(), driven_.end(),
-                  [](const auto& e) { return e.second.answered && !e.second.attached; })) {
+  if (std::all_of(driven_.begin(), driven_.end(), [](const auto& e) {
+        return e.second.answered && !e.second.attached && !e.second.ever_attached;
+      })) {
     fail("none of the requested vehicles could be attached");
   }
 }

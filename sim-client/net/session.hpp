@@ -81,6 +81,7 @@ class SimSession {
     std::uint32_t station_id = 0;
     bool attached = false;
     bool answered = false;
+    bool ever_attached = false;  ///< on an earlier connection: a refusal now may be our old one
     std::unique_ptr<ScriptedDriver> script;  ///< null: the human input drives
     std::uint64_t seq = 0;
   };

@@ -143,6 +143,32 @@ TEST_F(SessionTest, RefusedAttachIsFatalWhenNothingElseIsDriven) {
   EXPECT_EQ(s.phase(), SimSession::Phase::kFailed);
 }
 
+TEST_F(SessionTest, AfterReconnectionWaitsForItsOldVehicleToBeFreed) {
+  SessionOptions o;
+  o.vehicles = {"me"};
+  SimSession s = make(o);
+  s.on_connected();
+  ASSERT_TRUE(feed(s, testing::welcome()));
+  ASSERT_TRUE(feed(s, sim::AttachResult{sim::Role::kDriver, 0, sim::AttachStatus::kOk, ""}));
+  s.on_disconnected();
+  EXPECT_TRUE(s.driven().empty());
+  s.on_connected();
+  ASSERT_TRUE(feed(s, testing::welcome()));
+  take();
+  // The server still sees the old connection as the driver: not fatal this time.
+  ASSERT_TRUE(feed(
+      s, sim::AttachResult{sim::Role::kDriver, 0, sim::AttachStatus::kAlreadyDriven, "me-old"}));
+  EXPECT_EQ(s.phase(), SimSession::Phase::kRunning);
+  ASSERT_TRUE(feed(s, sim::DriverChanged{1, ""}));  // another vehicle: no attach
+  EXPECT_TRUE(take().empty());
+  ASSERT_TRUE(feed(s, sim::DriverChanged{0, ""}));
+  const auto msgs = take();
+  ASSERT_EQ(msgs.size(), 1u);
+  EXPECT_EQ(std::get<sim::Attach>(msgs[0]), (sim::Attach{sim::Role::kDriver, 0}));
+  ASSERT_TRUE(feed(s, sim::AttachResult{sim::Role::kDriver, 0, sim::AttachStatus::kOk, ""}));
+  EXPECT_EQ(s.driven(), (std::vector<std::uint16_t>{0}));
+}
+
 TEST_F(SessionTest, ListStopsAfterWelcome) {
   SessionOptions o;
   o.list_only = true;
