@@ -190,6 +190,12 @@ int main(int argc, char** argv) {
   waitpid(pid, &status, 0);
   std::filesystem::remove_all(dir);
 
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+    std::fprintf(stderr, "sim-server exited with status %d\n", status);
+  if (samples.frames == 0) {
+    std::fprintf(stderr, "no State frames arrived\n");
+    return 1;
+  }
   std::printf(
       "%d clients, %d vehicles, %.0f s: %zu State frames received (%.0f per client per s)\n",
       clients, vehicles, seconds, samples.frames, samples.frames / seconds / clients);
