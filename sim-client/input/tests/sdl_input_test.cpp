@@ -119,5 +119,37 @@ TEST_F(SdlInputTest, HotPluggedWheelDrivesAndUnplugBrakes) {
   EXPECT_FLOAT_EQ(c.controls.brake, 1.0f);
 }
 
+TEST_F(SdlInputTest, GamepadThroughTheGameControllerApi) {
+  const std::string root = std::getenv("TESTBED_ROOT") ? std::getenv("TESTBED_ROOT") : ".";
+  SdlInput in(load_mapping(root + "/sim-client/mappings/xbox.json"));
+  in.scan();
+  SDL_VirtualJoystickDesc desc{};
+  desc.version = SDL_VIRTUAL_JOYSTICK_DESC_VERSION;
+  desc.type = SDL_JOYSTICK_TYPE_GAMECONTROLLER;
+  desc.naxes = SDL_CONTROLLER_AXIS_MAX;
+  desc.nbuttons = SDL_CONTROLLER_BUTTON_MAX;
+  desc.name = "Virtual Pad";
+  const int index = SDL_JoystickAttachVirtualEx(&desc);
+  ASSERT_GE(index, 0) << SDL_GetError();
+  ASSERT_TRUE(SDL_IsGameController(index)) << "no automatic mapping for virtual pads";
+  pump(in);
+  ASSERT_EQ(in.status().rfind("controller ", 0), 0u) << in.status();
+  SDL_Joystick* js = SDL_JoystickFromInstanceID(SDL_JoystickGetDeviceInstanceID(index));
+  ASSERT_NE(js, nullptr);
+  ASSERT_EQ(SDL_JoystickSetVirtualAxis(js, SDL_CONTROLLER_AXIS_TRIGGERRIGHT, 32767), 0);
+  ASSERT_EQ(SDL_JoystickSetVirtualAxis(js, SDL_CONTROLLER_AXIS_LEFTX, -32768), 0);
+  ASSERT_EQ(SDL_JoystickSetVirtualButton(js, SDL_CONTROLLER_BUTTON_A, SDL_PRESSED), 0);
+  SDL_JoystickUpdate();
+  SDL_GameControllerUpdate();
+  pump(in);
+  const DriverCommand c = in.update(milliseconds(10));
+  EXPECT_FLOAT_EQ(c.controls.throttle, 1.0f);
+  EXPECT_FLOAT_EQ(c.controls.steer, -1.0f);
+  EXPECT_TRUE(c.controls.handbrake);
+  ASSERT_EQ(SDL_JoystickDetachVirtual(index), 0);
+  pump(in);
+  EXPECT_FLOAT_EQ(in.update(milliseconds(10)).controls.brake, 1.0f);
+}
+
 }  // namespace
 }  // namespace tb::client
