@@ -246,32 +246,47 @@ int main(int argc, char** argv) {
 
   asio::io_context io;
   clock::AsioRuntime runtime(io);
+  auto udp_can = [&](const emu::StationEndpoints& e,
+                     const asio::ip::address& addr) -> std::unique_ptr<can::CanBus> {
+    try {
+      std::unique_ptr<can::UdpCanBus> bus;
+      const auto ec = can::run_in_netns(
+          e.netns, [&] { bus = can::UdpCanBus::connect(io, udp::endpoint(addr, e.can_port)); });
+      if (ec)
+        return std::make_unique<BrokenCanBus>(ec);
+      return bus;
+    } catch (const boost::system::system_error& err) {
+      return std::make_unique<BrokenCanBus>(err.code());
+    }
+  };
+  bool logged_fallback = false;
   const emu::StationIoFactory make_io = [&](const emu::StationEndpoints& e) {
     emu::StationIo out;
     const auto addr = asio::ip::make_address(e.address);
     out.gnss = std::make_unique<emu::UdpSink>(io, udp::endpoint(addr, e.gnss_port), e.netns);
-    if (use_vcan) {
-      auto bus = can::SocketCanBus::open(io, e.can_interface, e.netns);
-      if (bus) {
-        out.can = std::move(*bus);
-      } else {
-        spdlog::warn("station {}: cannot open CAN interface {}{}: {}", e.station_id,
-                     e.can_interface, e.netns.empty() ? "" : " in netns " + e.netns,
-                     bus.error().message());
-        out.can = std::make_unique<BrokenCanBus>(bus.error());
+    if (!use_vcan) {
+      out.can = udp_can(e, addr);
+      return out;
+    }
+    auto bus = can::SocketCanBus::open(io, e.can_interface, e.netns);
+    if (bus) {
+      out.can = std::move(*bus);
+    } else if (can_mode == "auto") {
+      // The kernel has CAN but this station has no such interface (the launcher made none):
+      // the stand-in serves it, as if the kernel had no CAN.
+      if (!logged_fallback) {
+        logged_fallback = true;
+        spdlog::info(
+            "station {}: no CAN interface {}{} ({}); CAN over UDP for it and for every "
+            "other station without one",
+            e.station_id, e.can_interface, e.netns.empty() ? "" : " in netns " + e.netns,
+            bus.error().message());
       }
+      out.can = udp_can(e, addr);
     } else {
-      try {
-        std::unique_ptr<can::UdpCanBus> bus;
-        const auto ec = can::run_in_netns(
-            e.netns, [&] { bus = can::UdpCanBus::connect(io, udp::endpoint(addr, e.can_port)); });
-        if (ec)
-          out.can = std::make_unique<BrokenCanBus>(ec);
-        else
-          out.can = std::move(bus);
-      } catch (const boost::system::system_error& err) {
-        out.can = std::make_unique<BrokenCanBus>(err.code());
-      }
+      spdlog::warn("station {}: cannot open CAN interface {}{}: {}", e.station_id, e.can_interface,
+                   e.netns.empty() ? "" : " in netns " + e.netns, bus.error().message());
+      out.can = std::make_unique<BrokenCanBus>(bus.error());
     }
     return out;
   };

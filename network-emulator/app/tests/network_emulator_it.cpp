@@ -22,6 +22,7 @@
 #include <gtest/gtest.h>
 
 #include "common/can/cannelloni.hpp"
+#include "common/can/socketcan_bus.hpp"
 #include "common/wire/vehicle_state.hpp"
 #include "network-emulator/app/tests/test_scenario.hpp"
 
@@ -250,6 +251,29 @@ TEST_F(NetworkEmulatorIt, BadStationsFileExitsWithTwo) {
               log);
   EXPECT_EQ(emu.wait_exit(false), 2);
   EXPECT_NE(read_file(log).find("station 5 is not in scenario"), std::string::npos);
+}
+
+TEST_F(NetworkEmulatorIt, CanTransportIsDetectedAndSaidOnce) {
+  if (tb::can::socketcan_available())
+    GTEST_SKIP() << "this kernel has SocketCAN; the stand-in path is not chosen here";
+  const fs::path log = dir_ / "auto.log";
+  {
+    Program emu({"--scenario", (dir_ / "scenario.json").string(), "--listen", "127.0.0.1:0"}, log);
+    std::this_thread::sleep_for(500ms);
+    EXPECT_EQ(emu.wait_exit(true), 0);
+  }
+  const std::string text = read_file(log);
+  EXPECT_NE(text.find("CAN transport: CAN frames over UDP in cannelloni's format (this kernel "
+                      "has no SocketCAN)"),
+            std::string::npos)
+      << text;
+  // Asking for SocketCAN where there is none is an error, not a silent stand-in.
+  Program vcan(
+      {"--scenario", (dir_ / "scenario.json").string(), "--listen", "127.0.0.1:0", "--can", "vcan"},
+      dir_ / "vcan.log");
+  EXPECT_EQ(vcan.wait_exit(false), 1);
+  EXPECT_NE(read_file(dir_ / "vcan.log").find("--can vcan: this kernel has no SocketCAN"),
+            std::string::npos);
 }
 
 }  // namespace
