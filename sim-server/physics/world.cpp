@@ -302,6 +302,20 @@ std::size_t World::add_vehicle(const scenario::VehicleModel& model, std::uint32_
         g.wheel_at[w], down, axle, static_cast<btScalar>(kSuspensionRestLength),
         static_cast<btScalar>(model.wheel_radius_m), tuning, w < 2);
     wi.m_rollInfluence = static_cast<btScalar>(kRollInfluence);
+    // btWheelInfo leaves the contact state and the strut force uninitialised until the first
+    // step, yet the grip limit and the spawn state read them.
+    wi.m_raycastInfo.m_isInContact = false;
+    wi.m_raycastInfo.m_contactPointWS = start(g.wheel_at[w]);
+    wi.m_raycastInfo.m_contactNormalWS = btVector3(0, 0, 1);
+    wi.m_raycastInfo.m_hardPointWS = start(g.wheel_at[w]);
+    wi.m_raycastInfo.m_wheelDirectionWS = down;
+    wi.m_raycastInfo.m_wheelAxleWS = start.getBasis() * axle;
+    wi.m_raycastInfo.m_suspensionLength = static_cast<btScalar>(kSuspensionRestLength);
+    wi.m_raycastInfo.m_groundObject = nullptr;
+    wi.m_wheelsSuspensionForce = 0;
+    wi.m_skidInfo = 1;
+    wi.m_clippedInvContactDotSuspension = 1;
+    wi.m_suspensionRelativeVelocity = 0;
   }
   bt_->world.addAction(car->vehicle.get());
 

@@ -45,3 +45,33 @@ TEST(Determinism, SameScenarioAndInputsGiveBitIdenticalStates) {
 
 }  // namespace
 }  // namespace tb::server::physics
+
+namespace tb::server::physics {
+namespace {
+
+TEST(WorldStates, EveryStateDecodes) {
+  // Every state must pass the wire decoder's checks (finite numbers, controls in range), from
+  // the first one on, before any wheel has touched the ground.
+  const auto sc = scenario::load_file("sim-server/tests/scenarios/three-cars.json");
+  World w(sc);
+  auto all_decode = [&](const char* when) {
+    for (const auto& s : w.states()) {
+      const auto d = wire::decode(wire::encode(s));
+      if (!d) {
+        ADD_FAILURE() << when << " tick " << w.tick() << " station " << s.station_id << ": "
+                      << wire::to_string(d.error());
+        return false;
+      }
+    }
+    return true;
+  };
+  ASSERT_TRUE(all_decode("spawn"));
+  for (int i = 0; i < 500; ++i) {
+    w.set_controls(i % 3, {0.7f, 0.0f, (i % 50) / 50.0f - 0.5f, false, false}, 0);
+    w.step();
+    ASSERT_TRUE(all_decode("step"));
+  }
+}
+
+}  // namespace
+}  // namespace tb::server::physics
