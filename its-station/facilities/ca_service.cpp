@@ -127,10 +127,15 @@ void CaService::stop() {
 
 void CaService::schedule_check() {
   runtime_.cancel(check_timer_);
-  // Check at T_CheckCamGen, and exactly when a time-based CAM falls due, whichever is first.
-  auto when = runtime_.steady_now() + rules_.timing().T_CheckCamGen;
-  if (auto due = rules_.next_time_due(); due && *due<when&& * due> runtime_.steady_now())
-    when = *due;
+  // Check at T_CheckCamGen, and when a time-based CAM falls due (plus the wait for the fix
+  // about to arrive, CamTiming::fresh_fix_wait), whichever is first.
+  const auto now = runtime_.steady_now();
+  auto when = now + rules_.timing().T_CheckCamGen;
+  if (const auto due = rules_.next_time_due()) {
+    const auto at = *due + rules_.timing().fresh_fix_wait;
+    if (at > now)
+      when = std::min(when, at);
+  }
   check_timer_ = runtime_.schedule_at(when, [this] { check(true); });
 }
 
@@ -147,7 +152,14 @@ void CaService::check(bool from_timer) {
     schedule_check();
     return;
   }
-  const auto why = rules_.check(runtime_.steady_now(), *fix);
+  const auto now = runtime_.steady_now();
+  auto why = rules_.check(now, *fix);
+  // A time-triggered CAM is made on the arrival of a fix, or by the timer once
+  // CamTiming::fresh_fix_wait has passed since it fell due without one: not from a timer that
+  // fires at the very instant the next fix is due, with the fix a period old.
+  if (from_timer && (why == CamTrigger::kTime || why == CamTrigger::kFixed) &&
+      now < *rules_.next_time_due() + rules_.timing().fresh_fix_wait)
+    why = CamTrigger::kNone;
   if (why != CamTrigger::kNone)
     generate(why, *fix);
   if (from_timer || why != CamTrigger::kNone)

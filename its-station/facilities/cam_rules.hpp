@@ -23,6 +23,11 @@ struct CamTiming {
   /// Period of the generation check; the standard asks T_CheckCamGen ≤ T_GenCamMin.
   clock::Duration T_CheckCamGen = 100ms;
   int N_GenCam = 3;
+  /// A time-triggered CAM falls due one T_GenCam after the last CAM, which was usually made on a
+  /// fix's arrival, so the next fix is due at that very instant. The check timer waits this
+  /// much longer, so that the CAM is made from that fix on its arrival rather than from the
+  /// one a fix period older; without a fix it fires all the same (and within T_CheckCamGen).
+  clock::Duration fresh_fix_wait = 10ms;
   /// Low-frequency container: in the first CAM, then when this much time has passed (B.3.5).
   clock::Duration lf_interval = 500ms;
   /// Thresholds of condition 1.

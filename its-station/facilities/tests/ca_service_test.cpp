@@ -1,9 +1,9 @@
 // CA service against EN 302 637-2 V1.4.1 clause 6.1.3, with a manual clock and scripted motion.
 //
 // The harness delivers one fix every 100 ms (10 Hz GNSS), fix k at t = k × 100 ms, its fix time
-// the wall-clock time of that instant. Timers due at an instant fire before the fix of that
-// instant is delivered (the fix comes a moment after its epoch), so a time-triggered CAM due
-// at t is built from the fix of t − 100 ms. The service's rules (clause 6.1.3):
+// the wall-clock time of that instant. A time-triggered CAM due at t is made from the fix of
+// t as it arrives (the check timer waits CamTiming::fresh_fix_wait, 10 ms, past the due
+// instant for it). The service's rules (clause 6.1.3):
 //   condition 1 — elapsed ≥ T_GenCam_Dcc (100 ms) and, against the last CAM, |Δheading| > 4°
 //                 or displacement > 4 m or |Δspeed| > 0.5 m/s → CAM; T_GenCam := elapsed;
 //   condition 2 — elapsed ≥ T_GenCam → CAM; after N_GenCam = 3 such CAMs in a row
@@ -119,40 +119,32 @@ TEST(CaService, ConstantSlowSpeedStraightAheadGivesOneCamPerSecond) {
   }
 }
 
-TEST(CaService, ConstantFastSpeedTriggersOnPositionAndKeepsTGenCam) {
-  // 15 m/s east = 1.5 m per fix.
-  //   0    first CAM at x = 0 (T_GenCam = 1000).
-  //   300  fix x = 4.5: 4.5 m > 4 → position; T_GenCam := 300.
-  //   600  timer due (300 + 300) before fix 600; fix 500 (x = 7.5) is 3.0 m away → time (1).
-  //   800  fix x = 12.0 is 4.5 m from 7.5 → position; T_GenCam := 200.
-  //   1000 timer, fix 900 (13.5): 1.5 m → time (1); 1200 fix 1100 (16.5): 3 m → time (2);
-  //   1400 fix 1300 (19.5): 3 m → time (3): T_GenCam := 1000.
-  //   1600 fix x = 24.0 is 4.5 m from 19.5 → position; T_GenCam := 200.
-  //   1800 fix 1700 (25.5): 1.5 m → time (1); 2000 fix 1900 (28.5): 3 m → time (2).
+TEST(CaService, ConstantFastSpeedTriggersOnPosition) {
+  // 15 m/s east = 1.5 m per fix: 3.0 m after 200 ms (no), 4.5 m after 300 ms (> 4 m) →
+  // a position-triggered CAM every 300 ms; T_GenCam := 300 ms each time, but condition 1
+  // always comes first (at the same instant, and it is checked first).
   CaHarness h;
   h.drive([](double t) { return Motion{15.0 * t, 0.0, 90.0, 15.0}; }, 2.0);
   EXPECT_EQ(h.cams, (std::vector<CamAt>{{0, CamTrigger::kFirst},
                                         {300, CamTrigger::kPosition},
-                                        {600, CamTrigger::kTime},
-                                        {800, CamTrigger::kPosition},
-                                        {1000, CamTrigger::kTime},
-                                        {1200, CamTrigger::kTime},
-                                        {1400, CamTrigger::kTime},
-                                        {1600, CamTrigger::kPosition},
-                                        {1800, CamTrigger::kTime},
-                                        {2000, CamTrigger::kTime}}));
+                                        {600, CamTrigger::kPosition},
+                                        {900, CamTrigger::kPosition},
+                                        {1200, CamTrigger::kPosition},
+                                        {1500, CamTrigger::kPosition},
+                                        {1800, CamTrigger::kPosition}}));
+  EXPECT_EQ(h.ca->rules().T_GenCam(), 300ms);
 }
 
 TEST(CaService, BrakingTriggersOnSpeedChange) {
   // 3 m/s east until t = 2 s, then braking at 2 m/s² to a stop at t = 3.5 s: the fix at
   // 2.0 + 0.1 k has v = 3 − 0.2 k. Displacements stay below 4 m throughout.
-  //   0, 1000, 2000   as in the constant-speed case (the CAM at 2000 takes fix 1900, v = 3.0).
+  //   0, 1000, 2000   as in the constant-speed case (the CAM at 2000 has v = 3.0).
+  //   2100 v = 2.8 (Δ 0.2), 2200 v = 2.6 (Δ 0.4): nothing.
   //   2300  v = 2.4: |2.4 − 3.0| = 0.6 > 0.5 → speed; T_GenCam := 300.
-  //   2600  timer before fix 2600; fix 2500 v = 2.0: 0.4 → time (1), v_last = 2.0.
-  //   2800  v = 1.4: 0.6 → speed; T_GenCam := 200.
-  //   3000  timer, fix 2900 v = 1.2: 0.2 → time (1); 3200 fix 3100 v = 0.8: 0.4 → time (2);
-  //   3400  fix 3300 v = 0.4: 0.4 → time (3): T_GenCam := 1000.
-  //   3500  v = 0 (0.4 from 0.4, no trigger), standing: 4400, 5400 time.
+  //   2600  v = 1.8: Δ 0.6 → speed (condition 1 before condition 2); T_GenCam := 300.
+  //   2900  v = 1.2, 3200 v = 0.6, 3500 v = 0.0: Δ 0.6 each → speed.
+  //   Standing from 3500: Δ 0, so condition 2 with T_GenCam = 300 ms: 3800 (1), 4100 (2),
+  //   4400 (3) → T_GenCam := 1000 after N_GenCam = 3; then 5400.
   CaHarness h;
   h.drive(
       [](double t) {
@@ -166,48 +158,49 @@ TEST(CaService, BrakingTriggersOnSpeedChange) {
                                         {1000, CamTrigger::kTime},
                                         {2000, CamTrigger::kTime},
                                         {2300, CamTrigger::kSpeed},
-                                        {2600, CamTrigger::kTime},
-                                        {2800, CamTrigger::kSpeed},
-                                        {3000, CamTrigger::kTime},
-                                        {3200, CamTrigger::kTime},
-                                        {3400, CamTrigger::kTime},
+                                        {2600, CamTrigger::kSpeed},
+                                        {2900, CamTrigger::kSpeed},
+                                        {3200, CamTrigger::kSpeed},
+                                        {3500, CamTrigger::kSpeed},
+                                        {3800, CamTrigger::kTime},
+                                        {4100, CamTrigger::kTime},
                                         {4400, CamTrigger::kTime},
                                         {5400, CamTrigger::kTime}}));
-  // The CAM of each instant carries the speed of the fix it was built from.
+  // Each CAM carries the speed of the fix of its own instant.
   EXPECT_EQ(h.sent[3].cam.camParameters.highFrequencyContainer.speed.speedValue, 240);
-  EXPECT_EQ(h.sent[4].cam.camParameters.highFrequencyContainer.speed.speedValue, 200);
+  EXPECT_EQ(h.sent[4].cam.camParameters.highFrequencyContainer.speed.speedValue, 180);
+  EXPECT_EQ(h.sent[7].cam.camParameters.highFrequencyContainer.speed.speedValue, 0);
 }
 
 TEST(CaService, TurningTriggersOnHeadingChangeAcrossNorth) {
   // Standing still at the origin (no displacement), heading 354° until t = 2 s, then turning
   // right at 12 °/s for 2 s (1.2° per fix), through north: the wrap must not look like a
   // 360° jump. Relative heading h_k = 1.2 k after 2.0 s.
-  //   0, 1000, 2000   time (the CAM at 2000 takes fix 1900, h = 0).
-  //   2400  h = 4.8 > 4 → heading; T_GenCam := 400.
-  //   2800  timer before fix 2800; fix 2700 h = 8.4: 3.6 → time (1).
-  //   3100  h = 13.2: 4.8 → heading; T_GenCam := 300.
-  //   3400  timer, fix 3300 h = 15.6: 2.4 → time (1).
-  //   3700  timer, fix 3600 h = 19.2: 3.6 → time (2).
-  //   4000  timer, fix 3900 h = 22.8: 3.6 → time (3): T_GenCam := 1000. Fix 4000 h = 24.0
-  //         (1.2 from 22.8) ends the turn. 5000, 6000 time.
+  //   0, 1000, 2000   time (h = 0).
+  //   2100–2300  Δh 1.2, 2.4, 3.6: nothing; 2400 Δh 4.8 > 4 → heading; T_GenCam := 400.
+  //   2800, 3200, 3600, 4000  Δh 4.8 each → heading (the turn ends at 4000, h = 24.0).
+  //   Straight on: condition 2 at T_GenCam = 400 ms: 4400, 4800, 5200 (N_GenCam = 3), then
+  //   T_GenCam = 1000 ms: 6200.
   CaHarness h;
   h.drive(
       [](double t) {
         const double turned = 12.0 * std::clamp(t - 2.0, 0.0, 2.0);
         return Motion{0.0, 0.0, geodesy::wrap_360(354.0 + turned), 0.0};
       },
-      6.0);
+      6.5);
   EXPECT_EQ(h.cams, (std::vector<CamAt>{{0, CamTrigger::kFirst},
                                         {1000, CamTrigger::kTime},
                                         {2000, CamTrigger::kTime},
                                         {2400, CamTrigger::kHeading},
-                                        {2800, CamTrigger::kTime},
-                                        {3100, CamTrigger::kHeading},
-                                        {3400, CamTrigger::kTime},
-                                        {3700, CamTrigger::kTime},
-                                        {4000, CamTrigger::kTime},
-                                        {5000, CamTrigger::kTime},
-                                        {6000, CamTrigger::kTime}}));
+                                        {2800, CamTrigger::kHeading},
+                                        {3200, CamTrigger::kHeading},
+                                        {3600, CamTrigger::kHeading},
+                                        {4000, CamTrigger::kHeading},
+                                        {4400, CamTrigger::kTime},
+                                        {4800, CamTrigger::kTime},
+                                        {5200, CamTrigger::kTime},
+                                        {6200, CamTrigger::kTime}}));
+  EXPECT_EQ(h.sent[7].cam.camParameters.highFrequencyContainer.heading.headingValue, 180);
 }
 
 TEST(CaService, FixedPolicySendsAtItsPeriodWhateverTheDynamics) {
@@ -237,14 +230,16 @@ TEST(CaService, CamNamesItsFixAndCarriesLowFrequencyEvery500ms) {
               std::lround(fix.longitude_deg * 1e7));
   }
   // LF container: first CAM (0), then the first CAM ≥ 500 ms after the last one that had it:
-  // CAMs at 0, 300, 600, 800, 1000, 1200, 1400, 1600 … → LF at 0, 600, 1200, 1800.
+  // CAMs at 0, 300, 600, 900, 1200, 1500, 1800 → LF at 0, 600, 1200, 1800.
   std::vector<std::int64_t> lf;
   for (std::size_t i = 0; i < h.sent.size(); ++i)
     if (h.sent[i].cam.camParameters.lowFrequencyContainer)
       lf.push_back(h.cams[i].ms);
   EXPECT_EQ(lf, (std::vector<std::int64_t>{0, 600, 1200, 1800}));
-  // By 1200 ms the car has covered 16.5 m behind the fix: path points every 5 m (or more).
-  const auto& ph = h.sent[5].cam.camParameters.lowFrequencyContainer->pathHistory;
+  // By 1200 ms the car has covered 18 m: path points recorded every 5 m (at 0, 6 and 12 m).
+  ASSERT_EQ(h.cams[4].ms, 1200);
+  const auto& ph = h.sent[4].cam.camParameters.lowFrequencyContainer->pathHistory;
+  EXPECT_EQ(ph.size(), 3u);
   EXPECT_GE(ph.size(), 3u);
   // Each point is behind the previous one (west, negative longitude delta), ≤ ~13 m apart.
   for (const auto& p : ph) {
@@ -294,6 +289,15 @@ TEST(CaService, EncodedCamDecodesToWhatWasBuilt) {
   EXPECT_EQ(decoded->cam.camParameters.lowFrequencyContainer->exteriorLights,
             messages::exterior_lights::kLowBeamHeadlightsOn |
                 messages::exterior_lights::kLeftTurnSignalOn);
+}
+
+TEST(CaService, WithoutNewFixesTheTimerMakesTheTimeCamAfterTheFreshFixWait) {
+  // The fix stays valid but no newer one comes (a stalled receiver, before the provider's
+  // stale timeout): the CAM due at 1000 ms is made by the timer at 1000 + 10 ms.
+  CaHarness h;
+  h.drive([](double t) { return Motion{3.0 * t, 0.0, 90.0, 3.0}; }, 0.0);
+  h.rt.advance(1500ms);
+  EXPECT_EQ(h.cams, (std::vector<CamAt>{{0, CamTrigger::kFirst}, {1010, CamTrigger::kTime}}));
 }
 
 TEST(CaService, NoFixNoCamAndFirstCamAgainAfterTheFixReturns) {
