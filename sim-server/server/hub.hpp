@@ -53,7 +53,7 @@ class Hub {
   using ClientId = std::uint64_t;
   /// Silence after which a driven vehicle brakes to a stop (issue 3).
   static constexpr std::chrono::milliseconds kDriverTimeout{500};
-  /// Brake pedal of a vehicle nobody drives: a firm stop (about 5 m/s²) that following traffic
+  /// Brake pedal of a vehicle nobody drives: a firm stop (about 6 m/s²) that following traffic
   /// can react to, rather than an emergency stop.
   static constexpr float kStopBrake = 0.5f;
 
