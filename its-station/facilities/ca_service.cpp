@@ -89,7 +89,7 @@ CaService::CaService(clock::Runtime& runtime, PositionProvider& position,
                                        {"fix_ms", clock::to_unix_ns(fix.time) / 1'000'000}});
     path_.add(fix);
     if (running_)
-      check(false);
+      check(CheckSource::kFix);
   });
   position_.on_availability([this](bool available) {
     if (!running_)
@@ -105,7 +105,7 @@ CaService::CaService(clock::Runtime& runtime, PositionProvider& position,
   if (vehicle_) {
     vehicle_->on_update([this](const VehicleData&) {
       if (running_)
-        check(false);
+        check(CheckSource::kVehicleData);
     });
   }
 }
@@ -117,7 +117,7 @@ CaService::~CaService() {
 void CaService::start() {
   running_ = true;
   rules_.reset();
-  check(true);
+  check(CheckSource::kTimer);
 }
 
 void CaService::stop() {
@@ -136,10 +136,10 @@ void CaService::schedule_check() {
     if (at > now)
       when = std::min(when, at);
   }
-  check_timer_ = runtime_.schedule_at(when, [this] { check(true); });
+  check_timer_ = runtime_.schedule_at(when, [this] { check(CheckSource::kTimer); });
 }
 
-void CaService::check(bool from_timer) {
+void CaService::check(CheckSource source) {
   const auto& fix = position_.current();
   if (!fix) {
     ++counters_.suppressed_no_fix;
@@ -149,20 +149,21 @@ void CaService::check(bool from_timer) {
     }
     // The next CAM after the fix returns is a first CAM again (fresh LF container too).
     rules_.reset();
-    schedule_check();
+    if (source == CheckSource::kTimer)
+      schedule_check();
     return;
   }
   const auto now = runtime_.steady_now();
   auto why = rules_.check(now, *fix);
-  // A time-triggered CAM is made on the arrival of a fix, or by the timer once
-  // CamTiming::fresh_fix_wait has passed since it fell due without one: not from a timer that
-  // fires at the very instant the next fix is due, with the fix a period old.
-  if (from_timer && (why == CamTrigger::kTime || why == CamTrigger::kFixed) &&
+  // A time-triggered CAM is made on the arrival of a fix, or by a timer or vehicle-data check
+  // once CamTiming::fresh_fix_wait has passed since it fell due without one: not just before
+  // the next fix arrives, from the fix a period old.
+  if (source != CheckSource::kFix && (why == CamTrigger::kTime || why == CamTrigger::kFixed) &&
       now < *rules_.next_time_due() + rules_.timing().fresh_fix_wait)
     why = CamTrigger::kNone;
   if (why != CamTrigger::kNone)
     generate(why, *fix);
-  if (from_timer || why != CamTrigger::kNone)
+  if (source == CheckSource::kTimer || why != CamTrigger::kNone)
     schedule_check();
 }
 

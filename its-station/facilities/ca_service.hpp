@@ -64,7 +64,9 @@ class CaService {
   const CamRules& rules() const { return rules_; }
 
  private:
-  void check(bool from_timer);
+  /// Why a generation check runs: a time-based CAM is made at once only on a new fix.
+  enum class CheckSource { kFix, kVehicleData, kTimer };
+  void check(CheckSource source);
   void generate(CamTrigger why, const PositionFix& fix);
   void schedule_check();
 

@@ -300,6 +300,25 @@ TEST(CaService, WithoutNewFixesTheTimerMakesTheTimeCamAfterTheFreshFixWait) {
   EXPECT_EQ(h.cams, (std::vector<CamAt>{{0, CamTrigger::kFirst}, {1010, CamTrigger::kTime}}));
 }
 
+TEST(CaService, VehicleDataTriggersChecksButTimeCamsWaitForTheFix) {
+  // CAN data at 100 Hz between fixes: a CAN frame at 999.5 ms or 1000.5 ms (just before the
+  // fix of 1000 ms arrives) must not make the time-based CAM from the fix of 900 ms.
+  CaHarness h;
+  h.drive([](double t) { return Motion{3.0 * t, 0.0, 90.0, 3.0}; }, 0.9);
+  VehicleData vd;
+  vd.speed_mps = 3.0;
+  h.rt.advance(99'500us);  // 999.5 ms
+  h.vehicle.inject(vd);
+  h.rt.advance(1ms);  // 1000.5 ms
+  h.vehicle.inject(vd);
+  ASSERT_EQ(h.cams.size(), 1u);
+  h.rt.advance(500us);  // the fix of 1000 ms arrives at 1001 ms
+  h.position.inject(h.fix_of({3.0, 0.0, 90.0, 3.0}));
+  ASSERT_EQ(h.cams.size(), 2u);
+  EXPECT_EQ(h.cams[1], (CamAt{1001, CamTrigger::kTime}));
+  EXPECT_EQ(h.fixes[1].time, h.rt.wall_now());
+}
+
 TEST(CaService, NoFixNoCamAndFirstCamAgainAfterTheFixReturns) {
   CaHarness h;
   h.drive([](double t) { return Motion{3.0 * t, 0.0, 90.0, 3.0}; }, 1.0);
