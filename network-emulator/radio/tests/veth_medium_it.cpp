@@ -36,9 +36,17 @@ namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
 
-const std::string kTag = std::to_string(::getpid() % 100000);
-// Interface names hold 15 characters: "tbi" + 2 digits + station id.
-const std::string kPrefix = "tbi" + std::to_string(::getpid() % 100);
+const std::string kTag = std::to_string(::getpid());
+// Unique per test process (ctest may run them in parallel): "t" + the pid in base 36, within
+// the 5 characters --prefix allows.
+std::string pid_prefix() {
+  std::string p = "t";
+  unsigned v = static_cast<unsigned>(::getpid()) % (36u * 36u * 36u * 36u);
+  for (int i = 0; i < 4; ++i, v /= 36)
+    p += "0123456789abcdefghijklmnopqrstuvwxyz"[v % 36];
+  return p;
+}
+const std::string kPrefix = pid_prefix();
 
 // A named namespace made with `ip netns add` (the launcher's job in real runs), always removed.
 class TestNetns {
