@@ -5,6 +5,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "common/trace/tracer.hpp"
+
 namespace tb::server {
 
 namespace sim = wire::sim;
@@ -103,6 +105,7 @@ void Hub::handle(ClientId id, Client& c, const sim::ClientMessage& m) {
       spdlog::info("vehicle {} driven again by {}", scenario_.vehicles[in->vehicle].id, label(c));
     slot.stopping = false;
     slot.last_controls = clock_.steady_now();
+    slot.input_ns = clock::to_unix_ns(clock_.wall_now());
     slot.lights = in->lights;
     world_.set_controls(in->vehicle, controls, in->lights);
   } else if (const auto* d = std::get_if<sim::Detach>(&m)) {
@@ -169,8 +172,16 @@ void Hub::stop_vehicle(std::size_t vehicle) {
 
 void Hub::before_step() {
   const auto now = clock_.steady_now();
+  auto& tracer = trace::global();
   for (std::size_t v = 0; v < vehicles_.size(); ++v) {
     VehicleSlot& slot = vehicles_[v];
+    if (slot.input_ns != 0) {
+      // End of t1 (docs/tracing.md): the latest controls go into the coming step.
+      tracer.record("server.controls", {{"station", world_.states()[v].station_id},
+                                        {"tick", world_.tick() + 1},
+                                        {"input_ns", slot.input_ns}});
+      slot.input_ns = 0;
+    }
     if (slot.stopping) {
       // Also covers cars nobody has driven yet; re-applied in case set_controls was bypassed.
       if (world_.controls(v).brake < kStopBrake)

@@ -95,6 +95,7 @@ class Hub {
     clock::SteadyTime last_controls{};
     bool stopping = true;  ///< brake-to-stop in force
     std::uint16_t lights = 0;
+    std::int64_t input_ns = 0;  ///< arrival of controls not yet applied in a step, or 0
   };
 
   void handle(ClientId id, Client& c, const wire::sim::ClientMessage& m);
