@@ -233,8 +233,9 @@ void Hub::close_client(ClientId id, sim::CloseReason reason, const std::string& 
   if (it == clients_.end())
     return;
   Client& c = it->second;
-  if (reason == sim::CloseReason::kProtocolError) {
+  if (reason == sim::CloseReason::kProtocolError)
     ++stats_.protocol_errors;
+  if (reason != sim::CloseReason::kShutdown) {
     spdlog::warn("client {} ({}): closing: {}", id, label(c), text);
   } else {
     spdlog::info("client {} ({}): closing: {}", id, label(c), text);

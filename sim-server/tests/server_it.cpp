@@ -13,6 +13,8 @@
 #include <atomic>
 #include <cstdlib>
 #include <deque>
+#include <filesystem>
+#include <fstream>
 #include <future>
 #include <mutex>
 #include <optional>
@@ -291,6 +293,74 @@ TEST(SimServerIT, ThreeClientsDriveWatchAndSurviveGarbage) {
   work.reset();
   io.stop();
   io_thread.join();
+}
+
+TEST(SimServerIT, ClientThatDoesNotReadIsDroppedOthersKeepStreaming) {
+  // 100 cars make 16 KB State frames; a client with a tiny receive buffer that never reads
+  // fills the kernel buffers within a second or two, then the server's queue of 20 frames.
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("simserver-it-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto file = (dir / "hundred.json").string();
+  {
+    std::ofstream out(file);
+    out << R"({"name":"hundred","map":{"type":"straight","lanes":4,"oncoming_lanes":0,)"
+        << R"("length":1200},"origin":{"lat":41.1,"lon":29.0,"alt":0},"vehicles":[)";
+    for (int i = 0; i < 100; ++i) {
+      out << (i ? "," : "") << R"({"id":"v)" << i << R"(","station_id":)" << 1000 + i
+          << R"(,"spawn":{"lane":)" << i % 4 << R"(,"s":)" << 20 + i * 10
+          << R"(},"driver":"human"})";
+    }
+    out << "]}";
+  }
+  const auto port = free_port();
+  ServerProcess server({"--scenario", file, "--port", std::to_string(port), "--bind", "127.0.0.1",
+                        "--queue", "20", "--log-level", "warn"});
+  ASSERT_TRUE(server.started());
+
+  asio::io_context io;
+  auto work = asio::make_work_guard(io);
+  std::thread io_thread([&] { io.run(); });
+  {
+    Client w(io, port);
+    ASSERT_TRUE(w.connected());
+    w.send(sim::Hello{"reader"});
+    w.send(sim::Attach{sim::Role::kWatcher, 0});
+    // The stalled client: a raw blocking socket with a small receive buffer, never read.
+    asio::io_context io2;
+    tcp::socket stalled(io2);
+    stalled.open(tcp::v4());
+    stalled.set_option(asio::socket_base::receive_buffer_size(4096));
+    stalled.connect(tcp::endpoint(asio::ip::make_address("127.0.0.1"), port));
+    auto hello = sim::encode(sim::Hello{"stalled"});
+    auto attach = sim::encode(sim::Attach{sim::Role::kWatcher, 0});
+    hello.insert(hello.end(), attach.begin(), attach.end());
+    asio::write(stalled, asio::buffer(hello));
+
+    // The server closes the stalled connection: reading it now drains the buffered frames and
+    // then ends in EOF.
+    std::this_thread::sleep_for(5s);
+    std::size_t drained = 0;
+    boost::system::error_code ec;
+    std::array<std::uint8_t, 65536> buf;
+    stalled.non_blocking(false);
+    while (!ec)
+      drained += stalled.read_some(asio::buffer(buf), ec);
+    EXPECT_EQ(ec, asio::error::eof) << ec.message();
+    EXPECT_LT(drained, 200u * 16'500) << "the server kept sending to a client that did not read";
+
+    const auto before = w.states();
+    std::this_thread::sleep_for(300ms);
+    EXPECT_FALSE(w.eof());
+    EXPECT_GT(w.states(), before + 15) << "the reading client's stream stopped";
+    w.close();
+  }
+  server.signal(SIGTERM);
+  EXPECT_EQ(server.wait(5s), std::optional<int>(0));
+  work.reset();
+  io.stop();
+  io_thread.join();
+  std::filesystem::remove_all(dir);
 }
 
 TEST(SimServerIT, BadScenarioExitsWithTwoBeforeListening) {
