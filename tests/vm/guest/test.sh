@@ -166,11 +166,12 @@ done
 ip link show tbvmmon >/dev/null 2>&1
 check radio.monitor_in_host_ns $? "(tbvmmon)"
 
+rxs=()
 # Receivers first (they say when they listen), then station 11 sends, then station 12.
 for i in 1 2 3; do
   ip netns exec tbvm$i python3 "$G/vmtool.py" raw-recv --iface wlan0 --seconds 40 \
     --ready "$T/rx$i.ready" --stop "$T/rx.stop" --out "$T/rx$i.json" >/dev/null 2>"$T/rx$i.err" &
-  eval "rx$i=\$!"
+  rxs+=($!)
 done
 python3 "$G/vmtool.py" mon-recv --iface tbvmmon --seconds 40 --ready "$T/mon.ready" \
   --stop "$T/rx.stop" --out "$T/mon.json" >/dev/null 2>"$T/mon.err" &
@@ -182,7 +183,7 @@ ip netns exec tbvm2 python3 "$G/vmtool.py" raw-send --iface wlan0 --count 20 --t
   >"$T/tx12.log" 2>&1
 sleep 2
 touch "$T/rx.stop"
-wait $rx1 $rx2 $rx3 $mon
+wait "${rxs[@]}" $mon
 count() { # count FILE TAG
   python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["tags"].get(sys.argv[2], {}).get("count", 0))' "$1" "$2" 2>/dev/null || echo 0
 }
