@@ -13,6 +13,7 @@ namespace tb::trace {
 namespace {
 
 constexpr std::size_t kFlushThreshold = 64 * 1024;
+constexpr std::int64_t kFlushEveryNs = 1'000'000'000;
 
 void append_escaped(fmt::memory_buffer& out, std::string_view s) {
   out.push_back('"');
@@ -93,8 +94,11 @@ void Tracer::write(std::int64_t ts, std::string_view event, std::initializer_lis
     std::visit(ValueWriter{buffer_}, f.value);
   }
   buffer_.append(std::string_view{"}\n"});
-  if (buffer_.size() >= kFlushThreshold)
+  // Large blocks keep records cheap; the age bound keeps what a killed process loses small.
+  if (buffer_.size() >= kFlushThreshold || ts - last_flush_ns_ >= kFlushEveryNs) {
     flush_locked();
+    last_flush_ns_ = ts;
+  }
 }
 
 void Tracer::flush() {

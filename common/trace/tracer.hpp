@@ -72,6 +72,7 @@ class Tracer {
   std::string process_;
   std::mutex mutex_;
   fmt::memory_buffer buffer_;
+  std::int64_t last_flush_ns_ = 0;
 };
 
 /// The process-wide tracer, disabled until configure() is called (programs do so from

@@ -80,6 +80,17 @@ TEST_F(TracerTest, ManyRecordsSurviveBufferFlushes) {
   EXPECT_EQ(lines.back()["i"], 19999);
 }
 
+TEST_F(TracerTest, RecordsReachTheFileWithinASecondWithoutFlush) {
+  Tracer t(path_, "p");
+  // The first record is always written (nothing was flushed yet); a record one second after
+  // the last write goes out with everything before it, without waiting for a full buffer.
+  t.record_at(5'000'000'000, "a", {});
+  t.record_at(5'100'000'000, "b", {});
+  EXPECT_EQ(read_lines(path_).size(), 1u);
+  t.record_at(6'100'000'000, "c", {});
+  EXPECT_EQ(read_lines(path_).size(), 3u);
+}
+
 TEST(Tracer, DisabledTracerWritesNothing) {
   Tracer t;
   EXPECT_FALSE(t.enabled());
