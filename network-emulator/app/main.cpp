@@ -320,7 +320,7 @@ int main(int argc, char** argv) {
   if (status_interval > 0) {
     const auto every =
         std::chrono::duration_cast<clock::Duration>(std::chrono::duration<double>(status_interval));
-    status = [&] {
+    status = [&, every] {  // every by value: this block ends before the timer fires
       spdlog::info("{}", emulator->status_line());
       trace::global().flush();
       runtime.schedule_in(every, status);

@@ -219,7 +219,7 @@ TEST_F(NetworkEmulatorIt, FeedsStationsAndSurvivesOneWithoutReceiver) {
   EXPECT_GE(forwarded, 2 * 149 + 1);
   EXPECT_EQ(forwarded_bad, 0);
 
-  EXPECT_EQ(emu.wait_exit(true), 0);
+  EXPECT_EQ(emu.wait_exit(true), 0) << read_file(log);
   const std::string text = read_file(log);
   EXPECT_NE(text.find("CAN transport: CAN frames over UDP in cannelloni's format (--can udp)"),
             std::string::npos)
