@@ -197,12 +197,15 @@ int run(const Options& o) {
 
   // Vehicle data.
   auto can_bus = open_can(io, o);
+  // The decoder points into the database's messages: it must outlive the decoder.
+  std::optional<tb::can::Database> can_db;
   std::unique_ptr<fac::CanVehicleDataProvider> vehicle_data;
   if (can_bus) {
     auto db = tb::can::Database::load(o.dbc);
     if (!db)
       throw Fatal{"CAN database: " + db.error().message()};
-    auto decoder = fac::CanVehicleDecoder::create(*db);
+    can_db = std::move(*db);
+    auto decoder = fac::CanVehicleDecoder::create(*can_db);
     if (!decoder)
       throw Fatal{fmt::format("CAN database {}: {}", o.dbc, decoder.error().detail)};
     vehicle_data =
@@ -245,6 +248,7 @@ int run(const Options& o) {
     mqtt = std::make_unique<apps::mqtt::MosquittoClient>(runtime, mc);
     publisher = std::make_unique<apps::mqtt::StationPublisher>(
         runtime, *mqtt, apps::mqtt::PublisherConfig{o.mqtt_prefix, o.station_id});
+    publisher->set_tracer(&tb::trace::global());
     mqtt->start();
     spdlog::info("MQTT: publishing to {}:{} under {}", o.mqtt_host, o.mqtt_port, topics.root());
     ldm.on_neighbour([&](const fac::Neighbour& n) {
@@ -307,7 +311,7 @@ int run(const Options& o) {
             if (publisher)
               publisher->publish_warning(w);
           },
-          lcrw_denm.get());
+          lcrw_denm.get(), &tb::trace::global());
     }
     std::vector<apps::VehicleKinematics> others;
     for (const auto& [id, n] : ldm.neighbours())

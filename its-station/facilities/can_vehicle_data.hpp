@@ -37,6 +37,7 @@ class CanVehicleDecoder {
   /// Up to this many lost frames in a row are tolerated (the counter moved by at most 1 + it).
   static constexpr unsigned kMaxCounterGap = 3;
 
+  /// @p db must outlive the decoder: it keeps pointers to its messages and signals.
   static Expected<CanVehicleDecoder, CanSchemaError> create(const can::Database& db);
 
   /// Applies @p frame to the current state. @returns what happened to it.

@@ -11,6 +11,15 @@ long round_to(double v) {
   return std::lround(v);
 }
 
+// Clamps before rounding: lround of a value beyond long's range is unspecified.
+long round_clamped(double v, long lo, long hi) {
+  if (v <= static_cast<double>(lo))
+    return lo;
+  if (v >= static_cast<double>(hi))
+    return hi;
+  return std::lround(v);
+}
+
 }  // namespace
 
 m::Latitude latitude(double deg) {
@@ -58,7 +67,7 @@ m::Altitude altitude(std::optional<double> metres, std::optional<double> confide
   m::Altitude out;
   if (metres && std::isfinite(*metres))
     out.altitudeValue =
-        static_cast<m::AltitudeValue>(std::clamp<long>(round_to(*metres * 100.0), -100000, 800000));
+        static_cast<m::AltitudeValue>(round_clamped(*metres * 100.0, -100000, 800000));
   if (confidence_m && std::isfinite(*confidence_m) && *confidence_m >= 0.0) {
     // The smallest class whose bound covers the estimate (CDD AltitudeConfidence).
     static constexpr double kBounds[] = {0.01, 0.02, 0.05, 0.1,  0.2,  0.5,   1.0,
@@ -116,7 +125,7 @@ m::SpeedValue speed_value(std::optional<double> mps) {
   if (!mps || !std::isfinite(*mps))
     return m::kSpeedValueUnavailable;
   // SpeedValue 16382 stands for ≥ 163.82 m/s.
-  return static_cast<m::SpeedValue>(std::clamp<long>(round_to(std::abs(*mps) * 100.0), 0, 16382));
+  return static_cast<m::SpeedValue>(round_clamped(std::abs(*mps) * 100.0, 0, 16382));
 }
 std::optional<double> speed_mps(m::SpeedValue v) {
   if (v >= m::kSpeedValueUnavailable)
@@ -136,15 +145,14 @@ m::AccelerationValue acceleration_value(std::optional<double> mps2) {
   if (!mps2 || !std::isfinite(*mps2))
     return m::kAccelerationValueUnavailable;
   // ±160 (±16 m/s²) saturate, 161 is "unavailable".
-  return static_cast<m::AccelerationValue>(std::clamp<long>(round_to(*mps2 * 10.0), -160, 160));
+  return static_cast<m::AccelerationValue>(round_clamped(*mps2 * 10.0, -160, 160));
 }
 
 m::YawRate yaw_rate(std::optional<double> dps) {
   m::YawRate y;
   if (!dps || !std::isfinite(*dps))
     return y;
-  y.yawRateValue =
-      static_cast<m::YawRateValue>(std::clamp<long>(round_to(*dps * 100.0), -32766, 32766));
+  y.yawRateValue = static_cast<m::YawRateValue>(round_clamped(*dps * 100.0, -32766, 32766));
   // The CAN signal's resolution is 0.01 °/s; the sensor's accuracy is not known, so the
   // confidence stays "unavailable" rather than claiming one.
   return y;
@@ -155,7 +163,7 @@ m::SteeringWheelAngle steering_wheel_angle(std::optional<double> deg) {
   if (!deg || !std::isfinite(*deg))
     return s;
   s.steeringWheelAngleValue =
-      static_cast<m::SteeringWheelAngleValue>(std::clamp<long>(round_to(*deg / 1.5), -511, 511));
+      static_cast<m::SteeringWheelAngleValue>(round_clamped(*deg / 1.5, -511, 511));
   // One step of the CDD's 1.5° unit: the value's own rounding.
   s.steeringWheelAngleConfidence = 1;
   return s;
@@ -167,8 +175,7 @@ m::Curvature curvature(std::optional<double> yaw_rate_dps, std::optional<double>
       std::abs(*speed_mps) < 1.0)
     return c;  // below walking pace ω / v is noise
   const double kappa = (*yaw_rate_dps * std::numbers::pi / 180.0) / *speed_mps;
-  c.curvatureValue =
-      static_cast<m::CurvatureValue>(std::clamp<long>(round_to(kappa * 10000.0), -1022, 1022));
+  c.curvatureValue = static_cast<m::CurvatureValue>(round_clamped(kappa * 10000.0, -1022, 1022));
   return c;
 }
 

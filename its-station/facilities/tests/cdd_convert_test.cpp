@@ -52,6 +52,11 @@ TEST(CddConvert, SpeedAndAcceleration) {
   EXPECT_EQ(cdd::acceleration_value(-30.0), -160);
   EXPECT_EQ(cdd::acceleration_value(2.34), 23);
   EXPECT_EQ(cdd::acceleration_value(std::nullopt), m::kAccelerationValueUnavailable);
+  // Far beyond any integer: saturates rather than wrapping.
+  EXPECT_EQ(cdd::speed_value(1e300), 16382);
+  EXPECT_EQ(cdd::acceleration_value(-1e300), -160);
+  EXPECT_EQ(cdd::yaw_rate(1e300).yawRateValue, 32766);
+  EXPECT_EQ(cdd::steering_wheel_angle(-1e300).steeringWheelAngleValue, -511);
 }
 
 TEST(CddConvert, AltitudeConfidenceClasses) {

@@ -71,7 +71,7 @@ TEST_F(DenTest, TriggerIsGeoBroadcastAndRepeatedForItsDuration) {
   ASSERT_TRUE(id);
   EXPECT_EQ(id->originatingStationID, 101u);
   ASSERT_EQ(a().sender.packets.size(), 1u);
-  const auto& p = a().sender.packets[0];
+  const auto p = a().sender.packets[0];  // a copy: the vector grows below
   EXPECT_EQ(p.port, kBtpPortDenm);
   ASSERT_TRUE(p.area);
   EXPECT_DOUBLE_EQ(p.area->distance_a_m, 200.0);
