@@ -217,9 +217,15 @@ int run(const Options& o) {
   fac::Ldm ldm(runtime);
   fac::CaService ca(runtime, position, vehicle_data.get(), sender, ldm, ca_cfg);
   fac::DenService den(runtime, sender, ldm, {o.station_id, ca_cfg.station_type, 1000.0});
+  // The station's ITS clock is its GNSS time, as on a real OBU: received CAMs are dated, and
+  // LCRW extrapolates and ages states, on the timebase of the fixes (sim time in the testbed,
+  // which need not be the host's wall clock), so that generationDeltaTime resolves to the right
+  // instant and neighbours' states compare with the own ones.
+  tb::its::station::GnssDisciplinedClock its_clock(runtime);
+  position.on_fix([&](const fac::PositionFix& fix) { its_clock.on_fix(fix.time); });
   btp.register_port(fac::kBtpPortCam, [&](const tb::its::btp::Indication& ind,
                                           std::span<const std::uint8_t> payload) {
-    ca.receive(payload, ind.gn ? ind.gn->rx_time : runtime.wall_now());
+    ca.receive(payload, its_clock.to_its(ind.gn ? ind.gn->rx_time : runtime.wall_now()));
   });
   btp.register_port(fac::kBtpPortDenm,
                     [&](const tb::its::btp::Indication&, std::span<const std::uint8_t> payload) {
@@ -303,7 +309,7 @@ int run(const Options& o) {
     if (!lcrw) {
       lcrw_denm = std::make_unique<apps::LcrwDenmTrigger>(den_port, *frame);
       lcrw = std::make_unique<apps::LcrwApplication>(
-          runtime, apps::LcrwConfig{},
+          its_clock, apps::LcrwConfig{},
           [&](const apps::LcrwWarning& w) {
             spdlog::info("LCRW: {} station {} ({}), TTC {:.2f} s",
                          w.event == apps::WarningEvent::kCleared ? "cleared" : "warning",
