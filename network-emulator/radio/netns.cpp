@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <sched.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -18,6 +19,13 @@ NetnsFd NetnsFd::open(const std::string& spec) {
         errno, std::generic_category(),
         "cannot open network namespace " + ns.path_ + " (make it first, e.g. `ip netns add NAME`)");
   return ns;
+}
+
+std::pair<unsigned long, unsigned long> NetnsFd::identity() const {
+  struct stat st {};
+  if (::fstat(fd_, &st) != 0)
+    throw std::system_error(errno, std::generic_category(), "cannot stat " + path_);
+  return {static_cast<unsigned long>(st.st_dev), static_cast<unsigned long>(st.st_ino)};
 }
 
 NetnsFd NetnsFd::current() {

@@ -28,6 +28,10 @@ class NetnsFd {
 
   int fd() const { return fd_; }
   const std::string& path() const { return path_; }
+  /// Which namespace this is (device and inode of its nsfs file): a name that is later bound
+  /// to another namespace (a station container that restarted) gives another identity.
+  /// @throws std::system_error.
+  std::pair<unsigned long, unsigned long> identity() const;
 
  private:
   int fd_ = -1;

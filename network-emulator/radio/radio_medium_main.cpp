@@ -6,6 +6,8 @@
 #include <charconv>
 #include <cstdio>
 #include <fstream>
+#include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -259,7 +261,7 @@ int run(const Options& opt) {
   }
 
   std::unique_ptr<radio::VethRadios> veths;
-  std::vector<std::unique_ptr<radio::VethPort>> ports;
+  std::map<radio::StationId, std::unique_ptr<radio::VethPort>> ports;
   std::unique_ptr<radio::HwsimRadios> hwsim;
   std::unique_ptr<radio::HwsimMedium> hwsim_medium;
   try {
@@ -268,11 +270,11 @@ int run(const Options& opt) {
         spdlog::warn("radio-medium: removed {} left by a run that did not end cleanly", name);
       veths = std::make_unique<radio::VethRadios>(stations, opt.prefix);
       for (const auto& s : stations) {
-        ports.push_back(std::make_unique<radio::VethPort>(io, s.id, veths->host_ifname(s.id),
-                                                          ethertype, medium));
-        medium.attach(s.id, *ports.back());
+        auto& port = ports[s.id] = std::make_unique<radio::VethPort>(
+            io, s.id, veths->host_ifname(s.id), ethertype, medium);
+        medium.attach(s.id, *port);
       }
-      for (auto& p : ports)
+      for (auto& [id, p] : ports)
         p->start();
     } else {
       for (const auto& name : radio::HwsimRadios::remove_leftovers(opt.prefix))
@@ -286,12 +288,44 @@ int run(const Options& opt) {
     return kExitSetup;
   }
 
-  asio::signal_set signals(io, SIGINT, SIGTERM, SIGHUP);
+  asio::signal_set signals(io, SIGINT, SIGTERM);
   signals.async_wait([&](const boost::system::error_code& ec, int sig) {
     if (!ec)
       spdlog::info("radio-medium: signal {}, cleaning up", sig);
     io.stop();
   });
+
+  // SIGHUP: a station's namespace name now leads elsewhere (its container restarted and was
+  // handed over again): give it a new radio there, leaving every other station's alone.
+  asio::signal_set hangups(io, SIGHUP);
+  std::function<void()> arm_hangup = [&] {
+    hangups.async_wait([&](const boost::system::error_code& ec, int) {
+      if (ec)
+        return;
+      if (!veths) {
+        spdlog::warn(
+            "radio-medium: SIGHUP: moving a radio to a new namespace needs the veth radios; "
+            "restart radio-medium to move hwsim radios");
+      } else {
+        for (const auto id : veths->moved_stations()) {
+          medium.detach(id);
+          ports.erase(id);
+          try {
+            veths->reattach(id);
+            auto& port = ports[id] = std::make_unique<radio::VethPort>(
+                io, id, veths->host_ifname(id), ethertype, medium);
+            medium.attach(id, *port);
+            port->start();
+            spdlog::info("radio-medium: station {}: new namespace, wlan0 made again", id);
+          } catch (const std::exception& e) {
+            spdlog::error("radio-medium: station {}: no radio: {}", id, e.what());
+          }
+        }
+      }
+      arm_hangup();
+    });
+  };
+  arm_hangup();
 
   asio::steady_timer stats_timer(io);
   std::function<void()> arm_stats = [&] {

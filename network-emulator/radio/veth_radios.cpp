@@ -3,6 +3,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <stdexcept>
@@ -44,25 +45,57 @@ VethRadios::VethRadios(const std::vector<StationSpec>& stations, const std::stri
     : prefix_(prefix), stations_(stations) {
   RouteSocket rtnl;
   try {
-    for (const StationSpec& s : stations_) {
-      NetnsFd ns;
-      try {
-        ns = NetnsFd::open(s.netns);
-      } catch (const std::system_error& e) {
-        throw std::runtime_error("station " + std::to_string(s.id) + ": " + e.what());
-      }
-      const std::string name = host_ifname(s.id);
-      rtnl.add_veth(name, owner_alias(), kStationIfname, ns.fd(), station_mac(s.id));
-      created_.push_back(name);
-      rtnl.set_up(name);
-      in_netns(ns, [] { RouteSocket(/*station's namespace*/).set_up(kStationIfname); });
-      spdlog::debug("radio: station {}: {} ↔ {}:{} ({})", s.id, name, ns.path(), kStationIfname,
-                    to_string(station_mac(s.id)));
-    }
+    for (const StationSpec& s : stations_)
+      add(rtnl, s);
   } catch (...) {
     remove_all();
     throw;
   }
+}
+
+void VethRadios::add(RouteSocket& rtnl, const StationSpec& s) {
+  NetnsFd ns;
+  try {
+    ns = NetnsFd::open(s.netns);
+  } catch (const std::system_error& e) {
+    throw std::runtime_error("station " + std::to_string(s.id) + ": " + e.what());
+  }
+  const std::string name = host_ifname(s.id);
+  rtnl.add_veth(name, owner_alias(), kStationIfname, ns.fd(), station_mac(s.id));
+  created_.push_back(name);
+  rtnl.set_up(name);
+  in_netns(ns, [] { RouteSocket(/*station's namespace*/).set_up(kStationIfname); });
+  placed_in_[s.id] = ns.identity();
+  spdlog::debug("radio: station {}: {} ↔ {}:{} ({})", s.id, name, ns.path(), kStationIfname,
+                to_string(station_mac(s.id)));
+}
+
+std::vector<StationId> VethRadios::moved_stations() const {
+  std::vector<StationId> moved;
+  for (const StationSpec& s : stations_) {
+    const auto placed = placed_in_.find(s.id);
+    try {
+      if (placed == placed_in_.end() || NetnsFd::open(s.netns).identity() != placed->second)
+        moved.push_back(s.id);
+    } catch (const std::system_error&) {
+      moved.push_back(s.id);  // the name leads nowhere now: the radio is in a dead namespace
+    }
+  }
+  return moved;
+}
+
+void VethRadios::reattach(StationId id) {
+  const auto spec = std::find_if(stations_.begin(), stations_.end(),
+                                 [&](const StationSpec& s) { return s.id == id; });
+  if (spec == stations_.end())
+    throw std::runtime_error("station " + std::to_string(id) + " has no radio here");
+  RouteSocket rtnl;
+  const std::string name = host_ifname(id);
+  // The pair may be gone already: a veth dies with the namespace of either end.
+  rtnl.remove(name);
+  std::erase(created_, name);
+  placed_in_.erase(id);
+  add(rtnl, *spec);
 }
 
 VethRadios::~VethRadios() {

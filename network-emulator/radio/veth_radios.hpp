@@ -2,7 +2,9 @@
 /// @file The stand-in radios: one veth pair per station, `wlan0` inside the station's namespace,
 /// the other end (PREFIX + station id) in the emulator's namespace for the userspace medium.
 
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "network-emulator/radio/channel.hpp"
@@ -36,6 +38,13 @@ class VethRadios {
   VethRadios(const VethRadios&) = delete;
   VethRadios& operator=(const VethRadios&) = delete;
 
+  /// Stations whose namespace name or path now leads to another namespace than the one their
+  /// radio was put in (a station container that restarted gets a new one), or to none.
+  std::vector<StationId> moved_stations() const;
+  /// Deletes @p id's pair and makes it again in the namespace its name leads to now.
+  /// @throws like the constructor; the station then has no radio.
+  void reattach(StationId id);
+
   /// Host-side interface name of @p id.
   std::string host_ifname(StationId id) const { return prefix_ + std::to_string(id); }
   const std::vector<StationSpec>& stations() const { return stations_; }
@@ -46,11 +55,14 @@ class VethRadios {
   static std::vector<std::string> remove_leftovers(const std::string& prefix = kDefaultPrefix);
 
  private:
+  void add(RouteSocket& rtnl, const StationSpec& s);
   void remove_all() noexcept;
 
   std::string prefix_;
   std::vector<StationSpec> stations_;
   std::vector<std::string> created_;
+  /// The namespace each station's radio is in (NetnsFd::identity).
+  std::map<StationId, std::pair<unsigned long, unsigned long>> placed_in_;
 };
 
 }  // namespace tb::emu::radio

@@ -57,6 +57,12 @@ class TestNetns {
       throw std::runtime_error("ip netns add " + name_ + " failed (needs root)");
   }
   ~TestNetns() { std::system(("ip netns del " + name_ + " 2>/dev/null").c_str()); }
+  // A new namespace under the same name, as a station container gets when it restarts; the old
+  // one dies with everything in it.
+  void replace() {
+    if (std::system(("ip netns del " + name_ + " && ip netns add " + name_).c_str()) != 0)
+      throw std::runtime_error("cannot make " + name_ + " again");
+  }
   const std::string& name() const { return name_; }
   bool has(const std::string& ifname) const {
     return in_netns(NetnsFd::open(name_), [&] { return if_nametoindex(ifname.c_str()) != 0; });
@@ -115,6 +121,7 @@ class MediumProcess {
     }
     return false;
   }
+  void signal(int sig) { ::kill(pid_, sig); }
   // SIGTERM (or @p sig) and the exit status; SIGKILL after 10 s.
   int stop(int sig = SIGTERM) {
     ::kill(pid_, sig);
@@ -444,6 +451,38 @@ TEST_F(VethMediumIT, RestartRemovesWhatACrashedRunLeft) {
   send_paced(a, 10, all, {&b});
   EXPECT_EQ(b.count_from(11), 10u);
   EXPECT_TRUE(WIFEXITED(again.stop(SIGINT)));
+}
+
+TEST_F(VethMediumIT, SighupGivesARestartedStationARadioInItsNewNamespace) {
+  const fs::path scenario = write_scenario(R"({ "model": "ideal" })");
+  const fs::path stats = scenario.parent_path() / "hup-stats.json";
+  MediumProcess medium(args(scenario, stats, free_udp_port()));
+  ASSERT_TRUE(medium.wait_ready());
+  ns_[0]->replace();
+  EXPECT_FALSE(ns_[0]->has(kStationIfname));
+  medium.signal(SIGHUP);
+  const auto deadline = Clock::now() + 10s;
+  while (!ns_[0]->has(kStationIfname) && Clock::now() < deadline)
+    std::this_thread::sleep_for(20ms);
+  ASSERT_TRUE(ns_[0]->has(kStationIfname)) << "no wlan0 in the new namespace after SIGHUP";
+
+  // Both ways, and the station that kept its namespace still hears the third.
+  Station a(11, ns_[0]->name()), b(12, ns_[1]->name()), c(13, ns_[2]->name());
+  std::vector<Station*> all{&a, &b, &c};
+  send_paced(a, 100, all, {&b, &c});
+  send_paced(b, 100, all, {&a, &c});
+  EXPECT_EQ(b.count_from(11), 100u);
+  EXPECT_EQ(c.count_from(11), 100u);
+  EXPECT_EQ(a.count_from(12), 100u);
+  EXPECT_EQ(c.count_from(12), 100u);
+
+  // A second SIGHUP with nothing moved changes nothing.
+  medium.signal(SIGHUP);
+  send_paced(c, 50, all, {&a, &b});
+  EXPECT_EQ(a.count_from(13), 50u);
+  EXPECT_EQ(b.count_from(13), 50u);
+  ASSERT_TRUE(WIFEXITED(medium.stop()));
+  EXPECT_EQ(host_links_with_prefix().size(), 0u);
 }
 
 TEST_F(VethMediumIT, MissingNamespaceFailsWithAClearMessageAndLeavesNothing) {
