@@ -99,6 +99,9 @@ class Program {
   bool started() const { return pid_ > 0; }
   /// Waits up to 10 s for the exit code; -1 if it did not end.
   int wait_exit(bool terminate) {
+    // Never kill(-1, ...): that would signal every process we may signal.
+    if (pid_ <= 0)
+      return -1;
     if (terminate)
       ::kill(pid_, SIGTERM);
     for (int i = 0; i < 1000; ++i) {
