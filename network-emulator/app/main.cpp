@@ -19,13 +19,12 @@
 
 #include "common/can/netns.hpp"
 #include "common/can/socketcan_bus.hpp"
-#include "common/can/udp_can_bus.hpp"
 #include "common/clock/asio_runtime.hpp"
 #include "common/scenario/loader.hpp"
 #include "common/trace/tracer.hpp"
+#include "network-emulator/app/batch_io.hpp"
 #include "network-emulator/app/emulator.hpp"
 #include "network-emulator/app/stations_config.hpp"
-#include "network-emulator/app/udp_sink.hpp"
 
 namespace {
 
@@ -43,6 +42,16 @@ class BrokenCanBus final : public can::CanBus {
   std::string_view kind() const override { return "broken"; }
   std::error_code send(std::span<const can::CanFrame>) override { return ec_; }
   void start_receive(FrameHandler) override {}
+
+ private:
+  std::error_code ec_;
+};
+
+/// The same for an NMEA feed.
+class BrokenSink final : public emu::DatagramSink {
+ public:
+  explicit BrokenSink(std::error_code ec) : ec_(ec) {}
+  std::error_code send(std::span<const std::uint8_t>) override { return ec_; }
 
  private:
   std::error_code ec_;
@@ -66,7 +75,7 @@ std::optional<udp::endpoint> parse_endpoint(const std::string& text) {
   }
 }
 
-/// Two sockets per station: lift the soft descriptor limit to the hard one.
+/// A CAN_RAW socket per station with SocketCAN: lift the soft descriptor limit to the hard one.
 void raise_fd_limit() {
   rlimit r{};
   if (::getrlimit(RLIMIT_NOFILE, &r) == 0 && r.rlim_cur < r.rlim_max) {
@@ -76,14 +85,18 @@ void raise_fd_limit() {
 }
 
 /// The UDP receiver of vehicle states: one async wait, then drains the socket without blocking.
+/// What the states make (NMEA, CAN, forwarded states) is queued on the batch senders during a
+/// receive batch and sent with one sendmmsg per socket at its end.
 class StateReceiver {
  public:
   StateReceiver(asio::io_context& io, const udp::endpoint& listen, emu::Emulator& emulator,
-                std::vector<udp::endpoint> forward)
-      : socket_(io), forward_socket_(io), emulator_(emulator), forward_(std::move(forward)) {
-    if (!forward_.empty()) {
-      forward_socket_.open(udp::v4());
-      forward_socket_.non_blocking(true);
+                emu::BatchSenders& senders, const std::vector<udp::endpoint>& forward)
+      : socket_(io), emulator_(emulator), senders_(senders) {
+    if (!forward.empty()) {
+      forward_sender_ = &senders_.get("", AF_INET);
+      for (const auto& to : forward)
+        forward_sinks_.push_back(forward_sender_->add_sink(
+            emu::Destination::from(to.data(), static_cast<socklen_t>(to.size()))));
     }
     socket_.open(listen.protocol());
     socket_.set_option(udp::socket::reuse_address(true));
@@ -112,39 +125,41 @@ class StateReceiver {
   /// Takes up to kBatch datagrams per recvmmsg call: at 100k states/s the per-call cost of the
   /// system call, not the datagram, is what counts.
   void drain() {
-    for (int round = 0; round < 64; ++round) {  // bounded, so that timers still get their turn
-      std::array<mmsghdr, kBatch> msgs{};
-      std::array<iovec, kBatch> iov{};
+    for (int round = 0; round < 16; ++round) {  // bounded, so that timers still get their turn
       for (std::size_t i = 0; i < kBatch; ++i) {
-        iov[i] = {buffers_[i].data(), buffers_[i].size()};
-        msgs[i].msg_hdr.msg_iov = &iov[i];
-        msgs[i].msg_hdr.msg_iovlen = 1;
+        iov_[i] = {buffers_[i].data(), buffers_[i].size()};
+        msgs_[i].msg_hdr = {};
+        msgs_[i].msg_hdr.msg_iov = &iov_[i];
+        msgs_[i].msg_hdr.msg_iovlen = 1;
       }
-      const int n = ::recvmmsg(socket_.native_handle(), msgs.data(), kBatch, MSG_DONTWAIT, nullptr);
+      const int n =
+          ::recvmmsg(socket_.native_handle(), msgs_.data(), kBatch, MSG_DONTWAIT, nullptr);
       if (n <= 0)
         return;  // EAGAIN: drained (other errors: the next wait reports them again)
       for (int i = 0; i < n; ++i) {
         const auto k = static_cast<std::size_t>(i);
         // A datagram longer than the buffer arrives cut (MSG_TRUNC) and fails the size check.
-        const std::span<const std::uint8_t> d(buffers_[k].data(), msgs[k].msg_len);
+        const std::span<const std::uint8_t> d(buffers_[k].data(), msgs_[k].msg_len);
         if (emulator_.handle_datagram(d))
-          for (const auto& to : forward_) {
+          for (const auto sink : forward_sinks_)
             // Best effort, like the datagram itself: a full buffer or an absent radio-medium
-            // loses this state, never blocks the feeds.
-            boost::system::error_code ignored;
-            forward_socket_.send_to(asio::buffer(d.data(), d.size()), to, 0, ignored);
-          }
+            // loses this state, never blocks the feeds; its errors are of no one's concern.
+            (void)forward_sender_->send(sink, d);
       }
+      senders_.flush();
       if (n < static_cast<int>(kBatch))
         return;
     }
   }
 
-  static constexpr std::size_t kBatch = 64;
+  static constexpr std::size_t kBatch = 256;
   udp::socket socket_;
-  udp::socket forward_socket_;
   emu::Emulator& emulator_;
-  std::vector<udp::endpoint> forward_;
+  emu::BatchSenders& senders_;
+  emu::BatchSender* forward_sender_ = nullptr;
+  std::vector<emu::BatchSender::Sink> forward_sinks_;
+  std::array<mmsghdr, kBatch> msgs_{};
+  std::array<iovec, kBatch> iov_{};
   /// Larger than a state datagram, so that a longer one is seen as too long, not as a state.
   std::array<std::array<std::uint8_t, 512>, kBatch> buffers_{};
 };
@@ -246,16 +261,20 @@ int main(int argc, char** argv) {
 
   asio::io_context io;
   clock::AsioRuntime runtime(io);
+  // Every UDP feed (NMEA, cannelloni) goes out of one socket per network namespace, in batches.
+  emu::BatchSenders senders;
+  auto sender_for = [&](const emu::StationEndpoints& e, const asio::ip::address& addr,
+                        std::uint16_t port) -> std::pair<emu::BatchSender*, emu::Destination> {
+    const udp::endpoint to(addr, port);
+    return {&senders.get(e.netns, addr.is_v6() ? AF_INET6 : AF_INET),
+            emu::Destination::from(to.data(), static_cast<socklen_t>(to.size()))};
+  };
   auto udp_can = [&](const emu::StationEndpoints& e,
                      const asio::ip::address& addr) -> std::unique_ptr<can::CanBus> {
     try {
-      std::unique_ptr<can::UdpCanBus> bus;
-      const auto ec = can::run_in_netns(
-          e.netns, [&] { bus = can::UdpCanBus::connect(io, udp::endpoint(addr, e.can_port)); });
-      if (ec)
-        return std::make_unique<BrokenCanBus>(ec);
-      return bus;
-    } catch (const boost::system::system_error& err) {
+      const auto [sender, to] = sender_for(e, addr, e.can_port);
+      return std::make_unique<emu::BatchedCanBus>(*sender, to);
+    } catch (const std::system_error& err) {
       return std::make_unique<BrokenCanBus>(err.code());
     }
   };
@@ -263,7 +282,12 @@ int main(int argc, char** argv) {
   const emu::StationIoFactory make_io = [&](const emu::StationEndpoints& e) {
     emu::StationIo out;
     const auto addr = asio::ip::make_address(e.address);
-    out.gnss = std::make_unique<emu::UdpSink>(io, udp::endpoint(addr, e.gnss_port), e.netns);
+    try {
+      const auto [sender, to] = sender_for(e, addr, e.gnss_port);
+      out.gnss = std::make_unique<emu::BatchedDatagramSink>(*sender, to);
+    } catch (const std::system_error& err) {
+      out.gnss = std::make_unique<BrokenSink>(err.code());
+    }
     if (!use_vcan) {
       out.can = udp_can(e, addr);
       return out;
@@ -302,9 +326,12 @@ int main(int argc, char** argv) {
 
   std::unique_ptr<StateReceiver> receiver;
   try {
-    receiver = std::make_unique<StateReceiver>(io, *listen_ep, *emulator, forward);
+    receiver = std::make_unique<StateReceiver>(io, *listen_ep, *emulator, senders, forward);
   } catch (const boost::system::system_error& e) {
     spdlog::error("cannot listen for vehicle states on {}: {}", listen, e.code().message());
+    return kExitFailure;
+  } catch (const std::system_error& e) {
+    spdlog::error("cannot make the socket for --forward: {}", e.code().message());
     return kExitFailure;
   }
   receiver->start();
@@ -316,12 +343,22 @@ int main(int argc, char** argv) {
                fmt::format("{}:{}", receiver->local_endpoint().address().to_string(),
                            receiver->local_endpoint().port()));
 
+  // The emulator's counters, then the sockets': datagrams the kernel took, and those it did not
+  // (buffer full, an error of their own destination), and the ICMP errors read.
+  auto status_line = [&] {
+    const emu::BatchStats b = senders.stats();
+    return fmt::format(
+        "{} | UDP out {} datagrams in {} sendmmsg on {} sockets, dropped {} failed {}, ICMP "
+        "errors {}",
+        emulator->status_line(), b.sent, b.calls, senders.sockets(), b.dropped, b.failed,
+        b.late_errors);
+  };
   std::function<void()> status;
   if (status_interval > 0) {
     const auto every =
         std::chrono::duration_cast<clock::Duration>(std::chrono::duration<double>(status_interval));
     status = [&, every] {  // every by value: this block ends before the timer fires
-      spdlog::info("{}", emulator->status_line());
+      spdlog::info("{}", status_line());
       trace::global().flush();
       runtime.schedule_in(every, status);
     };
@@ -336,7 +373,7 @@ int main(int argc, char** argv) {
     }
   });
   io.run();
-  spdlog::info("final: {}", emulator->status_line());
+  spdlog::info("final: {}", status_line());
   trace::global().flush();
   return EXIT_SUCCESS;
 }
