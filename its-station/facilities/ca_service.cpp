@@ -89,7 +89,7 @@ CaService::CaService(clock::Runtime& runtime, PositionProvider& position,
                                        {"fix_ms", clock::to_unix_ns(fix.time) / 1'000'000}});
     path_.add(fix);
     if (running_)
-      check(CheckSource::kFix);
+      check();
   });
   position_.on_availability([this](bool available) {
     if (!running_)
@@ -102,12 +102,9 @@ CaService::CaService(clock::Runtime& runtime, PositionProvider& position,
       reported_no_fix_ = true;
     }
   });
-  if (vehicle_) {
-    vehicle_->on_update([this](const VehicleData&) {
-      if (running_)
-        check(CheckSource::kVehicleData);
-    });
-  }
+  // Vehicle data only fills the CAM: the conditions of clause 6.1.3 are the fix's heading,
+  // position and speed and the time since the last CAM, so a CAN update cannot make a CAM due
+  // (the timer covers every instant at which the passing of time can).
 }
 
 CaService::~CaService() {
@@ -117,7 +114,7 @@ CaService::~CaService() {
 void CaService::start() {
   running_ = true;
   rules_.reset();
-  check(CheckSource::kTimer);
+  check();
 }
 
 void CaService::stop() {
@@ -125,21 +122,48 @@ void CaService::stop() {
   runtime_.cancel(check_timer_);
 }
 
-void CaService::schedule_check() {
-  runtime_.cancel(check_timer_);
-  // Check at T_CheckCamGen, and when a time-based CAM falls due (plus the wait for the fix
-  // about to arrive, CamTiming::fresh_fix_wait), whichever is first.
-  const auto now = runtime_.steady_now();
-  auto when = now + rules_.timing().T_CheckCamGen;
-  if (const auto due = rules_.next_time_due()) {
-    const auto at = *due + rules_.timing().fresh_fix_wait;
-    if (at > now)
-      when = std::min(when, at);
-  }
-  check_timer_ = runtime_.schedule_at(when, [this] { check(CheckSource::kTimer); });
+bool CaService::fix_fits_time_cam(const PositionFix& fix, clock::SteadyTime now) const {
+  // A time-based CAM (condition 2, or the fixed policy's period) is made from the fix that
+  // describes its due instant: one that arrived at that instant or after it, or at most
+  // fresh_fix_wait before it (the GNSS epochs jitter around their 100 ms grid). When the due
+  // instant falls between two fixes (T_GenCam, the time between the last two CAMs, need not be
+  // a multiple of the fix period), the check of the next fix's arrival makes it: that is at
+  // most one T_CheckCamGen later (clause 6.1.3), and the CAM carries a state one fix period
+  // newer. Only when no fix comes by time_cam_deadline() is the older fix sent.
+  const auto due = rules_.next_time_due();
+  const auto deadline = rules_.time_cam_deadline();
+  return !due || fix.received + rules_.timing().fresh_fix_wait >= *due || now >= *deadline;
 }
 
-void CaService::check(CheckSource source) {
+void CaService::schedule_check() {
+  runtime_.cancel(check_timer_);
+  const auto now = runtime_.steady_now();
+  // At the latest every T_CheckCamGen (≤ T_GenCamMin, clause 6.1.3) ...
+  auto when = now + rules_.timing().T_CheckCamGen;
+  const auto earlier = [&](std::optional<clock::SteadyTime> t) {
+    if (t && *t > now)
+      when = std::min(when, *t);
+  };
+  const auto& fix = position_.current();
+  if (const auto last = rules_.last_time(); fix && last) {
+    // ... at the instant T_GenCam_Dcc has elapsed if the newest fix meets a condition already:
+    // no CAM may come earlier (clause 6.1.3), and this one must carry that fix, not wait for
+    // the next check or the next fix. A fix arriving 99.5 ms after the last CAM (jitter) is
+    // sent at 100.0 ms.
+    const auto dcc = *last + rules_.timing().T_GenCam_Dcc;
+    if (dcc > now && rules_.check(dcc, *fix) != CamTrigger::kNone)
+      earlier(dcc);
+    // ... when a time-based CAM falls due and the newest fix is the one of that instant ...
+    if (const auto due = rules_.next_time_due();
+        due && fix->received + rules_.timing().fresh_fix_wait >= *due)
+      earlier(due);
+    // ... and when it can wait no longer for a fresh fix.
+    earlier(rules_.time_cam_deadline());
+  }
+  check_timer_ = runtime_.schedule_at(when, [this] { check(); });
+}
+
+void CaService::check() {
   const auto& fix = position_.current();
   if (!fix) {
     ++counters_.suppressed_no_fix;
@@ -149,22 +173,16 @@ void CaService::check(CheckSource source) {
     }
     // The next CAM after the fix returns is a first CAM again (fresh LF container too).
     rules_.reset();
-    if (source == CheckSource::kTimer)
-      schedule_check();
+    schedule_check();
     return;
   }
   const auto now = runtime_.steady_now();
   auto why = rules_.check(now, *fix);
-  // A time-triggered CAM is made on the arrival of a fix, or by a timer or vehicle-data check
-  // once CamTiming::fresh_fix_wait has passed since it fell due without one: not just before
-  // the next fix arrives, from the fix a period old.
-  if (source != CheckSource::kFix && (why == CamTrigger::kTime || why == CamTrigger::kFixed) &&
-      now < *rules_.next_time_due() + rules_.timing().fresh_fix_wait)
+  if ((why == CamTrigger::kTime || why == CamTrigger::kFixed) && !fix_fits_time_cam(*fix, now))
     why = CamTrigger::kNone;
   if (why != CamTrigger::kNone)
     generate(why, *fix);
-  if (source == CheckSource::kTimer || why != CamTrigger::kNone)
-    schedule_check();
+  schedule_check();
 }
 
 void CaService::generate(CamTrigger why, const PositionFix& fix) {

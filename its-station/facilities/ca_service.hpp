@@ -64,9 +64,10 @@ class CaService {
   const CamRules& rules() const { return rules_; }
 
  private:
-  /// Why a generation check runs: a time-based CAM is made at once only on a new fix.
-  enum class CheckSource { kFix, kVehicleData, kTimer };
-  void check(CheckSource source);
+  /// Clause 6.1.3 at this instant: on every fix, and from the timer schedule_check() sets.
+  void check();
+  /// Whether a time-based CAM due now may be made from @p fix (not one a fix period old).
+  bool fix_fits_time_cam(const PositionFix& fix, clock::SteadyTime now) const;
   void generate(CamTrigger why, const PositionFix& fix);
   void schedule_check();
 

@@ -115,4 +115,17 @@ std::optional<clock::SteadyTime> CamRules::next_time_due() const {
   return last_->time + std::max(t_gen_cam_, timing_.T_GenCam_Dcc);
 }
 
+std::optional<clock::SteadyTime> CamRules::time_cam_deadline() const {
+  const auto due = next_time_due();
+  if (!due)
+    return std::nullopt;
+  if (policy_.kind == scenario::CamPolicy::Kind::kFixed)
+    return *due + timing_.fresh_fix_wait;  // the thesis's constant period: no longer wait
+  // Clause 6.1.3 has the conditions checked every T_CheckCamGen; a time-based CAM found due at
+  // the first check after it fell due is made within one T_CheckCamGen. The interval between
+  // two CAMs stays ≤ T_GenCamMax all the same (up to the fix jitter, fresh_fix_wait).
+  return std::max(*due + timing_.fresh_fix_wait,
+                  std::min(*due + timing_.T_CheckCamGen, last_->time + timing_.T_GenCamMax));
+}
+
 }  // namespace tb::its::facilities

@@ -23,10 +23,11 @@ struct CamTiming {
   /// Period of the generation check; the standard asks T_CheckCamGen ≤ T_GenCamMin.
   clock::Duration T_CheckCamGen = 100ms;
   int N_GenCam = 3;
-  /// A time-triggered CAM falls due one T_GenCam after the last CAM, which was usually made on a
-  /// fix's arrival, so the next fix is due at that very instant. The check timer waits this
-  /// much longer, so that the CAM is made from that fix on its arrival rather than from the
-  /// one a fix period older; without a fix it fires all the same (and within T_CheckCamGen).
+  /// GNSS epochs jitter around their grid: a fix that arrived at most this long before a
+  /// time-triggered CAM falls due is taken as the fix of that instant. And at T_GenCamMax, where
+  /// the CAM cannot wait for the next fix, the check waits this long past the due instant for
+  /// the fix that is due then (a CAM 1000 ms after one made on a fix is due the very instant the
+  /// tenth fix after it is).
   clock::Duration fresh_fix_wait = 10ms;
   /// Low-frequency container: in the first CAM, then when this much time has passed (B.3.5).
   clock::Duration lf_interval = 500ms;
@@ -66,6 +67,14 @@ class CamRules {
   /// The earliest instant a time-based CAM can become due (for the check timer); empty before
   /// the first CAM.
   std::optional<clock::SteadyTime> next_time_due() const;
+  /// The latest instant a time-based CAM may wait for a fresh fix (see CaService): one check
+  /// period past next_time_due(), never past T_GenCamMax after the last CAM (plus
+  /// fresh_fix_wait); empty before the first CAM.
+  std::optional<clock::SteadyTime> time_cam_deadline() const;
+  /// When the last CAM was generated; empty before the first.
+  std::optional<clock::SteadyTime> last_time() const {
+    return last_ ? std::optional(last_->time) : std::nullopt;
+  }
 
   clock::Duration T_GenCam() const { return t_gen_cam_; }
   const CamTiming& timing() const { return timing_; }

@@ -1,9 +1,10 @@
 // CA service against EN 302 637-2 V1.4.1 clause 6.1.3, with a manual clock and scripted motion.
 //
 // The harness delivers one fix every 100 ms (10 Hz GNSS), fix k at t = k × 100 ms, its fix time
-// the wall-clock time of that instant. A time-triggered CAM due at t is made from the fix of
-// t as it arrives (the check timer waits CamTiming::fresh_fix_wait, 10 ms, past the due
-// instant for it). The service's rules (clause 6.1.3):
+// the wall-clock time of that instant. A time-triggered CAM is made from the fix of its due
+// instant (one arriving at most CamTiming::fresh_fix_wait, 10 ms, before it), or from the next
+// fix when it falls due between fixes, within one T_CheckCamGen. The service's rules (clause
+// 6.1.3):
 //   condition 1 — elapsed ≥ T_GenCam_Dcc (100 ms) and, against the last CAM, |Δheading| > 4°
 //                 or displacement > 4 m or |Δspeed| > 0.5 m/s → CAM; T_GenCam := elapsed;
 //   condition 2 — elapsed ≥ T_GenCam → CAM; after N_GenCam = 3 such CAMs in a row
@@ -52,6 +53,7 @@ class CaHarness {
     ca = std::make_unique<CaService>(rt, position, &vehicle, sender, ldm, cfg);
     ca->on_sent([this](const messages::Cam& cam, CamTrigger why, const PositionFix& fix) {
       cams.push_back({ms_now(), why});
+      sent_at.push_back(rt.steady_now());
       sent.push_back(cam);
       fixes.push_back(fix);
     });
@@ -97,6 +99,7 @@ class CaHarness {
   Ldm ldm{rt};
   std::unique_ptr<CaService> ca;
   std::vector<CamAt> cams;
+  std::vector<clock::SteadyTime> sent_at;
   std::vector<messages::Cam> sent;
   std::vector<PositionFix> fixes;
 };
@@ -300,9 +303,10 @@ TEST(CaService, WithoutNewFixesTheTimerMakesTheTimeCamAfterTheFreshFixWait) {
   EXPECT_EQ(h.cams, (std::vector<CamAt>{{0, CamTrigger::kFirst}, {1010, CamTrigger::kTime}}));
 }
 
-TEST(CaService, VehicleDataTriggersChecksButTimeCamsWaitForTheFix) {
-  // CAN data at 100 Hz between fixes: a CAN frame at 999.5 ms or 1000.5 ms (just before the
-  // fix of 1000 ms arrives) must not make the time-based CAM from the fix of 900 ms.
+TEST(CaService, TimeCamsWaitForTheFixOfTheirInstantNotForVehicleData) {
+  // CAN data at 100 Hz between fixes: neither a CAN frame at 999.5 ms or 1000.5 ms nor the
+  // timer (just before the fix of 1000 ms arrives) may make the time-based CAM from the fix of
+  // 900 ms.
   CaHarness h;
   h.drive([](double t) { return Motion{3.0 * t, 0.0, 90.0, 3.0}; }, 0.9);
   VehicleData vd;
@@ -317,6 +321,82 @@ TEST(CaService, VehicleDataTriggersChecksButTimeCamsWaitForTheFix) {
   ASSERT_EQ(h.cams.size(), 2u);
   EXPECT_EQ(h.cams[1], (CamAt{1001, CamTrigger::kTime}));
   EXPECT_EQ(h.fixes[1].time, h.rt.wall_now());
+}
+
+TEST(CaService, FixJustBeforeTGenCamDccIsSentTheInstantItElapses) {
+  // The fix of 100 ms arrives 0.5 ms early (jitter) and shows a 5 m jump: condition 1 holds
+  // but T_GenCam_Dcc (100 ms) has not elapsed. The CAM is made at exactly 100.0 ms from that
+  // fix — not earlier (clause 6.1.3), and not at the next check or fix.
+  CaHarness h;
+  h.drive([](double t) { return Motion{3.0 * t, 0.0, 90.0, 3.0}; }, 0.0);
+  h.rt.advance_to(h.start + 99'500us);
+  const auto jumped = h.fix_of({5.0, 0.0, 90.0, 3.0});
+  h.position.inject(jumped);
+  ASSERT_EQ(h.cams.size(), 1u);
+  h.rt.advance_to(h.start + 100ms - 1ns);
+  ASSERT_EQ(h.cams.size(), 1u);
+  h.rt.advance_to(h.start + 150ms);
+  ASSERT_EQ(h.cams.size(), 2u);
+  EXPECT_EQ(h.cams[1].why, CamTrigger::kPosition);
+  EXPECT_EQ(h.sent_at[1], h.start + 100ms);
+  EXPECT_EQ(h.fixes[1].time, jumped.time);
+}
+
+TEST(CaService, FixJustBeforeATimeCamIsDueIsSentWhenItFallsDue) {
+  // 3 m/s: time CAMs every 1000 ms. The fix of 1000 ms arrives at 999.5 ms: the CAM due at
+  // 1000 ms is made at 1000.0 ms from that fix (not at 1010 ms, not from the fix of 900 ms).
+  CaHarness h;
+  h.drive([](double t) { return Motion{3.0 * t, 0.0, 90.0, 3.0}; }, 0.9);
+  h.rt.advance_to(h.start + 999'500us);
+  const auto early = h.fix_of({3.0, 0.0, 90.0, 3.0});
+  h.position.inject(early);
+  ASSERT_EQ(h.cams.size(), 1u);
+  h.rt.advance_to(h.start + 1050ms);
+  ASSERT_EQ(h.cams.size(), 2u);
+  EXPECT_EQ(h.cams[1].why, CamTrigger::kTime);
+  EXPECT_EQ(h.sent_at[1], h.start + 1000ms);
+  EXPECT_EQ(h.fixes[1].time, early.time);
+}
+
+TEST(CaService, TimeCamDueBetweenFixesIsMadeFromTheNextFix) {
+  // A late epoch makes the fixes arrive at 0, 100, 250 and then every 100 ms (350, 450, ...).
+  //   0     first.
+  //   250   moved 5 m → position; T_GenCam := 250 ms. Standing from there on.
+  //   500   condition 2 falls due between the fixes of 450 and 550. The CAM is made on the
+  //         arrival of the fix of 550 (within T_CheckCamGen of 500), carrying that fix, not at
+  //         510 from the fix of 450.
+  //   800   T_GenCam (250) is due again between fixes (the last CAM was at 550): fix of 850.
+  CaHarness h;
+  h.drive([](double) { return Motion{0.0, 0.0, 90.0, 0.0}; }, 0.1);
+  const auto fix_at = [&](std::int64_t ms, double east) {
+    h.rt.advance_to(h.start + std::chrono::milliseconds(ms));
+    h.position.inject(h.fix_of({east, 0.0, 90.0, 0.0}));
+  };
+  for (std::int64_t ms = 250; ms <= 950; ms += 100)
+    fix_at(ms, 5.0);
+  EXPECT_EQ(h.cams, (std::vector<CamAt>{{0, CamTrigger::kFirst},
+                                        {250, CamTrigger::kPosition},
+                                        {550, CamTrigger::kTime},
+                                        {850, CamTrigger::kTime}}));
+  ASSERT_EQ(h.fixes.size(), 4u);
+  EXPECT_EQ(h.fixes[2].received, h.start + 550ms);
+  EXPECT_EQ(h.fixes[3].received, h.start + 850ms);
+}
+
+TEST(CaService, TimeCamDueBetweenFixesFallsBackToTheOldFixAfterOneCheckPeriod) {
+  // As above, but no fix comes after the one of 450 ms: the CAM due at 500 ms is made at
+  // 600 ms (one T_CheckCamGen later) from the fix of 450 ms.
+  CaHarness h;
+  h.drive([](double) { return Motion{0.0, 0.0, 90.0, 0.0}; }, 0.1);
+  for (std::int64_t ms = 250; ms <= 450; ms += 100) {
+    h.rt.advance_to(h.start + std::chrono::milliseconds(ms));
+    h.position.inject(h.fix_of({5.0, 0.0, 90.0, 0.0}));
+  }
+  h.rt.advance_to(h.start + 700ms);
+  EXPECT_EQ(h.cams,
+            (std::vector<CamAt>{
+                {0, CamTrigger::kFirst}, {250, CamTrigger::kPosition}, {600, CamTrigger::kTime}}));
+  EXPECT_EQ(h.fixes.back().received, h.start + 450ms);
 }
 
 TEST(CaService, NoFixNoCamAndFirstCamAgainAfterTheFixReturns) {
