@@ -15,7 +15,7 @@ constexpr std::uint8_t kHandbrakeBit = 1u << 1;
 
 // Fixed payload sizes of the client's messages.
 constexpr std::size_t kAttachSize = 1 + 2;
-constexpr std::size_t kControlsSize = 2 + 4 * 3 + 1 + 2;
+constexpr std::size_t kControlsSize = 2 + 4 * 3 + 1 + 2 + 8;
 constexpr std::size_t kDetachSize = 2;
 constexpr std::size_t kStateHeadSize = 8 + 8 + 8 + 2;
 
@@ -307,6 +307,7 @@ Expected<ClientMessage, ProtocolError> decode_client(const Frame& f) {
       m.controls.steer = r.le<float>();
       const auto flags = r.le<std::uint8_t>();
       m.lights = r.le<std::uint16_t>();
+      m.input_ns = r.le<std::int64_t>();
       if (auto e = finished(r))
         return Unexpected{*e};
       if (!std::isfinite(m.controls.throttle) || !std::isfinite(m.controls.brake) ||
@@ -488,6 +489,7 @@ std::vector<std::uint8_t> encode(const ControlsMsg& m) {
   f.w().le<std::uint8_t>((m.controls.reverse ? kReverseBit : 0) |
                          (m.controls.handbrake ? kHandbrakeBit : 0));
   f.w().le(m.lights);
+  f.w().le(m.input_ns);
   return f.finish();
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-/// @file The sim-server ⇄ sim-client protocol over TCP (sim-server/PROTOCOL.md), version 1.
+/// @file The sim-server ⇄ sim-client protocol over TCP (sim-server/PROTOCOL.md), version 2.
 ///
 /// Every message is one frame: an 8-byte header (magic "SP", protocol version, message type,
 /// payload length, little-endian) and a payload whose size is bounded per type. FrameParser is a
@@ -21,7 +21,8 @@
 
 namespace tb::wire::sim {
 
-inline constexpr std::uint8_t kProtocolVersion = 1;
+/// 2: Controls carries the time its input was sampled (input_ns), for the latency trace's t1.
+inline constexpr std::uint8_t kProtocolVersion = 2;
 inline constexpr std::uint8_t kMagic0 = 'S';
 inline constexpr std::uint8_t kMagic1 = 'P';
 inline constexpr std::size_t kHeaderSize = 8;
@@ -93,6 +94,10 @@ struct ControlsMsg {
   std::uint16_t vehicle = 0;
   Controls controls;
   std::uint16_t lights = 0;  ///< Light bits the driver switches (indicators, beams, fog, ...)
+  /// When the client sampled the input these controls come from (CLOCK_REALTIME ns; 0 when
+  /// unknown). Only traced by the server (t1, docs/tracing.md), never acted on: any value is
+  /// accepted.
+  std::int64_t input_ns = 0;
   bool operator==(const ControlsMsg&) const = default;
 };
 

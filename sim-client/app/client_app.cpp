@@ -43,7 +43,7 @@ ClientApp::ClientApp(boost::asio::io_context& io, AppOptions options)
   }
   session_ = std::make_unique<SimSession>(
       options_.session, [this](std::vector<std::uint8_t> b) { link_->send(std::move(b)); },
-      forwarder_.get());
+      forwarder_.get(), trace::global(), &runtime_);
   const auto [host, port] = split_host_port(options_.server, 2000);
   link_ = std::make_unique<TcpLink>(io_, runtime_, host, port, *session_);
 }
@@ -139,7 +139,8 @@ void ClientApp::frame() {
   SDL_Event e;
   while (SDL_PollEvent(&e) != 0)
     input_->handle(e);
-  session_->set_human_command(input_->update(dt));
+  // Dated when the controller was read (start of t1, docs/tracing.md).
+  session_->set_human_command(input_->update(dt), runtime_.wall_now());
   if (input_->help_shown() && !help_printed_ && !canvas_) {
     for (const auto& k : key_map_help())
       fmt::print("{:<18} {}\n", k.keys, k.action);

@@ -54,11 +54,17 @@ std::string format_vehicle_list(const sim::Welcome& w) {
 }
 
 SimSession::SimSession(SessionOptions options, Send send, StateForwarder* forwarder,
-                       trace::Tracer& tracer)
+                       trace::Tracer& tracer, const clock::Clock* clock)
     : options_(std::move(options)),
       send_(std::move(send)),
       forwarder_(forwarder),
-      tracer_(tracer) {}
+      tracer_(tracer),
+      clock_(clock) {
+  if (clock_ == nullptr) {
+    static const clock::SystemClock system;
+    clock_ = &system;
+  }
+}
 
 void SimSession::fail(std::string why) {
   fatal_ = std::move(why);
@@ -256,14 +262,19 @@ void SimSession::on_state(const sim::StateFrame& f) {
     sim::ControlsMsg c;
     c.vehicle = i;
     if (d.script) {
+      // A scripted driver reads its input (the state) now.
+      c.input_ns = clock::to_unix_ns(clock_->wall_now());
       c.controls = d.script->update(s);
     } else {
       c.controls = human_.controls;
       c.lights = human_.lights;
+      c.input_ns = human_sampled_ns_;
     }
     ++d.seq;
-    tracer_.record("client.input",
-                   {{"station", d.station_id}, {"seq", static_cast<unsigned long long>(d.seq)}});
+    // Start of t1 (docs/tracing.md): the server traces the same input_ns when a step applies it.
+    tracer_.record("client.input", {{"station", d.station_id},
+                                    {"seq", static_cast<unsigned long long>(d.seq)},
+                                    {"input_ns", c.input_ns}});
     send_(sim::encode(c));
   }
 }

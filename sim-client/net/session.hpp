@@ -45,9 +45,10 @@ class SimSession {
     kFailed,    ///< cannot go on (see fatal_error()); the program exits non-zero
   };
 
-  /// @p forwarder may be null (no forwarding, as with --list).
+  /// @p forwarder may be null (no forwarding, as with --list). @p clock dates the scripted
+  /// drivers' input (the state they read) for Controls.input_ns; the system clock by default.
   SimSession(SessionOptions options, Send send, StateForwarder* forwarder,
-             trace::Tracer& tracer = trace::global());
+             trace::Tracer& tracer = trace::global(), const clock::Clock* clock = nullptr);
 
   void on_connected();
   /// Feeds bytes from the server. Returns false when the connection must be closed: a
@@ -55,8 +56,13 @@ class SimSession {
   bool on_bytes(std::span<const std::uint8_t> bytes);
   void on_disconnected();
 
-  /// The human driver's latest command; sent for the human-driven vehicles every tick.
-  void set_human_command(const DriverCommand& c) { human_ = c; }
+  /// The human driver's latest command and when the controller was read for it
+  /// (CLOCK_REALTIME); sent for the human-driven vehicles every tick, with that time as
+  /// Controls.input_ns (the start of t1, docs/tracing.md).
+  void set_human_command(const DriverCommand& c, clock::WallTime sampled) {
+    human_ = c;
+    human_sampled_ns_ = clock::to_unix_ns(sampled);
+  }
 
   Phase phase() const { return phase_; }
   /// True once a Welcome arrived on this connection (the link resets its backoff then).
@@ -104,6 +110,8 @@ class SimSession {
   std::optional<wire::sim::StateFrame> latest_;
   std::map<std::uint16_t, Driven> driven_;
   DriverCommand human_;
+  std::int64_t human_sampled_ns_ = 0;
+  const clock::Clock* clock_;
   std::string fatal_;
   std::string last_error_;
   std::uint64_t frames_ = 0;

@@ -105,7 +105,10 @@ void Hub::handle(ClientId id, Client& c, const sim::ClientMessage& m) {
       spdlog::info("vehicle {} driven again by {}", scenario_.vehicles[in->vehicle].id, label(c));
     slot.stopping = false;
     slot.last_controls = clock_.steady_now();
-    slot.input_ns = clock::to_unix_ns(clock_.wall_now());
+    // t1 (docs/tracing.md) runs from the client's input sample to the step that applies it;
+    // a client that does not know when its input was read sends 0: then from the arrival.
+    slot.arrival_ns = clock::to_unix_ns(clock_.wall_now());
+    slot.input_ns = in->input_ns != 0 ? in->input_ns : slot.arrival_ns;
     slot.lights = in->lights;
     world_.set_controls(in->vehicle, controls, in->lights);
   } else if (const auto* d = std::get_if<sim::Detach>(&m)) {
@@ -179,7 +182,8 @@ void Hub::before_step() {
       // End of t1 (docs/tracing.md): the latest controls go into the coming step.
       tracer.record("server.controls", {{"station", world_.states()[v].station_id},
                                         {"tick", world_.tick() + 1},
-                                        {"input_ns", slot.input_ns}});
+                                        {"input_ns", slot.input_ns},
+                                        {"arrival_ns", slot.arrival_ns}});
       slot.input_ns = 0;
     }
     if (slot.stopping) {

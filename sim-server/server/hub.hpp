@@ -95,7 +95,10 @@ class Hub {
     clock::SteadyTime last_controls{};
     bool stopping = true;  ///< brake-to-stop in force
     std::uint16_t lights = 0;
-    std::int64_t input_ns = 0;  ///< arrival of controls not yet applied in a step, or 0
+    /// Input time (Controls.input_ns, else the arrival) of controls not yet applied in a step,
+    /// or 0; and their arrival.
+    std::int64_t input_ns = 0;
+    std::int64_t arrival_ns = 0;
   };
 
   void handle(ClientId id, Client& c, const wire::sim::ClientMessage& m);

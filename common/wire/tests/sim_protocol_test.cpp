@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <limits>
 
 #include "common/util/bytes.hpp"
@@ -101,10 +103,26 @@ TEST(SimProtocol, ClientMessagesRoundTrip) {
       Attach{Role::kDriver, 7},
       Attach{Role::kWatcher, 0},
       ControlsMsg{3, Controls{0.75f, 0.1f, -0.5f, true, true}, kIndicatorLeft | kLowBeam},
+      ControlsMsg{3, Controls{0.75f, 0.1f, -0.5f, true, true}, kLowBeam, 1'795'312'926'004'965'889},
+      ControlsMsg{0, {}, 0, -1},  // the input time is only traced: any value decodes
       Detach{3},
   };
   for (const auto& m : msgs)
     EXPECT_EQ(client_roundtrip(m), m);
+}
+
+TEST(SimProtocol, ControlsLayoutOfVersion2) {
+  // PROTOCOL.md: u16 vehicle, f32 throttle, brake, steer, u8 flags, u16 lights, i64 input_ns.
+  const auto b = encode(
+      ControlsMsg{0x0102, Controls{1.0f, 0.0f, 0.0f, true, false}, 0x0304, 0x1122334455667788});
+  ASSERT_EQ(b.size(), kHeaderSize + 25);
+  EXPECT_EQ(b[2], 2);          // version
+  EXPECT_EQ(b[4], 25);         // payload length
+  EXPECT_EQ(b[8], 0x02);       // vehicle, little-endian
+  EXPECT_EQ(b[8 + 14], 0x01);  // flags: reverse
+  EXPECT_EQ(b[8 + 15], 0x04);  // lights
+  EXPECT_EQ(b[8 + 17], 0x88);  // input_ns, little-endian
+  EXPECT_EQ(b[8 + 24], 0x11);
 }
 
 TEST(SimProtocol, ServerMessagesRoundTrip) {
@@ -183,6 +201,30 @@ Bytes header(std::uint8_t type, std::uint32_t size, std::uint8_t version = kProt
   return b;
 }
 
+TEST(SimProtocol, FuzzSeedsAreOfTheCurrentVersion) {
+  // The seed corpus (tests/fuzz/sim_protocol; first byte: sender, second: where the stream is
+  // cut) must hold whole frames that decode, or the fuzzer starts from rejected headers only.
+  // Rewrite the seeds whenever kProtocolVersion changes.
+  for (const auto& [file, from] : {std::pair{"client_session", Sender::kClient},
+                                   std::pair{"server_messages", Sender::kServer}}) {
+    SCOPED_TRACE(file);
+    std::ifstream in(std::string("tests/fuzz/sim_protocol/") + file, std::ios::binary);
+    ASSERT_TRUE(in) << "run from the source root";
+    const Bytes seed((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_GT(seed.size(), 2u);
+    FrameParser p(from);
+    auto f = feed(p, Bytes(seed.begin() + 2, seed.end()), seed.size());
+    EXPECT_FALSE(f.error);
+    ASSERT_GE(f.frames.size(), 3u);
+    for (const auto& fr : f.frames) {
+      if (from == Sender::kClient)
+        EXPECT_TRUE(decode_client(fr)) << to_string(fr.type);
+      else
+        EXPECT_TRUE(decode_server(fr)) << to_string(fr.type);
+    }
+  }
+}
+
 TEST(SimProtocol, RejectsOversizedBeforeBufferingThePayload) {
   FrameParser p(Sender::kClient);
   // A client claiming a 1 GiB Hello is refused on its header alone.
@@ -191,7 +233,7 @@ TEST(SimProtocol, RejectsOversizedBeforeBufferingThePayload) {
   EXPECT_EQ(*f.error, ProtocolError::kOversized);
   // Controls have a fixed size; one byte more is oversized too.
   FrameParser q(Sender::kClient);
-  f = feed(q, header(0x03, 18), 64);
+  f = feed(q, header(0x03, 26), 64);
   ASSERT_TRUE(f.error);
   EXPECT_EQ(*f.error, ProtocolError::kOversized);
 }
@@ -208,7 +250,10 @@ TEST(SimProtocol, RejectsUnknownTypeBadMagicAndVersion) {
   EXPECT_EQ(*feed(d, Bytes{'G', 'E', 'T', ' ', '/', ' ', 'H', 'T'}, 64).error,
             ProtocolError::kBadMagic);
   FrameParser e(Sender::kClient);
-  EXPECT_EQ(*feed(e, header(0x01, 1, 2), 64).error, ProtocolError::kUnsupportedVersion);
+  EXPECT_EQ(*feed(e, header(0x01, 1, 3), 64).error, ProtocolError::kUnsupportedVersion);
+  // Version 1 (Controls without the input time) is refused, not misread.
+  FrameParser g(Sender::kClient);
+  EXPECT_EQ(*feed(g, header(0x03, 17, 1), 64).error, ProtocolError::kUnsupportedVersion);
 }
 
 TEST(SimProtocol, StaysFailedAfterAnError) {

@@ -24,7 +24,7 @@ class SessionTest : public ::testing::Test {
     return SimSession(
         std::move(o),
         [this](std::vector<std::uint8_t> b) { out.insert(out.end(), b.begin(), b.end()); }, &fwd,
-        tracer);
+        tracer, &clk);
   }
   // Feeds a server message one byte at a time, as a slow socket might deliver it.
   template <class M>
@@ -80,7 +80,9 @@ TEST_F(SessionTest, HelloAttachControlsAndForwarding) {
   human.controls.throttle = 0.7f;
   human.controls.reverse = true;
   human.lights = wire::kIndicatorRight;
-  s.set_human_command(human);
+  const auto sampled = clk.wall_now() - std::chrono::milliseconds(3);
+  s.set_human_command(human, sampled);
+  clk.advance(std::chrono::milliseconds(1));
   ASSERT_TRUE(feed(s, testing::frame(5)));
   msgs = take();
   ASSERT_EQ(msgs.size(), 3u);
@@ -88,9 +90,12 @@ TEST_F(SessionTest, HelloAttachControlsAndForwarding) {
   EXPECT_EQ(c0.vehicle, 0);
   EXPECT_EQ(c0.controls, human.controls);
   EXPECT_EQ(c0.lights, wire::kIndicatorRight);
+  // t1 starts when the input was read: the controller sample for the human, now for a script.
+  EXPECT_EQ(c0.input_ns, clock::to_unix_ns(sampled));
   const auto& c1 = std::get<sim::ControlsMsg>(msgs[1]);
   EXPECT_FLOAT_EQ(c1.controls.throttle, 0.25f);  // the timeline's step
   EXPECT_FLOAT_EQ(c1.controls.steer, 0.5f);
+  EXPECT_EQ(c1.input_ns, clock::to_unix_ns(clk.wall_now()));
   const auto& c2 = std::get<sim::ControlsMsg>(msgs[2]);
   EXPECT_EQ(c2.vehicle, 2);
   EXPECT_GT(c2.controls.throttle, 0.0f);  // lane follower speeds up from 5 towards 10 m/s
