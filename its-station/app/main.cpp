@@ -274,7 +274,9 @@ int run(const Options& o) {
     });
   }
 
-  // LCRW: evaluated at every own fix against the LDM's neighbours.
+  // LCRW: evaluated at every own fix against the LDM's neighbours, and at every CAM received
+  // (a neighbour's state change must not wait up to a fix period, 100 ms, for the next own fix
+  // before it can raise a warning); both states are extrapolated to the evaluation instant.
   std::optional<tb::geodesy::LocalFrame> frame;
   if (scenario)
     frame.emplace(scenario->origin);
@@ -286,20 +288,18 @@ int run(const Options& o) {
           std::chrono::duration<double>(o.denm_repetition_duration_s)));
   std::unique_ptr<apps::LcrwDenmTrigger> lcrw_denm;
   std::unique_ptr<apps::LcrwApplication> lcrw;
-  position.on_fix([&](const fac::PositionFix& fix) {
+  const auto own_state = [&](const fac::PositionFix& fix) {
     const fac::VehicleData* vd =
         vehicle_data && vehicle_data->current() ? &*vehicle_data->current() : nullptr;
-    const auto own =
-        tb::its::station::own_kinematics(fix, vd, ca_cfg.vehicle_length_m, ca_cfg.vehicle_width_m);
-    if (publisher) {
-      apps::mqtt::StationState s;
-      s.station_id = o.station_id;
-      s.station_type = ca_cfg.station_type;
-      s.kinematics = own;
-      s.fix = fix.altitude_m ? apps::mqtt::GnssFix::k3D : apps::mqtt::GnssFix::k2D;
-      s.time = fix.time;
-      publisher->publish_state(s);
-    }
+    return tb::its::station::own_kinematics(fix, vd, ca_cfg.vehicle_length_m,
+                                            ca_cfg.vehicle_width_m);
+  };
+  // `its.lcrw` records (docs/tracing.md) are written here rather than by the application:
+  // after an own fix one per neighbour assessed, after a CAM only the decision about its
+  // sender — one record per CAM, not one per neighbour per CAM (with 50 stations that would be
+  // a million records a second).
+  const auto evaluate_lcrw = [&](const fac::PositionFix& fix, const apps::mqtt::Kinematics& own,
+                                 std::optional<std::uint32_t> cam_from) {
     if (!o.lcrw)
       return;
     if (!frame) {
@@ -317,13 +317,46 @@ int run(const Options& o) {
             if (publisher)
               publisher->publish_warning(w);
           },
-          lcrw_denm.get(), &tb::trace::global());
+          lcrw_denm.get(), nullptr);
     }
     std::vector<apps::VehicleKinematics> others;
     for (const auto& [id, n] : ldm.neighbours())
       others.push_back(tb::its::station::lcrw_kinematics(
           id, tb::its::station::neighbour_kinematics(n), n.latest().generation_time, *frame));
     lcrw->update(tb::its::station::lcrw_kinematics(o.station_id, own, fix.time, *frame), others);
+    auto& tracer = tb::trace::global();
+    if (!tracer.enabled())
+      return;
+    const auto& assessed = lcrw->lcrw().last_assessments();
+    for (const auto& n : others) {
+      if (cam_from && n.station_id != *cam_from)
+        continue;
+      const auto a = assessed.find(n.station_id);
+      if (a == assessed.end())
+        continue;  // too old to assess
+      tracer.record("its.lcrw", {{"station", o.station_id},
+                                 {"from", n.station_id},
+                                 {"gdt", apps::generation_delta_time(n.time)},
+                                 {"warn", lcrw->lcrw().active().contains(n.station_id)},
+                                 {"ttc", a->second.ttc_s}});
+    }
+  };
+  position.on_fix([&](const fac::PositionFix& fix) {
+    const auto own = own_state(fix);
+    if (publisher) {
+      apps::mqtt::StationState s;
+      s.station_id = o.station_id;
+      s.station_type = ca_cfg.station_type;
+      s.kinematics = own;
+      s.fix = fix.altitude_m ? apps::mqtt::GnssFix::k3D : apps::mqtt::GnssFix::k2D;
+      s.time = fix.time;
+      publisher->publish_state(s);
+    }
+    evaluate_lcrw(fix, own, std::nullopt);
+  });
+  ldm.on_neighbour([&](const fac::Neighbour& n) {
+    if (const auto& fix = position.current())
+      evaluate_lcrw(*fix, own_state(*fix), n.station_id);
   });
 
   // Status file: the LDM as the station sees it, for operators and tests.

@@ -125,7 +125,7 @@ def main():
             trace = runs[-1] / "trace"
             r = subprocess.run([sys.executable, str(ROOT / "scripts/report"), str(trace),
                                 "--out", str(runs[-1] / "histograms"),
-                                "--require", "p1,t2,p2,t3.gpsd,t3.stack,p3,air,state_to_cam",
+                                "--require", "t1,p1,t2,p2,t3.gpsd,t3.stack,p3,air,state_to_cam",
                                 "--max-p99", "state_to_cam=250"], capture_output=True, text=True)
             print(r.stdout + r.stderr)
             if r.returncode != 0:
