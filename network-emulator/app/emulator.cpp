@@ -12,6 +12,7 @@ Emulator::Emulator(const scenario::Scenario& scenario, const tb::can::Database& 
                    const std::vector<StationEndpoints>& stations, const StationIoFactory& make_io,
                    const clock::Clock& clock, trace::Tracer& tracer, std::uint64_t seed)
     : scenario_(scenario), clock_(clock), tracer_(tracer), frame_(scenario.origin) {
+  std::optional<can::CanFeeder> first_feeder;
   for (const StationEndpoints& e : stations) {
     const scenario::Vehicle* v = scenario.find_station(e.station_id);
     if (!v)
@@ -26,12 +27,16 @@ Emulator::Emulator(const scenario::Scenario& scenario, const tb::can::Database& 
     cc.dynamics_hz = scenario.rates.can_dynamics_hz;
     cc.body_hz = scenario.rates.can_body_hz;
     cc.steering_ratio = v->model.steering_ratio;
-    auto feeder = can::CanFeeder::create(dbc, cc);
-    if (!feeder)
-      throw std::runtime_error(feeder.error().message());
+    // One feeder made from the DBC, the others share its messages and encodings.
+    if (!first_feeder || !first_feeder->same_rates(cc)) {
+      auto feeder = can::CanFeeder::create(dbc, cc);
+      if (!feeder)
+        throw std::runtime_error(feeder.error().message());
+      first_feeder.emplace(std::move(*feeder));
+    }
     stations_.emplace(e.station_id,
                       std::unique_ptr<Station>(new Station{
-                          e.station_id, e, gnss::GpsAgent(gc, frame_), std::move(*feeder),
+                          e.station_id, e, gnss::GpsAgent(gc, frame_), first_feeder->sibling(cc),
                           make_io(e), PeerHealth(clock), PeerHealth(clock)}));
   }
 }
@@ -68,7 +73,8 @@ bool Emulator::handle_datagram(std::span<const std::uint8_t> bytes) {
   }
   ++counters_.states;
   Station& s = *it->second;
-  tracer_.record("emu.state", {{"station", s.id}, {"tick", state->tick}});
+  if (tracer_.enabled())  // no record fields built per state when tracing is off
+    tracer_.record("emu.state", {{"station", s.id}, {"tick", state->tick}});
   if (const auto nmea = s.gps.on_state(*state))
     send_nmea(s, *state, *nmea);
   if (const auto frames = s.can.on_state(*state); !frames.empty())
@@ -89,10 +95,12 @@ void Emulator::send_nmea(Station& s, const wire::VehicleState& state, std::strin
     ++counters_.nmea_failed;
   } else {
     ++counters_.nmea_sent;
-    const auto fix_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
-                            s.gps.last_fix().time.time_since_epoch())
-                            .count();
-    tracer_.record("emu.nmea", {{"station", s.id}, {"tick", state.tick}, {"fix_ms", fix_ms}});
+    if (tracer_.enabled()) {
+      const auto fix_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
+                              s.gps.last_fix().time.time_since_epoch())
+                              .count();
+      tracer_.record("emu.nmea", {{"station", s.id}, {"tick", state.tick}, {"fix_ms", fix_ms}});
+    }
   }
   report(s, "GNSS", s.gnss_health.record(ec), s.gnss_health);
 }

@@ -15,6 +15,7 @@
 #include <CLI/CLI.hpp>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/udp.hpp>
+#include <boost/asio/post.hpp>
 #include <boost/asio/signal_set.hpp>
 
 #include "common/can/netns.hpp"
@@ -116,15 +117,25 @@ class StateReceiver {
     socket_.async_wait(udp::socket::wait_read, [this](const boost::system::error_code& ec) {
       if (ec == asio::error::operation_aborted)
         return;
-      drain();
-      start();
+      on_readable();
     });
   }
 
  private:
+  void on_readable() {
+    if (drain()) {
+      start();
+      return;
+    }
+    // Not drained yet: come back after the other handlers (timers, signals) had their turn.
+    // Waiting for readability instead could wait long: the socket's edge was used up, and a
+    // full socket drops new datagrams without signalling.
+    asio::post(socket_.get_executor(), [this] { on_readable(); });
+  }
+
   /// Takes up to kBatch datagrams per recvmmsg call: at 100k states/s the per-call cost of the
-  /// system call, not the datagram, is what counts.
-  void drain() {
+  /// system call, not the datagram, is what counts. Returns whether the socket is empty.
+  bool drain() {
     for (int round = 0; round < 16; ++round) {  // bounded, so that timers still get their turn
       for (std::size_t i = 0; i < kBatch; ++i) {
         iov_[i] = {buffers_[i].data(), buffers_[i].size()};
@@ -135,7 +146,7 @@ class StateReceiver {
       const int n =
           ::recvmmsg(socket_.native_handle(), msgs_.data(), kBatch, MSG_DONTWAIT, nullptr);
       if (n <= 0)
-        return;  // EAGAIN: drained (other errors: the next wait reports them again)
+        return true;  // EAGAIN: drained (other errors: the next wait reports them again)
       for (int i = 0; i < n; ++i) {
         const auto k = static_cast<std::size_t>(i);
         // A datagram longer than the buffer arrives cut (MSG_TRUNC) and fails the size check.
@@ -148,8 +159,9 @@ class StateReceiver {
       }
       senders_.flush();
       if (n < static_cast<int>(kBatch))
-        return;
+        return true;
     }
+    return false;
   }
 
   static constexpr std::size_t kBatch = 256;

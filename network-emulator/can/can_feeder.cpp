@@ -1,7 +1,11 @@
 #include "network-emulator/can/can_feeder.hpp"
 
+#include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 #include <utility>
 
 #include <fmt/format.h>
@@ -122,6 +126,70 @@ std::span<const std::string_view> known_signals() {
   return names;
 }
 
+SignalPlan::SignalPlan(const tb::can::Signal& signal, std::size_t dlc)
+    : clamp_(signal.minimum < signal.maximum),
+      minimum_(signal.minimum),
+      maximum_(signal.maximum),
+      offset_(signal.offset),
+      factor_(signal.factor),
+      lo_(signal.raw_min()),
+      hi_(signal.raw_max()),
+      lo_d_(static_cast<double>(lo_)),
+      hi_d_(static_cast<double>(hi_)) {
+  // Where raw bit i lands: ask the codec itself with a raw value of 1 << i, so that the byte
+  // order rules live in one place (common/can/dbc.cpp).
+  std::array<std::uint8_t, tb::can::kMaxFdLen> probe{};
+  const std::span<std::uint8_t> frame(probe.data(), std::min(dlc, probe.size()));
+  for (unsigned i = 0; i < signal.length && i < 64; ++i) {
+    std::fill(frame.begin(), frame.end(), std::uint8_t{0});
+    signal.insert_raw(static_cast<std::int64_t>(std::uint64_t{1} << i), frame);
+    int pos = -1;
+    for (std::size_t b = 0; b < frame.size() && pos < 0; ++b)
+      if (frame[b] != 0)
+        pos = static_cast<int>(b * 8) + std::countr_zero(frame[b]);
+    if (pos < 0)
+      continue;  // beyond the end of the frame: the codec leaves it out too
+    const auto byte = static_cast<std::uint8_t>(pos / 8),
+               shift = static_cast<std::uint8_t>(pos % 8);
+    if (piece_count_ > 0) {
+      Piece& last = pieces_[piece_count_ - 1];
+      if (last.byte == byte && last.shift + last.bits == shift && last.raw_shift + last.bits == i) {
+        ++last.bits;
+        continue;
+      }
+    }
+    // Both byte orders keep a byte's bits contiguous, so this holds for any valid signal.
+    if (piece_count_ == pieces_.size())
+      throw std::logic_error("signal " + signal.name + " touches more than 9 bytes");
+    pieces_[piece_count_++] = {byte, shift, static_cast<std::uint8_t>(i), 1};
+  }
+}
+
+std::int64_t SignalPlan::to_raw(double physical) const {
+  if (!std::isfinite(physical))
+    return 0;
+  if (clamp_)
+    physical = std::clamp(physical, minimum_, maximum_);
+  const double raw = std::round((physical - offset_) / factor_);
+  if (raw <= lo_d_)
+    return lo_;
+  if (raw >= hi_d_)
+    return hi_;
+  return static_cast<std::int64_t>(raw);
+}
+
+void SignalPlan::insert_raw(std::int64_t raw, std::span<std::uint8_t> data) const {
+  const auto u = static_cast<std::uint64_t>(raw);
+  for (std::size_t k = 0; k < piece_count_; ++k) {
+    const Piece& p = pieces_[k];
+    if (p.byte >= data.size())
+      continue;
+    const auto mask = static_cast<std::uint8_t>(((1u << p.bits) - 1u) << p.shift);
+    const auto bits = static_cast<std::uint8_t>(((u >> p.raw_shift) << p.shift) & mask);
+    data[p.byte] = static_cast<std::uint8_t>((data[p.byte] & ~mask) | bits);
+  }
+}
+
 Expected<CanFeeder, FeederError> CanFeeder::create(const tb::can::Database& db,
                                                    const FeederConfig& config) {
   if (!(config.dynamics_hz > 0) || !(config.body_hz > 0))
@@ -130,6 +198,7 @@ Expected<CanFeeder, FeederError> CanFeeder::create(const tb::can::Database& db,
                     fmt::format("dynamics {} Hz, body {} Hz", config.dynamics_hz, config.body_hz)}};
   CanFeeder f;
   f.config_ = config;
+  std::vector<Schedule> schedules;
   for (const tb::can::Message& m : db.messages) {
     if (!m.cycle_time_ms || *m.cycle_time_ms == 0)
       return Unexpected{FeederError{FeederErrc::kNoCycleTime, fmt::format("message '{}'", m.name)}};
@@ -140,7 +209,7 @@ Expected<CanFeeder, FeederError> CanFeeder::create(const tb::can::Database& db,
         std::llround(1e9 / (dynamics ? config.dynamics_hz : config.body_hz)));
     for (const tb::can::Signal& sig : m.signals) {
       if (sig.name == kAliveCounter) {
-        s.counter = &sig;
+        s.counter.emplace(sig, m.dlc);
       } else if (sig.name == kChecksum) {
         if (sig.length != 8 || sig.start_bit % 8 != 0 ||
             sig.byte_order != tb::can::ByteOrder::kIntel)
@@ -157,23 +226,37 @@ Expected<CanFeeder, FeederError> CanFeeder::create(const tb::can::Database& db,
           return Unexpected{
               FeederError{FeederErrc::kUnknownSignal,
                           fmt::format("message '{}', signal '{}'", m.name, sig.name)}};
-        s.fields.push_back({&sig, src->fn});
+        s.fields.push_back({SignalPlan(sig, m.dlc), src->fn});
       }
     }
-    f.schedules_.push_back(std::move(s));
+    schedules.push_back(std::move(s));
   }
-  f.due_.reserve(f.schedules_.size());
+  f.due_state_.resize(schedules.size());
+  f.due_.reserve(schedules.size());
+  f.schedules_ = std::make_shared<const std::vector<Schedule>>(std::move(schedules));
+  return f;
+}
+
+CanFeeder CanFeeder::sibling(const FeederConfig& config) const {
+  if (!same_rates(config))
+    throw std::invalid_argument("CanFeeder::sibling: other rates");
+  CanFeeder f;
+  f.config_ = config;
+  f.schedules_ = schedules_;
+  f.due_state_.resize(schedules_->size());
+  f.due_.reserve(schedules_->size());
   return f;
 }
 
 std::int64_t CanFeeder::period_ns(std::string_view message) const {
-  for (const Schedule& s : schedules_)
+  for (const Schedule& s : *schedules_)
     if (s.message->name == message)
       return s.period_ns;
   return 0;
 }
 
-void CanFeeder::encode(Schedule& s, const VehicleState& state, tb::can::CanFrame& out) {
+void CanFeeder::encode(const Schedule& s, Due& d, const VehicleState& state,
+                       tb::can::CanFrame& out) const {
   const tb::can::Message& m = *s.message;
   out = tb::can::CanFrame{};
   out.can_id = m.extended ? (m.id | tb::can::kEffFlag) : m.id;
@@ -181,10 +264,10 @@ void CanFeeder::encode(Schedule& s, const VehicleState& state, tb::can::CanFrame
   out.fd = m.dlc > tb::can::kMaxClassicLen;
   const std::span<std::uint8_t> data(out.data.data(), m.dlc);
   for (const Field& f : s.fields)
-    f.signal->encode(f.source(state, config_), data);
+    f.plan.encode(f.source(state, config_), data);
   if (s.counter) {
-    s.counter->insert_raw(s.alive, data);
-    s.alive = static_cast<std::uint8_t>((s.alive + 1) % (s.counter->raw_max() + 1));
+    s.counter->insert_raw(d.alive, data);
+    d.alive = static_cast<std::uint8_t>((d.alive + 1) % (s.counter->raw_max() + 1));
   }
   if (s.checksum) {
     // CRC over every byte but the checksum's own, in byte order (vehicle.dbc, CM_).
@@ -201,13 +284,16 @@ void CanFeeder::encode(Schedule& s, const VehicleState& state, tb::can::CanFrame
 std::span<const tb::can::CanFrame> CanFeeder::on_state(const VehicleState& state) {
   due_.clear();
   const std::int64_t t = state.sim_time_ns;
-  for (Schedule& s : schedules_) {
-    if (s.next_due_ns && t < *s.next_due_ns)
+  const std::vector<Schedule>& schedules = *schedules_;
+  for (std::size_t i = 0; i < schedules.size(); ++i) {
+    const Schedule& s = schedules[i];
+    Due& d = due_state_[i];
+    if (d.next_due_ns && t < *d.next_due_ns)
       continue;
     const std::int64_t floor_t =
         (t >= 0 ? t / s.period_ns : (t - s.period_ns + 1) / s.period_ns) * s.period_ns;
-    s.next_due_ns = floor_t + s.period_ns;
-    encode(s, state, due_.emplace_back());
+    d.next_due_ns = floor_t + s.period_ns;
+    encode(s, d, state, due_.emplace_back());
   }
   frames_total_ += due_.size();
   return due_;

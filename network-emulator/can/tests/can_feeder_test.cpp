@@ -1,4 +1,7 @@
+#include <cmath>
+#include <limits>
 #include <map>
+#include <random>
 
 #include <gtest/gtest.h>
 
@@ -47,6 +50,93 @@ wire::VehicleState state(std::int64_t sim_ms) {
 double value(const CanFrame& f, const char* message, const char* signal) {
   const auto* m = db().find_message(message);
   return m->find_signal(signal)->decode(f.payload());
+}
+
+/// The feeder's precomputed plan against the codec it was made from: every raw value and
+/// every byte the same, for the vehicle database's signals and for awkward ones of both byte
+/// orders (unaligned, signed, 64 bits, running past the end of the frame).
+TEST(SignalPlan, EncodesExactlyAsTheCodec) {
+  std::vector<std::pair<tb::can::Signal, std::size_t>> signals;  // signal, DLC
+  for (const auto& m : db().messages)
+    for (const auto& sig : m.signals)
+      signals.emplace_back(sig, m.dlc);
+  auto make = [](unsigned start, unsigned length, tb::can::ByteOrder order, bool is_signed,
+                 double factor, double offset, double lo, double hi) {
+    tb::can::Signal s;
+    s.name = "X";
+    s.start_bit = start;
+    s.length = length;
+    s.byte_order = order;
+    s.is_signed = is_signed;
+    s.factor = factor;
+    s.offset = offset;
+    s.minimum = lo;
+    s.maximum = hi;
+    return s;
+  };
+  using tb::can::ByteOrder;
+  signals.emplace_back(make(3, 13, ByteOrder::kIntel, true, 0.5, -10, -100, 100), 8);
+  signals.emplace_back(make(7, 12, ByteOrder::kMotorola, false, 0.1, 0, 0, 0), 8);
+  signals.emplace_back(make(13, 20, ByteOrder::kMotorola, true, 0.01, 5, 0, 0), 8);
+  signals.emplace_back(make(0, 64, ByteOrder::kIntel, true, 1, 0, 0, 0), 8);
+  signals.emplace_back(make(60, 8, ByteOrder::kIntel, false, 1, 0, 0, 0), 8);  // 4 bits fit
+  signals.emplace_back(make(1, 1, ByteOrder::kMotorola, false, 1, 0, 0, 0), 1);
+  signals.emplace_back(make(30, 17, ByteOrder::kIntel, false, 0.25, 0, 0, 0), 12);  // FD
+  std::mt19937_64 rng(7);
+  for (const auto& [sig, dlc] : signals) {
+    const SignalPlan plan(sig, dlc);
+    const double span =
+        std::max({1.0, std::abs(sig.maximum), std::abs(sig.minimum),
+                  std::ldexp(std::abs(sig.factor), static_cast<int>(std::min(sig.length, 60u)))});
+    std::uniform_real_distribution<double> physical(-1.5 * span, 1.5 * span);
+    std::vector<double> values{0.0,
+                               sig.minimum,
+                               sig.maximum,
+                               std::numeric_limits<double>::quiet_NaN(),
+                               std::numeric_limits<double>::infinity(),
+                               -std::numeric_limits<double>::infinity()};
+    for (int i = 0; i < 2000; ++i)
+      values.push_back(physical(rng));
+    for (const double v : values) {
+      ASSERT_EQ(plan.to_raw(v), sig.to_raw(v)) << sig.name << " " << v;
+      // Over random bytes, so that clearing the signal's old bits is checked too.
+      std::vector<std::uint8_t> want(dlc), got(dlc);
+      for (auto& b : want)
+        b = static_cast<std::uint8_t>(rng());
+      got = want;
+      sig.encode(v, want);
+      plan.encode(v, got);
+      ASSERT_EQ(got, want) << sig.name << " " << v;
+    }
+    EXPECT_EQ(plan.raw_max(), sig.raw_max());
+  }
+}
+
+TEST(CanFeeder, SiblingsShareEncodingsButNotCountersOrDueTimes) {
+  CanFeeder a = feeder();
+  CanFeeder b = a.sibling({.steering_ratio = 2 * FeederConfig{}.steering_ratio});
+  for (int i = 0; i < 3; ++i)
+    a.on_state(state(10 * i));
+  // b starts fresh: everything due at once, counters at 0, steering angle from its own ratio.
+  const auto from_b_span = b.on_state(state(30));
+  const std::vector<CanFrame> from_b(from_b_span.begin(), from_b_span.end());
+  const auto from_a = a.on_state(state(30));
+  ASSERT_EQ(from_b.size(), 6u);
+  ASSERT_EQ(from_a.size(), 5u);  // dynamics only: Lights is due again at 100 ms
+  for (const CanFrame& f : from_b) {
+    const std::string name = db().find_message(f.id())->name;
+    EXPECT_EQ(value(f, name.c_str(), "AliveCounter"), 0.0) << name;
+    for (const CanFrame& g : from_a) {
+      if (g.id() != f.id())
+        continue;
+      EXPECT_EQ(value(g, name.c_str(), "AliveCounter"), 3.0) << name;
+      if (name == "Steering") {
+        EXPECT_NEAR(value(f, "Steering", "SteeringWheelAngle"),
+                    2 * value(g, "Steering", "SteeringWheelAngle"), 0.2);
+      }
+    }
+  }
+  EXPECT_THROW(a.sibling({.dynamics_hz = 50}), std::invalid_argument);
 }
 
 TEST(CanFeeder, EverySignalOfTheVehicleDatabaseHasASource) {
