@@ -1,10 +1,15 @@
 // network-emulator under load, as a real process: writes a scenario with N stations, starts
 // the program with every station's NMEA and CAN pointed at two sockets of this process, sends
 // each station's state at R Hz in real time for S seconds, and reports the emulator's CPU use
-// (utime + stime from /proc/PID/stat) and what arrived.
+// (utime + stime from /proc/PID/stat), the states it took in (its final status line) and what
+// arrived.
 //
-//   network-emulator-load --emulator build/bin/network-emulator [--stations 1000] [--rate 100]
-//                         [--seconds 10]
+//   network-emulator-load --emulator build/bin/network-emulator [--emulator OTHER]...
+//                         [--stations 1000] [--rate 100] [--seconds 10] [--runs 1]
+//
+// With several --emulator and --runs K, the programs take turns (A B A B ...), so that on a
+// shared machine each sees the same mix of neighbours; the summary gives each one's median and
+// 90th percentile of CPU and the states it lost.
 
 #include <arpa/inet.h>
 #include <fcntl.h>
@@ -15,10 +20,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -78,21 +87,29 @@ std::size_t drain(int fd) {
   return n;
 }
 
-}  // namespace
+struct RunResult {
+  double cpu_percent = 0;
+  double cpu_us_per_state = 0;  // CPU time over the states taken in: comparable across losses
+  std::size_t sent = 0, received = 0;  // states sent, states the emulator decoded
+  std::size_t nmea = 0, can = 0;       // datagrams that arrived here
+  double expected_nmea = 0;
+};
 
-int main(int argc, char** argv) {
-  CLI::App app{"network-emulator load test"};
-  std::string emulator;
-  int stations = 1000, rate = 100;
-  double seconds = 10;
-  app.add_option("--emulator", emulator, "path of network-emulator")->required();
-  app.add_option("--stations", stations)->check(CLI::Range(1, 60000))->capture_default_str();
-  app.add_option("--rate", rate, "states per station per second")
-      ->check(CLI::Range(1, 1000))
-      ->capture_default_str();
-  app.add_option("--seconds", seconds)->check(CLI::PositiveNumber)->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
 
+std::string load_average() {
+  std::istringstream in(read_text("/proc/loadavg"));
+  std::string a, b, c;
+  in >> a >> b >> c;
+  return a + " " + b + " " + c;
+}
+
+/// One run of @p emulator; nullopt when it did not come up.
+std::optional<RunResult> run_once(const std::string& emulator, int stations, int rate,
+                                  double seconds) {
   sockaddr_in nmea_addr{}, can_addr{}, listen_addr{};
   const int nmea = udp_socket(0, &nmea_addr), can = udp_socket(0, &can_addr);
   const int probe = udp_socket(0, &listen_addr);  // a free port for the emulator to listen on
@@ -135,10 +152,40 @@ int main(int argc, char** argv) {
   for (auto& a : args)
     argv_c.push_back(a.data());
   argv_c.push_back(nullptr);
+  const fs::path log = dir / "emulator.log";
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&fa, 1, 2);
   pid_t pid = -1;
-  if (::posix_spawn(&pid, emulator.c_str(), nullptr, nullptr, argv_c.data(), environ) != 0) {
+  const int spawned = ::posix_spawn(&pid, emulator.c_str(), &fa, nullptr, argv_c.data(), environ);
+  posix_spawn_file_actions_destroy(&fa);
+  auto cleanup = [&] {
+    ::close(nmea);
+    ::close(can);
+    fs::remove_all(dir);
+  };
+  if (spawned != 0 || pid <= 0) {
     std::fprintf(stderr, "cannot start %s\n", emulator.c_str());
-    return 1;
+    cleanup();
+    return std::nullopt;
+  }
+  // Up when it says that it listens (the socket is bound and read by then), so that no
+  // state is sent to a closed port and every state sent counts.
+  bool up = false, exited = false;
+  for (int i = 0; i < 1000 && !up && !exited; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    up = read_text(log).find("listening on") != std::string::npos;
+    exited = ::waitpid(pid, nullptr, WNOHANG) == pid;
+  }
+  if (!up) {
+    std::fprintf(stderr, "network-emulator did not come up:\n%s\n", read_text(log).c_str());
+    if (!exited) {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, nullptr, 0);
+    }
+    cleanup();
+    return std::nullopt;
   }
 
   const int tx = ::socket(AF_INET, SOCK_DGRAM, 0);
@@ -159,32 +206,19 @@ int main(int argc, char** argv) {
     const auto d = tb::wire::encode(s);
     ::sendto(tx, d.data(), d.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to);
   };
-  // Wait until the emulator answers: a state of station 1000 turns into NMEA.
-  bool up = false;
-  for (int i = 0; i < 500 && !up; ++i) {
-    send_state(1000, 0);
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    up = drain(nmea) > 0;
-  }
-  if (!up) {
-    std::fprintf(stderr, "network-emulator did not answer\n");
-    ::kill(pid, SIGKILL);
-    return 1;
-  }
-  drain(can);
 
+  RunResult r;
   const double cpu0 = cpu_seconds(pid);
   const auto t0 = Clock::now();
   const auto period = std::chrono::nanoseconds(1'000'000'000 / rate);
-  std::size_t nmea_rx = 0, can_rx = 0, sent = 0;
   std::uint64_t tick = 1;
   for (auto next = t0; Clock::now() - t0 < std::chrono::duration<double>(seconds); ++tick) {
     for (int i = 0; i < stations; ++i) {
       send_state(static_cast<std::uint32_t>(1000 + i), tick);
-      ++sent;
+      ++r.sent;
       if (i % 100 == 99) {
-        nmea_rx += drain(nmea);
-        can_rx += drain(can);
+        r.nmea += drain(nmea);
+        r.can += drain(can);
       }
     }
     next += period;
@@ -192,19 +226,90 @@ int main(int argc, char** argv) {
   }
   const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  nmea_rx += drain(nmea);
-  can_rx += drain(can);
+  r.nmea += drain(nmea);
+  r.can += drain(can);
   const double cpu = cpu_seconds(pid) - cpu0;
   ::kill(pid, SIGTERM);
   ::waitpid(pid, nullptr, 0);
-  fs::remove_all(dir);
+  ::close(tx);
+  // "final: states N (...": the states the emulator decoded, all of them this run's.
+  const std::string text = read_text(log);
+  std::smatch m;
+  if (std::regex_search(text, m, std::regex(R"(final: states (\d+))")))
+    r.received = std::stoull(m[1]);
+  cleanup();
 
-  const double expected_nmea = static_cast<double>(sent) * 10.0 / rate;
-  std::printf("stations %d, %d Hz states, %.1f s: states sent %zu (%.0f/s)\n", stations, rate, wall,
-              sent, static_cast<double>(sent) / wall);
-  std::printf("NMEA datagrams received %zu (%.1f %% of %.0f), CAN datagrams received %zu\n",
-              nmea_rx, 100.0 * static_cast<double>(nmea_rx) / expected_nmea, expected_nmea, can_rx);
-  std::printf("network-emulator CPU: %.2f s in %.2f s = %.1f %% of one core\n", cpu, wall,
-              100.0 * cpu / wall);
+  r.cpu_percent = 100.0 * cpu / wall;
+  r.cpu_us_per_state = r.received ? 1e6 * cpu / static_cast<double>(r.received) : 0;
+  r.expected_nmea = static_cast<double>(r.sent) * 10.0 / rate;
+  std::printf("%s: stations %d, %d Hz, %.1f s: states sent %zu (%.0f/s), taken in %zu (lost %zu)\n",
+              emulator.c_str(), stations, rate, wall, r.sent, static_cast<double>(r.sent) / wall,
+              r.received, r.sent - std::min(r.sent, r.received));
+  std::printf("  NMEA datagrams received %zu (%.1f %% of %.0f), CAN datagrams received %zu\n",
+              r.nmea, 100.0 * static_cast<double>(r.nmea) / r.expected_nmea, r.expected_nmea,
+              r.can);
+  std::printf("  network-emulator CPU: %.2f s in %.2f s = %.1f %% of one core, %.2f us per state\n",
+              cpu, wall, r.cpu_percent, r.cpu_us_per_state);
+  std::fflush(stdout);
+  return r;
+}
+
+/// The @p q quantile (0..1) of @p v, nearest rank.
+double quantile(std::vector<double> v, double q) {
+  std::sort(v.begin(), v.end());
+  const auto rank = static_cast<std::size_t>(std::ceil(q * static_cast<double>(v.size())));
+  return v[std::clamp<std::size_t>(rank, 1, v.size()) - 1];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"network-emulator load test"};
+  std::vector<std::string> emulators;
+  int stations = 1000, rate = 100, runs = 1;
+  double seconds = 10;
+  app.add_option("--emulator", emulators, "path of network-emulator (repeatable: take turns)")
+      ->required();
+  app.add_option("--stations", stations)->check(CLI::Range(1, 60000))->capture_default_str();
+  app.add_option("--rate", rate, "states per station per second")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  app.add_option("--seconds", seconds)->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--runs", runs, "runs of each emulator")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+
+  std::printf("load average before: %s\n", load_average().c_str());
+  std::vector<std::vector<RunResult>> results(emulators.size());
+  for (int run = 0; run < runs; ++run)
+    for (std::size_t e = 0; e < emulators.size(); ++e) {
+      // A port taken between the probe and the emulator's bind: try again with another.
+      std::optional<RunResult> r;
+      for (int attempt = 0; attempt < 3 && !r; ++attempt)
+        r = run_once(emulators[e], stations, rate, seconds);
+      if (!r)
+        return 1;
+      results[e].push_back(*r);
+    }
+  std::printf("load average after: %s\n", load_average().c_str());
+  for (std::size_t e = 0; e < emulators.size(); ++e) {
+    std::vector<double> cpu, lost, per_state;
+    std::size_t sent = 0, received = 0;
+    for (const RunResult& r : results[e]) {
+      cpu.push_back(r.cpu_percent);
+      per_state.push_back(r.cpu_us_per_state);
+      lost.push_back(100.0 * static_cast<double>(r.sent - std::min(r.sent, r.received)) /
+                     static_cast<double>(r.sent));
+      sent += r.sent;
+      received += r.received;
+    }
+    std::printf(
+        "%s: %d runs: CPU median %.1f %%, p90 %.1f %% of one core (%.2f / %.2f us per state "
+        "taken in); states lost median %.2f %%, max %.2f %% (%zu of %zu in all)\n",
+        emulators[e].c_str(), runs, quantile(cpu, 0.5), quantile(cpu, 0.9),
+        quantile(per_state, 0.5), quantile(per_state, 0.9), quantile(lost, 0.5),
+        quantile(lost, 1.0), sent - std::min(sent, received), sent);
+  }
   return 0;
 }
