@@ -30,6 +30,7 @@ finish() {
     tail -n 40 "$f"
   done
   echo "--------------------"
+  echo "stage end: $SECONDS s into the test script"
   if ((${#failed[@]} == 0 && passed > 0)); then
     echo "TB-VM-RESULT: PASS ($passed checks, kernel $(uname -r))"
   else
@@ -81,6 +82,7 @@ check hwsim.no_default_radios $? "($n radios before radio-medium)"
 S=$G/scenario-range.json
 for ns in tbvm1 tbvm2 tbvm3; do ip netns add $ns && ip -n $ns link set lo up; done
 
+echo "stage can: starts $SECONDS s into the test script"
 # ---- CAN: the network emulator's feeder on vcan in station namespaces ----------------------
 for ns in tbvm1 tbvm2; do
   ip -n $ns link add vcan0 type vcan && ip -n $ns link set vcan0 up
@@ -140,6 +142,7 @@ fi
 kill $can1 $can2 $candump 2>/dev/null
 for ns in tbvm1 tbvm2; do ip -n $ns link del vcan0; done
 
+echo "stage radios: starts $SECONDS s into the test script"
 # ---- radios: mac80211_hwsim in OCB mode, driven by radio-medium ----------------------------
 radio-medium --scenario "$S" --stations 11=tbvm1,12=tbvm2,13=tbvm3 --mode hwsim --prefix tbvm \
   --positions udp://127.0.0.1:4701 --stats "$T/radio-stats.json" --log-level info \
@@ -205,6 +208,7 @@ src=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["tags"]["A
 [[ $src == 02:00:00:00:00:0b ]]
 check radio.station_mac $? "(frames from station 11 carry ${src:-no address}; want 02:00:00:00:00:0b)"
 
+echo "stage gn: starts $SECONDS s into the test script"
 # The project's own GN/BTP stack on the hwsim radios: SHB from 11 reaches 12 (200 m) and not
 # 13 (450 m).
 probe_pos=(--position 41.1 29.0)
@@ -227,79 +231,6 @@ got13=$(grep summary "$T/gn-rx13.log" | python3 -c 'import json,sys; print(json.
 [[ $rc13 == 0 && $got13 == 0 ]]
 check gn.range_cut_11_to_13 $? "(its-gn-probe at 450 m: exit $rc13, received ${got13:-?})"
 
-# ---- its-station: CAMs over hwsim, fed by the emulator (gpsd + vcan) ------------------------
-# Opt-in (tests/vm/run --with-stations): three stations with their gpsd are slow under TCG.
-if [[ ${TB_VM_STATIONS:-0} == 1 ]]; then
-  # Sim time starts now, so that the NMEA times gpsd reports are current for the stations.
-  start_unix=$(date -u +%s)
-  # CAN at 20/2 Hz instead of 100/10: three stations under TCG fell minutes behind at 100 Hz.
-  sed -e "s/\"start_time\": \"[^\"]*\"/\"start_time\": \"$(date -u -d @$start_unix +%Y-%m-%dT%H:%M:%SZ)\"/" \
-    -e 's/"channel":/"rates": { "can_dynamics_hz": 20, "can_body_hz": 2 },\n  "channel":/' \
-    "$S" >"$T/scenario-now.json"
-  printf '{"stations": [%s]}\n' \
-    '{"station_id": 11, "netns": "tbvm1"}, {"station_id": 12, "netns": "tbvm2"}, {"station_id": 13, "netns": "tbvm3"}' \
-    >"$T/stations3.json"
-  its=()
-  for i in 1 2 3; do
-    ip -n tbvm$i link add vcan0 type vcan && ip -n tbvm$i link set vcan0 up
-    ip netns exec tbvm$i its-station --station-id 1$i --scenario "$T/scenario-now.json" \
-      --radio wlan0 --can socketcan --can-interface vcan0 --dbc /tb/share/vehicle.dbc \
-      --cam-policy fixed --cam-period-ms 100 --gpsd-wait 30 --status-file "$T/station1$i.json" \
-      --log-level info >"$T/its-station1$i.log" 2>&1 &
-    its+=($!)
-  done
-  network-emulator --scenario "$T/scenario-now.json" --stations "$T/stations3.json" --can vcan \
-    --dbc /tb/share/vehicle.dbc --listen 127.0.0.1:4700 --status-interval 0 \
-    >"$T/network-emulator-cam.log" 2>&1 &
-  emu=$!
-  sleep 1
-  # Up to 30 s of states at 20 Hz, until every station's LDM holds what it should; speeds
-  # differ so that each neighbour can be told apart.
-  speeds=(0 10 5 7.5)
-  xs=(0 10 210 460)
-  stc=()
-  for i in 1 2 3; do
-    tool state --to 127.0.0.1:4700 --station 1$i --x ${xs[$i]} --speed ${speeds[$i]} --gear 3 \
-      --count 600 --interval 0.05 --start-unix $start_unix >"$T/state-cam1$i.log" 2>&1 &
-    stc+=($!)
-  done
-  cam_check() { # cam_check STATION WANT_NEIGHBOURS...
-    python3 "$G/cam_check.py" "$T/station$1.json" "${@:2}"
-  }
-  for ((k = 0; k < 30; k++)); do
-    sleep 1
-    cam_check 11 12 >/dev/null && cam_check 12 11 13 >/dev/null && cam_check 13 12 >/dev/null && break
-  done
-  echo "cam: waited $k s for the LDMs"
-  rcs=""
-  for p in "${stc[@]}"; do
-    kill -0 $p 2>/dev/null && kill $p
-    wait $p
-    rcs+="$? "
-  done
-  [[ $rcs =~ ^((0|143)\ ){3}$ ]]
-  check cam.states_sent $? "(exit codes $rcs; 143 = stopped early)"
-  why=$(cam_check 11 12)
-  check cam.ldm_11_sees_12_only $? "($why)"
-  why=$(cam_check 12 11 13)
-  check cam.ldm_12_sees_11_and_13 $? "($why)"
-  why=$(cam_check 13 12)
-  check cam.ldm_13_sees_12_only $? "($why)"
-  # Now, not only at the end: a slow stop below may run into the VM's time limit.
-  tail -n 20 "$T/its-station11.log" "$T/network-emulator-cam.log"
-  rcs=""
-  for p in "${its[@]}"; do
-    stop $p 15
-    rcs+="$stop_rc "
-  done
-  [[ $rcs == "0 0 0 " ]]
-  check cam.stations_exit_cleanly $? "(exit codes $rcs)"
-  stop $emu 10
-  for i in 1 2 3; do ip -n tbvm$i link del vcan0; done
-else
-  echo "SKIP cam.*: the its-station stage was not asked for (tests/vm/run --with-stations)"
-fi
-
 stop $rm_pid 20
 [[ $stop_rc == 0 ]]
 check radio.exits_cleanly $? "(exit $stop_rc after SIGTERM)"
@@ -315,6 +246,7 @@ sys.exit(0 if ok else 1)
 EOF
 check radio.stats_out_of_range $? "(radio-medium --stats: $(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["totals"])' "$T/radio-stats.json" 2>&1 | head -c 300))"
 
+echo "stage teardown: starts $SECONDS s into the test script"
 # ---- teardown: nothing left ----------------------------------------------------------------
 n=$(wiphys | tr '\n' ' ')
 [[ $n == "0 0 0 0 " ]]
@@ -329,3 +261,103 @@ links=$({
 [[ -z $links ]]
 check teardown.no_interfaces $? "(${links:-no tbvm* and no wlan0 left})"
 for ns in tbvm1 tbvm2 tbvm3; do ip netns del $ns; done
+
+echo "stage stations: starts $SECONDS s into the test script"
+# ---- its-stations through the native launcher: CAMs over hwsim, LDM, LCRW -------------------
+# scripts/testbed runs the whole chain as on a host: mosquitto, sim-server, the scripted
+# drivers (headless sim-client), a namespace per station (with --vcan a vcan0 in each),
+# radio-medium (hwsim: the kernel has it), its-station with its gpsd in each namespace, the
+# network emulator (NMEA into gpsd, CAN on vcan0). Scenario guest/scenario-lcrw.json: red (1001)
+# closes in on black (1002) ahead on its lane and must be warned; lower rates for TCG.
+if [[ ${TB_VM_STATIONS:-1} == 1 ]]; then
+  # The launcher passes no --dbc: the stations and the emulator read the DBC at the path built
+  # into them (the source tree on the host).
+  mkdir -p "$(dirname "$TB_VM_DBC_PATH")" && cp /tb/share/vehicle.dbc "$TB_VM_DBC_PATH"
+  L=$T/launcher
+  SL=$G/scenario-lcrw.json
+  mkdir -p "$L"
+  st_t0=$SECONDS
+  python3 /tb/scripts/testbed run "$SL" --build /tb --out "$L" --vcan >"$T/testbed.log" 2>&1 &
+  tb=$!
+  sub=""
+  if wait_for "$T/testbed.log" 60 "up: mosquitto"; then
+    # The HMI's view of the run: the broker's CAM and LCRW topics, read as the HMI user.
+    stdbuf -oL mosquitto_sub -h 127.0.0.1 -u hmi -P hmi -t 'its/+/app/lcrw' -t 'its/+/in/cam/+' \
+      -v >"$T/mqtt.txt" 2>"$T/mqtt.err" &
+    sub=$!
+  fi
+  mon=""
+  if wait_for "$T/testbed.log" 60 "up: radio-medium"; then
+    python3 "$G/vmtool.py" mon-count --iface tbrmmon --seconds 120 --ready "$T/mon2.ready" \
+      --stop "$T/mon2.stop" --out "$T/mon2.json" >/dev/null 2>"$T/mon2-err.log" &
+    mon=$!
+    # The launcher waits for wlan0 to exist; the medium may still be setting OCB up.
+    for ((k = 0; k < 20; k++)); do
+      ocb=""
+      for ns in tbst-1001 tbst-1002; do
+        info=$(ip netns exec $ns iw dev wlan0 info 2>&1)
+        echo "$info" | grep -Eq "type (ocb|outside context of a BSS)" && echo "$info" | grep -q "5900 MHz" ||
+          ocb+="$ns: $(echo "$info" | grep -E 'type|channel' | tr -s ' \n\t' ' ') "
+      done
+      [[ -z $ocb ]] && break
+      sleep 0.5
+    done
+    [[ -z $ocb ]]
+    check stations.wlan0_ocb_5900 $? "(${ocb:-wlan0 in tbst-1001 and tbst-1002: OCB on 5900 MHz})"
+  fi
+  wait_for "$T/testbed.log" 90 "up: its-station"
+  st_up=$((SECONDS - st_t0))
+  # The launcher stops everything after the scenario's duration_s (38 s); bound it anyway.
+  # Meanwhile keep each station's last status file with a fix: the one the station writes on
+  # its way out may have lost its fix and neighbours already (gpsd and the feeds stop first).
+  run_dir=$(ls -d "$L"/run-* 2>/dev/null | tail -1)
+  for ((k = 0; k < 150; k++)); do
+    kill -0 $tb 2>/dev/null || break
+    for id in 1001 1002; do
+      f=$run_dir/station-$id.status.json
+      [[ -n $run_dir && -s $f ]] && cp "$f" "$T/status.tmp" && grep -q '"fix":true' "$T/status.tmp" &&
+        mv "$T/status.tmp" "$T/status-$id.json"
+    done
+    sleep 1
+  done
+  if kill -0 $tb 2>/dev/null; then
+    echo "stations: the launcher still runs after $((SECONDS - st_t0)) s: SIGTERM"
+    stop $tb 40
+  else
+    wait $tb
+    stop_rc=$?
+  fi
+  st_rc=$stop_rc
+  echo "stations: launcher up after $st_up s, finished after $((SECONDS - st_t0)) s, exit $st_rc"
+  touch "$T/mon2.stop"
+  [[ -n $mon ]] && wait $mon
+  [[ -n $sub ]] && kill $sub 2>/dev/null && wait $sub
+  run_dir=$(ls -d "$L"/run-* 2>/dev/null | tail -1)
+  # sim-server ends by itself at the scenario's duration ("exited with 0"): not a failure.
+  notes=$(grep -E "did not stop|exited with [1-9-]|error" "$T/testbed.log" | tr '\n' ' ')
+  [[ $st_rc == 0 && -n $run_dir ]] && grep -q "up: its-station x2" "$T/testbed.log" &&
+    grep -q "scenario duration reached" "$T/testbed.log" && [[ -z $notes ]]
+  check stations.launcher_run $? "(scripts/testbed exit $st_rc; ${notes:-every process up, stopped in time})"
+  ok=1
+  while IFS=$'\t' read -r name rc why; do
+    if [[ $name == info ]]; then echo "stations: $why"; continue; fi
+    check "$name" "$rc" "$why"
+    [[ $rc == 0 ]] || ok=0
+  done < <(python3 "$G/station_check.py" "${run_dir:-$L}" "$T/mqtt.txt" "$SL" "$T" 2>&1)
+  mons=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["frames"])' "$T/mon2.json" 2>/dev/null)
+  python3 -c 'import json,sys; f=json.load(open(sys.argv[1]))["frames"]; sys.exit(0 if f.get("02:00:00:00:03:e9", 0) > 0 and f.get("02:00:00:00:03:ea", 0) > 0 else 1)' "$T/mon2.json" 2>/dev/null
+  check stations.monitor_sees_cams $? "(GeoNetworking frames per transmitter on tbrmmon: ${mons:-none})"
+  if ((ok == 0)) && [[ -n $run_dir ]]; then
+    for f in "$run_dir"/*.log; do echo "== $f"; tail -n 25 "$f"; done
+  fi
+  # Teardown of the launcher: its namespaces, bridge, veths and radios are gone.
+  left=$( {
+    ip netns list | grep -o '^tbst-[0-9]*'
+    ip -o link show | cut -d: -f2 | grep -E '^ (tbbr0|tbv|tbrm)'
+    ls /sys/class/ieee80211
+  } | tr -s ' \n' ' ')
+  [[ -z ${left// /} ]]
+  check teardown.launcher $? "(${left:-no tbst-* namespace, no tbbr0/tbv*/tbrm* link, no wiphy left})"
+else
+  echo "SKIP stations.*, cam.*, lcrw.*: the its-station stage was turned off (tests/vm/run --no-stations)"
+fi

@@ -10,6 +10,7 @@ common/can/vehicle.dbc, 802.11 radiotap), so a bug shared by encoder and decoder
   vmtool.py raw-send --iface wlan0 --count 20 --tag A
   vmtool.py raw-recv --iface wlan0 --seconds 6 --ready FILE --out FILE
   vmtool.py mon-recv --iface tbvmmon --seconds 6 --ready FILE --out FILE
+  vmtool.py mon-count --iface tbrmmon --seconds 60 --ready FILE --stop FILE --out FILE
 
 Every command prints one JSON line and exits 0 when it did its job, 1 when a check failed,
 2 on a usage or system error.
@@ -256,6 +257,49 @@ def cmd_mon_recv(a):
     emit({"iface": a.iface, "tags": got}, True)
 
 
+def cmd_mon_count(a):
+    """Any GeoNetworking traffic (the stations' CAMs) the monitor radio sees: 802.11 data
+    frames with LLC/SNAP 0x8947, counted per transmitter address."""
+    # The medium may make its monitor radio after the stations' ones and bring it up later:
+    # wait for it to be up (IFF_UP) a little.
+    flags = f"/sys/class/net/{a.iface}/flags"
+    for _ in range(150):
+        try:
+            with open(flags) as f:
+                if int(f.read(), 16) & 0x1:
+                    break
+        except (OSError, ValueError):
+            pass
+        time.sleep(0.1)
+    s = l2_socket(a.iface, ETH_P_ALL)
+    if a.ready:
+        open(a.ready, "w").close()
+    count = {}
+    deadline = time.monotonic() + a.seconds
+    while time.monotonic() < deadline and not (a.stop and os.path.exists(a.stop)):
+        r, _, _ = select.select([s], [], [], 0.2)
+        if not r:
+            continue
+        try:
+            frame = s.recv(4096)
+        except OSError:  # ENETDOWN while the medium still tunes the radio
+            time.sleep(0.1)
+            continue
+        if len(frame) < 4 or frame[0] != 0:
+            continue
+        rt_len = struct.unpack_from("<H", frame, 2)[0]
+        hdr = frame[rt_len:]
+        if len(hdr) < 32 or (hdr[0] >> 2) & 0x3 != 2:
+            continue
+        if frame.find(b"\xaa\xaa\x03\x00\x00\x00\x89\x47", rt_len) < 0:
+            continue
+        src = hdr[10:16].hex(":")
+        count[src] = count.get(src, 0) + 1
+    with open(a.out, "w") as f:
+        json.dump({"iface": a.iface, "frames": count}, f)
+    emit({"iface": a.iface, "frames": count}, True)
+
+
 def main():
     p = argparse.ArgumentParser(prog="vmtool.py")
     sub = p.add_subparsers(dest="cmd", required=True)
@@ -298,10 +342,17 @@ def main():
         rr.add_argument("--ready")
         rr.add_argument("--stop", help="stop early once this file exists")
         rr.add_argument("--out", required=True)
+    mc = sub.add_parser("mon-count")
+    mc.add_argument("--iface", required=True)
+    mc.add_argument("--seconds", type=float, default=60.0)
+    mc.add_argument("--ready")
+    mc.add_argument("--stop", help="stop early once this file exists")
+    mc.add_argument("--out", required=True)
     a = p.parse_args()
     try:
         {"state": cmd_state, "can-read": cmd_can_read, "raw-send": cmd_raw_send,
-         "raw-recv": cmd_raw_recv, "mon-recv": cmd_mon_recv}[a.cmd](a)
+         "raw-recv": cmd_raw_recv, "mon-recv": cmd_mon_recv,
+         "mon-count": cmd_mon_count}[a.cmd](a)
     except OSError as e:
         print(f"vmtool {a.cmd}: {e}", file=sys.stderr)
         sys.exit(2)
