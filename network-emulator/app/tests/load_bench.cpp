@@ -26,6 +26,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <optional>
 #include <regex>
 #include <sstream>
@@ -92,12 +93,33 @@ struct RunResult {
   double cpu_us_per_state = 0;  // CPU time over the states taken in: comparable across losses
   std::size_t sent = 0, received = 0;  // states sent, states the emulator decoded
   std::size_t nmea = 0, can = 0;       // datagrams that arrived here
+  std::uint64_t overflows = 0;         // UDP datagrams dropped by full receive buffers
   double expected_nmea = 0;
 };
 
 std::string read_text(const fs::path& p) {
   std::ifstream in(p);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+/// UDP RcvbufErrors of the whole network namespace (/proc/net/snmp): where a lost state went.
+std::uint64_t receive_buffer_errors() {
+  std::istringstream in(read_text("/proc/net/snmp"));
+  std::vector<std::string> names;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("Udp: ", 0) != 0)
+      continue;
+    std::istringstream fields(line.substr(5));
+    std::vector<std::string> f{std::istream_iterator<std::string>(fields), {}};
+    if (names.empty()) {
+      names = f;
+      continue;
+    }
+    for (std::size_t i = 0; i < names.size() && i < f.size(); ++i)
+      if (names[i] == "RcvbufErrors")
+        return std::stoull(f[i]);
+  }
+  return 0;
 }
 
 std::string load_average() {
@@ -208,6 +230,7 @@ std::optional<RunResult> run_once(const std::string& emulator, int stations, int
   };
 
   RunResult r;
+  const std::uint64_t overflows0 = receive_buffer_errors();
   const double cpu0 = cpu_seconds(pid);
   const auto t0 = Clock::now();
   const auto period = std::chrono::nanoseconds(1'000'000'000 / rate);
@@ -225,13 +248,20 @@ std::optional<RunResult> run_once(const std::string& emulator, int stations, int
     std::this_thread::sleep_until(next);
   }
   const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  r.nmea += drain(nmea);
-  r.can += drain(can);
+  // Let it finish what is still queued (a backlog on a busy machine is late, not lost): done
+  // when no CAN datagram came for 200 ms, or after 3 s.
+  for (int quiet = 0, i = 0; quiet < 4 && i < 60; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    r.nmea += drain(nmea);
+    const std::size_t n = drain(can);
+    r.can += n;
+    quiet = n == 0 ? quiet + 1 : 0;
+  }
   const double cpu = cpu_seconds(pid) - cpu0;
   ::kill(pid, SIGTERM);
   ::waitpid(pid, nullptr, 0);
   ::close(tx);
+  r.overflows = receive_buffer_errors() - overflows0;
   // "final: states N (...": the states the emulator decoded, all of them this run's.
   const std::string text = read_text(log);
   std::smatch m;
@@ -245,9 +275,11 @@ std::optional<RunResult> run_once(const std::string& emulator, int stations, int
   std::printf("%s: stations %d, %d Hz, %.1f s: states sent %zu (%.0f/s), taken in %zu (lost %zu)\n",
               emulator.c_str(), stations, rate, wall, r.sent, static_cast<double>(r.sent) / wall,
               r.received, r.sent - std::min(r.sent, r.received));
-  std::printf("  NMEA datagrams received %zu (%.1f %% of %.0f), CAN datagrams received %zu\n",
-              r.nmea, 100.0 * static_cast<double>(r.nmea) / r.expected_nmea, r.expected_nmea,
-              r.can);
+  std::printf(
+      "  NMEA datagrams received %zu (%.1f %% of %.0f), CAN datagrams received %zu; UDP "
+      "receive-buffer overflows (system-wide) %llu\n",
+      r.nmea, 100.0 * static_cast<double>(r.nmea) / r.expected_nmea, r.expected_nmea, r.can,
+      static_cast<unsigned long long>(r.overflows));
   std::printf("  network-emulator CPU: %.2f s in %.2f s = %.1f %% of one core, %.2f us per state\n",
               cpu, wall, r.cpu_percent, r.cpu_us_per_state);
   std::fflush(stdout);
