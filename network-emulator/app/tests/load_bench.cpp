@@ -64,8 +64,8 @@ int udp_socket(int port, sockaddr_in* bound) {
   return fd;
 }
 
-/// utime + stime of @p pid in seconds.
-double cpu_seconds(pid_t pid) {
+/// utime + stime of @p pid in seconds; with @p kernel, stime alone.
+double cpu_seconds(pid_t pid, bool kernel = false) {
   std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   std::istringstream rest(text.substr(text.rfind(')') + 2));
@@ -76,7 +76,7 @@ double cpu_seconds(pid_t pid) {
   // After "pid (comm) ": state is field 3, utime 14, stime 15 → indexes 11 and 12 here.
   if (f.size() < 13)
     return 0;
-  return static_cast<double>(std::stoll(f[11]) + std::stoll(f[12])) /
+  return static_cast<double>((kernel ? 0 : std::stoll(f[11])) + std::stoll(f[12])) /
          static_cast<double>(::sysconf(_SC_CLK_TCK));
 }
 
@@ -90,7 +90,8 @@ std::size_t drain(int fd) {
 
 struct RunResult {
   double cpu_percent = 0;
-  double cpu_us_per_state = 0;  // CPU time over the states taken in: comparable across losses
+  double cpu_us_per_state = 0;     // CPU time over the states taken in: comparable across losses
+  double kernel_us_per_state = 0;  // of which in the kernel (stime)
   std::size_t sent = 0, received = 0;  // states sent, states the emulator decoded
   std::size_t nmea = 0, can = 0;       // datagrams that arrived here
   std::uint64_t overflows = 0;         // UDP datagrams dropped by full receive buffers
@@ -231,7 +232,7 @@ std::optional<RunResult> run_once(const std::string& emulator, int stations, int
 
   RunResult r;
   const std::uint64_t overflows0 = receive_buffer_errors();
-  const double cpu0 = cpu_seconds(pid);
+  const double cpu0 = cpu_seconds(pid), sys0 = cpu_seconds(pid, true);
   const auto t0 = Clock::now();
   const auto period = std::chrono::nanoseconds(1'000'000'000 / rate);
   std::uint64_t tick = 1;
@@ -257,7 +258,7 @@ std::optional<RunResult> run_once(const std::string& emulator, int stations, int
     r.can += n;
     quiet = n == 0 ? quiet + 1 : 0;
   }
-  const double cpu = cpu_seconds(pid) - cpu0;
+  const double cpu = cpu_seconds(pid) - cpu0, sys = cpu_seconds(pid, true) - sys0;
   ::kill(pid, SIGTERM);
   ::waitpid(pid, nullptr, 0);
   ::close(tx);
@@ -271,6 +272,7 @@ std::optional<RunResult> run_once(const std::string& emulator, int stations, int
 
   r.cpu_percent = 100.0 * cpu / wall;
   r.cpu_us_per_state = r.received ? 1e6 * cpu / static_cast<double>(r.received) : 0;
+  r.kernel_us_per_state = r.received ? 1e6 * sys / static_cast<double>(r.received) : 0;
   r.expected_nmea = static_cast<double>(r.sent) * 10.0 / rate;
   std::printf("%s: stations %d, %d Hz, %.1f s: states sent %zu (%.0f/s), taken in %zu (lost %zu)\n",
               emulator.c_str(), stations, rate, wall, r.sent, static_cast<double>(r.sent) / wall,
@@ -280,8 +282,10 @@ std::optional<RunResult> run_once(const std::string& emulator, int stations, int
       "receive-buffer overflows (system-wide) %llu\n",
       r.nmea, 100.0 * static_cast<double>(r.nmea) / r.expected_nmea, r.expected_nmea, r.can,
       static_cast<unsigned long long>(r.overflows));
-  std::printf("  network-emulator CPU: %.2f s in %.2f s = %.1f %% of one core, %.2f us per state\n",
-              cpu, wall, r.cpu_percent, r.cpu_us_per_state);
+  std::printf(
+      "  network-emulator CPU: %.2f s in %.2f s = %.1f %% of one core, %.2f us per state (%.2f "
+      "in the kernel)\n",
+      cpu, wall, r.cpu_percent, r.cpu_us_per_state, r.kernel_us_per_state);
   std::fflush(stdout);
   return r;
 }
@@ -326,11 +330,12 @@ int main(int argc, char** argv) {
     }
   std::printf("load average after: %s\n", load_average().c_str());
   for (std::size_t e = 0; e < emulators.size(); ++e) {
-    std::vector<double> cpu, lost, per_state;
+    std::vector<double> cpu, lost, per_state, kernel;
     std::size_t sent = 0, received = 0;
     for (const RunResult& r : results[e]) {
       cpu.push_back(r.cpu_percent);
       per_state.push_back(r.cpu_us_per_state);
+      kernel.push_back(r.kernel_us_per_state);
       lost.push_back(100.0 * static_cast<double>(r.sent - std::min(r.sent, r.received)) /
                      static_cast<double>(r.sent));
       sent += r.sent;
@@ -338,10 +343,11 @@ int main(int argc, char** argv) {
     }
     std::printf(
         "%s: %d runs: CPU median %.1f %%, p90 %.1f %% of one core (%.2f / %.2f us per state "
-        "taken in); states lost median %.2f %%, max %.2f %% (%zu of %zu in all)\n",
+        "taken in, median %.2f in the kernel); states lost median %.2f %%, max %.2f %% (%zu of "
+        "%zu in all)\n",
         emulators[e].c_str(), runs, quantile(cpu, 0.5), quantile(cpu, 0.9),
-        quantile(per_state, 0.5), quantile(per_state, 0.9), quantile(lost, 0.5),
-        quantile(lost, 1.0), sent - std::min(sent, received), sent);
+        quantile(per_state, 0.5), quantile(per_state, 0.9), quantile(kernel, 0.5),
+        quantile(lost, 0.5), quantile(lost, 1.0), sent - std::min(sent, received), sent);
   }
   return 0;
 }
