@@ -88,10 +88,6 @@ CaService::CaService(clock::Runtime& runtime, PositionProvider& position,
     trace::global().record("its.fix", {{"station", config_.station_id},
                                        {"fix_ms", clock::to_unix_ns(fix.time) / 1'000'000}});
     path_.add(fix);
-    // The receiver's period, from the last two arrivals: when the next fix is to be expected.
-    if (last_fix_received_ && fix.received > *last_fix_received_)
-      fix_period_ = std::min<clock::Duration>(fix.received - *last_fix_received_, 1s);
-    last_fix_received_ = fix.received;
     if (running_)
       check();
   });
@@ -126,30 +122,17 @@ void CaService::stop() {
   runtime_.cancel(check_timer_);
 }
 
-std::optional<clock::SteadyTime> CaService::time_cam_at(const PositionFix& fix) const {
+bool CaService::fix_fits_time_cam(const PositionFix& fix, clock::SteadyTime now) const {
   // A time-based CAM (condition 2, or the fixed policy's period) is made from the fix that
   // describes its due instant: one that arrived at that instant or after it, or at most
   // fresh_fix_wait before it (the GNSS epochs jitter around their 100 ms grid). When the due
   // instant falls between two fixes (T_GenCam, the time between the last two CAMs, need not be
   // a multiple of the fix period), the check of the next fix's arrival makes it: that is at
   // most one T_CheckCamGen later (clause 6.1.3), and the CAM carries a state one fix period
-  // newer. When the next fix cannot come by time_cam_deadline() (at T_GenCamMax, which allows
-  // no such wait), the CAM is made at the due instant from the newest fix; waiting until the
-  // deadline would send the same fix later and push every following CAM off the fix grid.
+  // newer. Only when no fix comes by time_cam_deadline() is the older fix sent.
   const auto due = rules_.next_time_due();
-  if (!due)
-    return std::nullopt;
-  if (fix.received + rules_.timing().fresh_fix_wait >= *due)
-    return due;
-  const auto deadline = *rules_.time_cam_deadline();
-  if (fix.received + fix_period_ > deadline)
-    return due;
-  return deadline;
-}
-
-bool CaService::fix_fits_time_cam(const PositionFix& fix, clock::SteadyTime now) const {
-  const auto at = time_cam_at(fix);
-  return !at || now >= *at;
+  const auto deadline = rules_.time_cam_deadline();
+  return !due || fix.received + rules_.timing().fresh_fix_wait >= *due || now >= *deadline;
 }
 
 void CaService::schedule_check() {
@@ -170,8 +153,12 @@ void CaService::schedule_check() {
     const auto dcc = *last + rules_.timing().T_GenCam_Dcc;
     if (dcc > now && rules_.check(dcc, *fix) != CamTrigger::kNone)
       earlier(dcc);
-    // ... and when a time-based CAM is to be made from the newest fix (time_cam_at()).
-    earlier(time_cam_at(*fix));
+    // ... when a time-based CAM falls due and the newest fix is the one of that instant ...
+    if (const auto due = rules_.next_time_due();
+        due && fix->received + rules_.timing().fresh_fix_wait >= *due)
+      earlier(due);
+    // ... and when it can wait no longer for a fresh fix.
+    earlier(rules_.time_cam_deadline());
   }
   check_timer_ = runtime_.schedule_at(when, [this] { check(); });
 }

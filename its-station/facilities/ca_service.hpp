@@ -66,9 +66,7 @@ class CaService {
  private:
   /// Clause 6.1.3 at this instant: on every fix, and from the timer schedule_check() sets.
   void check();
-  /// When a time-based CAM may be made from @p fix (not one a fix period old); empty before
-  /// the first CAM.
-  std::optional<clock::SteadyTime> time_cam_at(const PositionFix& fix) const;
+  /// Whether a time-based CAM due now may be made from @p fix (not one a fix period old).
   bool fix_fits_time_cam(const PositionFix& fix, clock::SteadyTime now) const;
   void generate(CamTrigger why, const PositionFix& fix);
   void schedule_check();
@@ -84,8 +82,6 @@ class CaService {
   Counters counters_;
   std::vector<SentListener> sent_listeners_;
   clock::TimerId check_timer_ = 0;
-  std::optional<clock::SteadyTime> last_fix_received_;
-  clock::Duration fix_period_ = std::chrono::milliseconds(100);
   bool running_ = false;
   bool reported_no_fix_ = false;
 };

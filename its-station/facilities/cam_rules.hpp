@@ -27,7 +27,10 @@ struct CamTiming {
   /// time-triggered CAM falls due is taken as the fix of that instant. And at T_GenCamMax, where
   /// the CAM cannot wait for the next fix, the check waits this long past the due instant for
   /// the fix that is due then (a CAM 1000 ms after one made on a fix is due the very instant the
-  /// tenth fix after it is).
+  /// tenth fix after it is). That wait also brings a CAM grid lying off the fixes (a standing
+  /// car's 1 s CAMs after a late first fix) onto them, 10 ms per CAM: made at the due instant
+  /// instead, such CAMs would carry a fix up to 100 ms old for as long as the car stands
+  /// (tried: frontal scenario, state → CAM p99 170 ms instead of 106–160 ms).
   clock::Duration fresh_fix_wait = 10ms;
   /// Low-frequency container: in the first CAM, then when this much time has passed (B.3.5).
   clock::Duration lf_interval = 500ms;

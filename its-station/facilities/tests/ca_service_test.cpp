@@ -399,26 +399,6 @@ TEST(CaService, TimeCamDueBetweenFixesFallsBackToTheOldFixAfterOneCheckPeriod) {
   EXPECT_EQ(h.fixes.back().received, h.start + 450ms);
 }
 
-TEST(CaService, AtTGenCamMaxTheCamComesOnTimeFromTheNewestFixWhenNoFixCanComeInTime) {
-  // Standing still, T_GenCam = T_GenCamMax = 1000 ms. After the first CAM the receiver's epochs
-  // shift by 70 ms (fixes at 70, 170, ..., 970, 1070, ...). The CAM due at 1000 ms cannot wait
-  // for the fix of 1070 ms (the interval may not exceed T_GenCamMax): it is made at 1000 ms from
-  // the fix of 970 ms — not at 1010 ms from the same fix, which would move every later CAM off
-  // the fixes by another 10 ms. The next one is again due at 2000 ms.
-  CaHarness h;
-  h.drive([](double) { return Motion{0.0, 0.0, 90.0, 0.0}; }, 0.0);
-  for (std::int64_t ms = 70; ms <= 2070; ms += 100) {
-    h.rt.advance_to(h.start + std::chrono::milliseconds(ms));
-    h.position.inject(h.fix_of({0.0, 0.0, 90.0, 0.0}));
-  }
-  EXPECT_EQ(h.cams,
-            (std::vector<CamAt>{
-                {0, CamTrigger::kFirst}, {1000, CamTrigger::kTime}, {2000, CamTrigger::kTime}}));
-  ASSERT_EQ(h.fixes.size(), 3u);
-  EXPECT_EQ(h.fixes[1].received, h.start + 970ms);
-  EXPECT_EQ(h.fixes[2].received, h.start + 1970ms);
-}
-
 TEST(CaService, NoFixNoCamAndFirstCamAgainAfterTheFixReturns) {
   CaHarness h;
   h.drive([](double t) { return Motion{3.0 * t, 0.0, 90.0, 3.0}; }, 1.0);
