@@ -2,6 +2,7 @@
 """Writes a scenario with N scripted vehicles for the latency scale runs (issue 11).
 
     tests/e2e/gen_scale_scenario.py N [--out FILE] [--duration S]
+    sudo scripts/testbed run FILE --duration 30     # then scripts/report on the run's trace
 
 A ring road (radius 200 m, three lanes, all one way) with the vehicles spread evenly over the
 lanes. Each lane has its own speed, and every vehicle in a lane follows the same speed profile
@@ -60,7 +61,10 @@ def main():
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("n", type=int)
     ap.add_argument("--out", help="file to write (default: stdout)")
-    ap.add_argument("--duration", type=float, default=30.0)
+    # The simulation runs from the launcher's second step, while the stations are still being
+    # started (≈ 25 s for 50): the scenario must outlast start-up plus the measured window
+    # (--duration of scripts/testbed), or the stations see the start-up and the stop only.
+    ap.add_argument("--duration", type=float, default=120.0, help="scenario duration_s")
     args = ap.parse_args()
     if not 1 <= args.n <= 200:
         sys.exit("gen_scale_scenario: N must be 1…200")
