@@ -1,6 +1,7 @@
 #include "its-station/messages/cam.hpp"
 
 #include "its-station/messages/cdd_codec.hpp"
+#include "its-station/messages/message_codec.hpp"
 
 namespace tb::its::messages {
 
@@ -466,32 +467,15 @@ Expected<std::size_t, CodecError> encode(const Cam& cam, std::span<std::uint8_t>
 }
 
 Expected<std::vector<std::uint8_t>, CodecError> encode(const Cam& cam) {
-  std::vector<std::uint8_t> out(kCamMaxEncodedSize);
-  auto n = encode(cam, out);
-  if (!n)
-    return Unexpected<CodecError>{n.error()};
-  out.resize(*n);
-  return out;
+  return encode_to_vector(cam, kCamMaxEncodedSize);
 }
 
 Expected<std::size_t, CodecError> decode(std::span<const std::uint8_t> bytes, Cam& out) {
-  UperReader r(bytes);
-  get(r, out);
-  if (!r.ok())
-    return Unexpected<CodecError>{r.error()};
-  if (r.octets_consumed() != bytes.size())
-    return Unexpected<CodecError>{CodecError{
-        Error::kTrailingData, "CAM", static_cast<std::int64_t>(bytes.size() - r.octets_consumed()),
-        r.octets_consumed() * 8}};
-  return r.octets_consumed();
+  return decode_whole(bytes, out, "CAM", [](UperReader& r, Cam& m) { get(r, m); });
 }
 
 Expected<Cam, CodecError> decode_cam(std::span<const std::uint8_t> bytes) {
-  Cam cam;
-  auto n = decode(bytes, cam);
-  if (!n)
-    return Unexpected<CodecError>{n.error()};
-  return cam;
+  return decode_value<Cam>(bytes);
 }
 
 }  // namespace tb::its::messages

@@ -1,6 +1,7 @@
 #include "its-station/messages/denm.hpp"
 
 #include "its-station/messages/cdd_codec.hpp"
+#include "its-station/messages/message_codec.hpp"
 
 namespace tb::its::messages {
 
@@ -283,32 +284,15 @@ Expected<std::size_t, CodecError> encode(const Denm& denm, std::span<std::uint8_
 }
 
 Expected<std::vector<std::uint8_t>, CodecError> encode(const Denm& denm) {
-  std::vector<std::uint8_t> out(kDenmMaxEncodedSize);
-  auto n = encode(denm, out);
-  if (!n)
-    return Unexpected<CodecError>{n.error()};
-  out.resize(*n);
-  return out;
+  return encode_to_vector(denm, kDenmMaxEncodedSize);
 }
 
 Expected<std::size_t, CodecError> decode(std::span<const std::uint8_t> bytes, Denm& out) {
-  UperReader r(bytes);
-  get(r, out);
-  if (!r.ok())
-    return Unexpected<CodecError>{r.error()};
-  if (r.octets_consumed() != bytes.size())
-    return Unexpected<CodecError>{CodecError{
-        Error::kTrailingData, "DENM", static_cast<std::int64_t>(bytes.size() - r.octets_consumed()),
-        r.octets_consumed() * 8}};
-  return r.octets_consumed();
+  return decode_whole(bytes, out, "DENM", [](UperReader& r, Denm& m) { get(r, m); });
 }
 
 Expected<Denm, CodecError> decode_denm(std::span<const std::uint8_t> bytes) {
-  Denm denm;
-  auto n = decode(bytes, denm);
-  if (!n)
-    return Unexpected<CodecError>{n.error()};
-  return denm;
+  return decode_value<Denm>(bytes);
 }
 
 }  // namespace tb::its::messages
