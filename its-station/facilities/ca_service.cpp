@@ -130,9 +130,13 @@ bool CaService::fix_fits_time_cam(const PositionFix& fix, clock::SteadyTime now)
   // a multiple of the fix period), the check of the next fix's arrival makes it: that is at
   // most one T_CheckCamGen later (clause 6.1.3), and the CAM carries a state one fix period
   // newer. Only when no fix comes by time_cam_deadline() is the older fix sent.
-  const auto due = rules_.next_time_due();
   const auto deadline = rules_.time_cam_deadline();
-  return !due || fix.received + rules_.timing().fresh_fix_wait >= *due || now >= *deadline;
+  return fix_of_due_instant(fix) || (deadline && now >= *deadline);
+}
+
+bool CaService::fix_of_due_instant(const PositionFix& fix) const {
+  const auto due = rules_.next_time_due();
+  return !due || fix.received + rules_.timing().fresh_fix_wait >= *due;
 }
 
 void CaService::schedule_check() {
@@ -154,9 +158,8 @@ void CaService::schedule_check() {
     if (dcc > now && rules_.check(dcc, *fix) != CamTrigger::kNone)
       earlier(dcc);
     // ... when a time-based CAM falls due and the newest fix is the one of that instant ...
-    if (const auto due = rules_.next_time_due();
-        due && fix->received + rules_.timing().fresh_fix_wait >= *due)
-      earlier(due);
+    if (fix_of_due_instant(*fix))
+      earlier(rules_.next_time_due());
     // ... and when it can wait no longer for a fresh fix.
     earlier(rules_.time_cam_deadline());
   }

@@ -68,6 +68,9 @@ class CaService {
   void check();
   /// Whether a time-based CAM due now may be made from @p fix (not one a fix period old).
   bool fix_fits_time_cam(const PositionFix& fix, clock::SteadyTime now) const;
+  /// Whether @p fix arrived at (or just before, CamTiming::fresh_fix_wait) the instant the next
+  /// time-based CAM falls due, or after it; true before the first CAM.
+  bool fix_of_due_instant(const PositionFix& fix) const;
   void generate(CamTrigger why, const PositionFix& fix);
   void schedule_check();
 

@@ -4,11 +4,12 @@
 
 #include <benchmark/benchmark.h>
 
+#include <boost/asio/ip/udp.hpp>
+
 #include "common/can/udp_can_bus.hpp"
 #include "common/clock/clock.hpp"
 #include "common/scenario/loader.hpp"
 #include "network-emulator/app/emulator.hpp"
-#include "network-emulator/app/udp_sink.hpp"
 
 namespace tb::emu {
 namespace {
@@ -79,10 +80,13 @@ BENCHMARK(BM_StateUpdate)->Args({1000, 0})->Args({1000, 1})->ArgNames({"stations
 void BM_SendNmeaDatagram(benchmark::State& st) {
   boost::asio::io_context io;
   boost::asio::ip::udp::socket rx(io, {boost::asio::ip::make_address("127.0.0.1"), 0});
-  UdpSink sink(io, rx.local_endpoint(), "");
+  boost::asio::ip::udp::socket tx(io, boost::asio::ip::udp::v4());
+  tx.non_blocking(true);
+  tx.connect(rx.local_endpoint());
   const std::vector<std::uint8_t> epoch(560, 'x');
+  boost::system::error_code ec;
   for (auto _ : st)
-    benchmark::DoNotOptimize(sink.send(epoch));
+    benchmark::DoNotOptimize(tx.send(boost::asio::buffer(epoch), 0, ec));
 }
 BENCHMARK(BM_SendNmeaDatagram);
 
