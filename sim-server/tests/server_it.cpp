@@ -20,6 +20,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <type_traits>
 
 #include "common/wire/sim_protocol.hpp"
 
@@ -109,16 +110,24 @@ class Client {
       asio::write(socket_, asio::buffer(*b), ec);
     });
   }
+  /// Closes the connection and waits until its read handler has run for the last time, so that
+  /// no handler of this client runs after it is gone (the aborted read completes on the io
+  /// thread some time after the close).
   void close() {
-    std::promise<void> done;
-    asio::post(socket_.get_executor(), [this, &done] {
+    if (!connected_)
+      return;
+    on_io([this] {
       boost::system::error_code ec;
       socket_.shutdown(tcp::socket::shutdown_both, ec);
       socket_.close(ec);
-      done.set_value();
     });
-    done.get_future().wait();
+    while (!on_io([this] { return read_ended_; }))
+      std::this_thread::sleep_for(1ms);
+    connected_ = false;
   }
+  ~Client() { close(); }
+  Client(const Client&) = delete;
+  Client& operator=(const Client&) = delete;
 
   bool eof() const { return eof_; }
   std::optional<sim::StateFrame> last_state() const {
@@ -148,11 +157,17 @@ class Client {
   std::size_t states() const { return states_; }
 
  private:
+  /// Runs @p f on the io thread and returns its result.
+  template <typename F>
+  std::invoke_result_t<F> on_io(F f) {
+    return asio::post(socket_.get_executor(), asio::use_future(std::move(f))).get();
+  }
   void read() {
     socket_.async_read_some(
         asio::buffer(buf_), [this](boost::system::error_code ec, std::size_t n) {
           if (ec) {
             eof_ = true;
+            read_ended_ = true;
             return;
           }
           std::span<const std::uint8_t> data(buf_.data(), n);
@@ -160,6 +175,7 @@ class Client {
             auto r = parser_.parse(data);
             if (!r) {
               ADD_FAILURE() << "server sent a bad frame: " << sim::to_string(r.error());
+              read_ended_ = true;
               return;
             }
             if (*r != sim::FrameParser::Status::kFrame)
@@ -167,6 +183,7 @@ class Client {
             auto m = sim::decode_server(parser_.frame());
             if (!m) {
               ADD_FAILURE() << "server sent a bad message: " << sim::to_string(m.error());
+              read_ended_ = true;
               return;
             }
             std::lock_guard lock(mutex_);
@@ -190,6 +207,7 @@ class Client {
   std::vector<sim::ServerMessage> others_;
   std::atomic<std::size_t> states_{0};
   std::atomic<bool> eof_{false};
+  bool read_ended_ = false;  // touched on the io thread only
 };
 
 template <typename Pred>
