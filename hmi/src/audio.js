@@ -15,6 +15,15 @@ export function unlockAudio() {
   return true;
 }
 
+// Makes the audio context at page load (suspended until a gesture where the browser asks for
+// one): made at the first warning instead, it held that warning's banner up for tens of ms.
+export function prepareAudio() {
+  const AC = window.AudioContext || window.webkitAudioContext;
+  if (AC && !ctx) {
+    ctx = new AC();
+  }
+}
+
 export function audioState() {
   return ctx ? ctx.state : 'locked';
 }

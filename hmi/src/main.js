@@ -1,9 +1,10 @@
 // The driver's HMI: wiring between MQTT over WebSockets, the model and the page.
 import mqtt from 'mqtt';
 
-import { beep, beepCount, audioState, unlockAudio } from './audio.js';
+import { beep, beepCount, audioState, prepareAudio, unlockAudio } from './audio.js';
 import { causeText, fixText, offsetM } from './etsi.js';
 import { drawMap } from './map.js';
+import { lcrwReceipt, traceTopic } from './trace.js';
 import {
   createModel,
   expire,
@@ -17,7 +18,8 @@ import {
 const $ = (id) => document.getElementById(id);
 
 // Served by Mosquitto's http_dir on its WebSocket listener, the page finds the broker at its own
-// address; ?broker=, ?user=, ?password=, ?station=, ?prefix= override (and are remembered).
+// address; ?broker=, ?user=, ?password=, ?station=, ?prefix= override (and are remembered);
+// ?trace=1 reports the receipt of LCRW messages (trace.js), for this page load only.
 function settings() {
   const q = new URLSearchParams(location.search);
   const saved = JSON.parse(localStorage.getItem('hmi.settings') || '{}');
@@ -29,7 +31,13 @@ function settings() {
     password: q.get('password') ?? saved.password ?? 'hmi',
     station: q.get('station') ?? saved.station ?? null,
     prefix: q.get('prefix') ?? saved.prefix ?? 'its',
+    trace: q.get('trace') === '1',
   };
+}
+
+// performance.now() is monotonic and sub-millisecond; with timeOrigin it is wall-clock time.
+function wallClockMs() {
+  return performance.timeOrigin + performance.now();
 }
 
 const cfg = settings();
@@ -39,7 +47,8 @@ let subscribed = [];
 let lastBeep = 0;
 
 function save() {
-  localStorage.setItem('hmi.settings', JSON.stringify({ ...cfg }));
+  const { trace, ...kept } = cfg;
+  localStorage.setItem('hmi.settings', JSON.stringify(kept));
 }
 
 function setConnection(state, detail = '') {
@@ -86,9 +95,17 @@ function connect() {
   client.on('offline', () => setConnection('offline'));
   client.on('error', (e) => setConnection('error', e.message));
   client.on('message', (topic, payload) => {
-    const what = handleMessage(model, topic, payload.toString());
+    const receivedMs = wallClockMs();
+    const text = payload.toString();
+    const what = handleMessage(model, topic, text);
     if (what) {
       render(what);
+    }
+    if (cfg.trace && what === 'warning') {
+      const record = lcrwReceipt(cfg.prefix, topic, text, receivedMs, wallClockMs());
+      if (record) {
+        client.publish(traceTopic(cfg.prefix, model.station), record, { qos: 0 });
+      }
     }
   });
 }
@@ -211,6 +228,7 @@ function frame() {
 
 function init() {
   $('station').addEventListener('change', (e) => chooseStation(e.target.value));
+  prepareAudio();
   $('sound').addEventListener('click', () => unlockAudio());
   document.addEventListener('pointerdown', () => unlockAudio(), { once: true });
   document.addEventListener('keydown', () => unlockAudio(), { once: true });

@@ -96,7 +96,7 @@ async function main() {
     cleanups.unshift(() => stopBroker());
     await startBroker();
 
-    const page_url = `http://127.0.0.1:${ws}/index.html`;
+    const page_url = `http://127.0.0.1:${ws}/index.html?trace=1`;
     const html = await fetch(page_url).then((r) => r.text()).catch((e) => String(e));
     check('broker serves the HMI over HTTP on the WebSocket listener', html.includes('lcrw-banner'));
 
@@ -161,11 +161,22 @@ async function main() {
     check('neighbour from CAM on the map', neighbours === 1, `neighbours=${neighbours}`);
 
     check('no banner before a warning', await page.isHidden('#lcrw-banner'));
+    // With ?trace=1 the page reports each warning's receipt (hmi/src/trace.js) where the
+    // launcher's collector reads them, as the read-only HMI user.
+    const collector = await mqtt.connectAsync(`mqtt://127.0.0.1:${tcp}`, { username: 'hmi', password: 'hmi', clientId: 'trace-collector' });
+    cleanups.unshift(() => collector.end(true));
+    const receipts = [];
+    collector.on('message', (topic, payload) => receipts.push({ topic, text: payload.toString(), at: Date.now() }));
+    await collector.subscribeAsync('its/+/hmi/trace', { qos: 0 });
+    const ownStateTime = Date.now() - 40;
+    const otherStateTime = Date.now() - 60;
     const warning = (event, ttc) => envelope('lcrw_warning', {
       station_id: 1001, other_station_id: 1002, event, collision_case: 'frontal', severity: 'warning',
       clear_reason: event === 'cleared' ? 'risk_ended' : 'none', ttc_s: ttc, distance_m: 36.0,
       relative_speed_mps: 15.0, lateral_offset_m: 0.2, raised_at: Date.now(), updated_at: Date.now(),
+      own_state_time: ownStateTime, other_state_time: otherStateTime,
     });
+    const raisedAt = Date.now();
     await pub('its/1001/app/lcrw', warning('raised', 2.4));
     // LCRW refreshes an active warning at every evaluation; so does the test while it looks.
     const refresh = setInterval(() => { pub('its/1001/app/lcrw', warning('updated', 2.4)).catch(() => {}); }, 300);
@@ -182,6 +193,25 @@ async function main() {
     } finally {
       clearInterval(refresh);
     }
+    for (let i = 0; i < 50 && receipts.length === 0; i++) {
+      await new Promise((r) => setTimeout(r, 100));
+    }
+    const first = receipts[0];
+    let record = null;
+    try {
+      record = first ? JSON.parse(first.text) : null;
+    } catch {
+      record = null;
+    }
+    const tsMs = record ? Number(BigInt(first.text.match(/"ts":(\d+)/)[1]) / 1000000n) : NaN;
+    check('trace=1: the receipt of the warning reported on its/1001/hmi/trace',
+      first?.topic === 'its/1001/hmi/trace' && record?.ev === 'hmi.lcrw' && record.station === 1001 &&
+      record.from === 1002 && record.event === 'raised' && record.own_ms === ownStateTime &&
+      record.gdt === (((otherStateTime - 1072915200000) % 65536) + 65536) % 65536,
+      first ? first.text : 'nothing received');
+    check('trace=1: receipt stamped between publication and arrival at the collector',
+      tsMs >= raisedAt && tsMs <= first.at && typeof record?.shown_ns === 'number',
+      first ? `ts ${tsMs} published ${raisedAt} collected ${first.at}` : 'nothing received');
 
     await pub('its/1001/app/lcrw', warning('cleared', null));
     await page.waitForSelector('#lcrw-banner', { state: 'hidden', timeout: 10000 }).catch(() => {});

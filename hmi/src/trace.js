@@ -1,0 +1,60 @@
+// The HMI's trace records (docs/tracing.md). Opened with ?trace=1, the page reports the receipt
+// of every LCRW message on <prefix>/<station>/hmi/trace; the native launcher writes them to the
+// run's trace folder, and scripts/report measures the last hop (broker → driver's page) and
+// state change → warning at the HMI. The time stamps are this browser's wall clock: on another
+// computer than the stations, its clock must be synchronised (NTP) for the figures to hold.
+
+// 2004-01-01T00:00:00Z in Unix ms: TimestampIts' epoch (ETSI TS 102 894-2), as the station's.
+const ITS_EPOCH_UNIX_MS = 1072915200000;
+
+// GenerationDeltaTime (TimestampIts mod 65536) of the CAM whose state time is unixMs: what the
+// station's its.mqtt record names the neighbour's CAM by.
+export function generationDeltaTime(unixMs) {
+  return (((unixMs - ITS_EPOCH_UNIX_MS) % 65536) + 65536) % 65536;
+}
+
+// Wall-clock ms (fractional, from performance.timeOrigin + performance.now()) → ns since the
+// Unix epoch as a decimal string: a JS number cannot hold ~1.8e18 exactly, JSON integers can.
+export function nsString(ms) {
+  let whole = Math.floor(ms);
+  let frac = Math.round((ms - whole) * 1e6);
+  if (frac >= 1e6) {
+    whole += 1;
+    frac -= 1e6;
+  }
+  return `${whole}${String(frac).padStart(6, '0')}`;
+}
+
+export function traceTopic(prefix, station) {
+  return `${prefix}/${station}/hmi/trace`;
+}
+
+// The hmi.lcrw record of an LCRW message (topic, payload text) received at receivedMs and put
+// on the page at shownMs; null for any other message or one without the fields that name it.
+export function lcrwReceipt(prefix, topic, payload, receivedMs, shownMs) {
+  const parts = topic.split('/');
+  if (parts.length !== 4 || parts[0] !== prefix || parts[2] !== 'app' || parts[3] !== 'lcrw') {
+    return null;
+  }
+  let w;
+  try {
+    w = JSON.parse(payload)?.message;
+  } catch {
+    return null;
+  }
+  const ok = (v) => Number.isInteger(v) && v >= 0;
+  if (!w || !ok(w.station_id) || !ok(w.other_station_id) || !ok(w.other_state_time) ||
+      !ok(w.own_state_time) || typeof w.event !== 'string') {
+    return null;
+  }
+  const fields = JSON.stringify({
+    proc: 'hmi',
+    ev: 'hmi.lcrw',
+    station: w.station_id,
+    from: w.other_station_id,
+    gdt: generationDeltaTime(w.other_state_time),
+    own_ms: w.own_state_time,
+    event: w.event,
+  });
+  return `{"ts":${nsString(receivedMs)},${fields.slice(1, -1)},"shown_ns":${nsString(shownMs)}}`;
+}

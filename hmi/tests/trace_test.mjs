@@ -1,0 +1,64 @@
+// Unit tests of the HMI's trace records (pure JS): `node --test hmi/tests/trace_test.mjs`.
+import assert from 'node:assert/strict';
+import { test } from 'node:test';
+
+import { generationDeltaTime, lcrwReceipt, nsString, traceTopic } from '../src/trace.js';
+
+const ITS_EPOCH = 1072915200000;
+
+function lcrwPayload(message) {
+  return JSON.stringify({ type: 'lcrw_warning', origin: 'on_board_application', version: '1.0.0', source_uuid: 'station-1001', timestamp: 0, message });
+}
+
+const warning = {
+  station_id: 1001,
+  other_station_id: 1002,
+  event: 'raised',
+  other_state_time: ITS_EPOCH + 70000,
+  own_state_time: ITS_EPOCH + 70040,
+};
+
+test('GenerationDeltaTime as the station computes it (its_time.hpp)', () => {
+  assert.equal(generationDeltaTime(ITS_EPOCH), 0);
+  assert.equal(generationDeltaTime(ITS_EPOCH + 70000), 70000 - 65536);
+  assert.equal(generationDeltaTime(1763770000123), (1763770000123 - ITS_EPOCH) % 65536);
+  assert.equal(generationDeltaTime(ITS_EPOCH - 1), 65535);
+});
+
+test('wall-clock ms become exact ns strings', () => {
+  assert.equal(nsString(1000.5), '1000500000');
+  assert.equal(nsString(1763770000123.25), '1763770000123250000');
+  assert.equal(nsString(7), '7000000');
+  // A fraction that rounds up to a whole ms carries into the ms.
+  assert.equal(nsString(5.9999999), '6000000');
+});
+
+test('an LCRW message becomes an hmi.lcrw record naming its publication', () => {
+  const line = lcrwReceipt('its', 'its/1001/app/lcrw', lcrwPayload(warning), 1763770000123.5, 1763770000124.25);
+  assert.ok(line.startsWith('{"ts":1763770000123500000,'), line);
+  assert.ok(line.endsWith(',"shown_ns":1763770000124250000}'), line);
+  const r = JSON.parse(line);
+  assert.deepEqual(
+    { proc: r.proc, ev: r.ev, station: r.station, from: r.from, gdt: r.gdt, own_ms: r.own_ms, event: r.event },
+    { proc: 'hmi', ev: 'hmi.lcrw', station: 1001, from: 1002, gdt: 70000 - 65536, own_ms: ITS_EPOCH + 70040, event: 'raised' },
+  );
+});
+
+test('anything else makes no record', () => {
+  const at = [1, 2];
+  assert.equal(lcrwReceipt('its', 'its/1001/state', lcrwPayload(warning), ...at), null);
+  assert.equal(lcrwReceipt('its', 'other/1001/app/lcrw', lcrwPayload(warning), ...at), null);
+  assert.equal(lcrwReceipt('its', 'its/1001/app/lcrw/x', lcrwPayload(warning), ...at), null);
+  assert.equal(lcrwReceipt('its', 'its/1001/app/lcrw', '{not json', ...at), null);
+  assert.equal(lcrwReceipt('its', 'its/1001/app/lcrw', 'null', ...at), null);
+  for (const key of Object.keys(warning)) {
+    const partial = { ...warning };
+    delete partial[key];
+    assert.equal(lcrwReceipt('its', 'its/1001/app/lcrw', lcrwPayload(partial), ...at), null, key);
+  }
+  assert.equal(lcrwReceipt('its', 'its/1001/app/lcrw', lcrwPayload({ ...warning, other_state_time: 'x' }), ...at), null);
+});
+
+test('records go to the station\'s hmi/trace topic', () => {
+  assert.equal(traceTopic('its', '1001'), 'its/1001/hmi/trace');
+});

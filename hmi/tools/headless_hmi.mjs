@@ -1,0 +1,71 @@
+// Opens the HMI for some stations in headless Chromium and keeps it open until SIGINT/SIGTERM:
+// a driver's screen for runs without a person in front of it. With --trace the pages report
+// the receipt of every LCRW warning (hmi/src/trace.js), so that scripts/report can measure the
+// hop from the broker to the HMI (the e2e latency test does).
+//
+//   node hmi/tools/headless_hmi.mjs --url http://127.0.0.1:9001/ --station 1001 [--station N]... [--trace]
+//
+// Prints "hmi: station N connected" per page once its broker connection is up, and the page's
+// script errors as they happen; exits 1 when Chromium or a page cannot start.
+import { mkdtempSync, rmSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+import { parseArgs } from 'node:util';
+
+import { chromium } from 'playwright-core';
+
+const CHROMIUM = process.env.CHROMIUM ?? '/usr/bin/chromium';
+
+const { values } = parseArgs({
+  options: {
+    url: { type: 'string', default: 'http://127.0.0.1:9001/' },
+    station: { type: 'string', multiple: true, default: [] },
+    trace: { type: 'boolean', default: false },
+  },
+});
+if (values.station.length === 0 || values.station.some((s) => !/^\d+$/.test(s))) {
+  console.error(`headless_hmi: --station takes a station id (got ${JSON.stringify(values.station)})`);
+  process.exit(2);
+}
+
+const userData = mkdtempSync(join(tmpdir(), 'hmi-headless-'));
+let context = null;
+let stopping = false;
+
+async function stop(code) {
+  if (stopping) {
+    return;
+  }
+  stopping = true;
+  await context?.close().catch(() => {});
+  rmSync(userData, { recursive: true, force: true });
+  process.exit(code);
+}
+process.on('SIGINT', () => stop(0));
+process.on('SIGTERM', () => stop(0));
+
+try {
+  context = await chromium.launchPersistentContext(userData, {
+    executablePath: CHROMIUM,
+    headless: true,
+    viewport: { width: 1100, height: 760 },
+    // The flags the machine's notes give for a closed network (no background connections).
+    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+      '--disable-background-networking', '--disable-component-update', '--disable-sync'],
+  });
+  for (const station of values.station) {
+    const page = await context.newPage();
+    page.on('pageerror', (e) => console.error(`hmi: station ${station}: page error: ${e}`));
+    const url = new URL(values.url);
+    url.searchParams.set('station', station);
+    if (values.trace) {
+      url.searchParams.set('trace', '1');
+    }
+    await page.goto(url.toString());
+    await page.waitForSelector('#conn[data-state="connected"]', { timeout: 20000 });
+    console.log(`hmi: station ${station} connected (${url})`);
+  }
+} catch (e) {
+  console.error(`headless_hmi: ${e.message ?? e}`);
+  await stop(1);
+}
