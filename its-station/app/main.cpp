@@ -9,6 +9,7 @@
 #include <fstream>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 
 #include <spdlog/spdlog.h>
@@ -288,6 +289,7 @@ int run(const Options& o) {
           std::chrono::duration<double>(o.denm_repetition_duration_s)));
   std::unique_ptr<apps::LcrwDenmTrigger> lcrw_denm;
   std::unique_ptr<apps::LcrwApplication> lcrw;
+  std::set<std::uint32_t> published_about;  // neighbours of the current evaluation's warnings
   const auto own_state = [&](const fac::PositionFix& fix) {
     const fac::VehicleData* vd =
         vehicle_data && vehicle_data->current() ? &*vehicle_data->current() : nullptr;
@@ -297,7 +299,9 @@ int run(const Options& o) {
   // `its.lcrw` records (docs/tracing.md) are written here rather than by the application:
   // after an own fix one per neighbour assessed, after a CAM only the decision about its
   // sender — one record per CAM, not one per neighbour per CAM (with 50 stations that would be
-  // a million records a second).
+  // a million records a second). They are stamped with the start of the evaluation: a warning
+  // is published from inside it, so the report's decision → publication stage (mqtt) spans the
+  // evaluation and the hand-off to the MQTT client.
   const auto evaluate_lcrw = [&](const fac::PositionFix& fix, const apps::mqtt::Kinematics& own,
                                  std::optional<std::uint32_t> cam_from) {
     if (!o.lcrw)
@@ -311,6 +315,7 @@ int run(const Options& o) {
       lcrw = std::make_unique<apps::LcrwApplication>(
           its_clock, apps::LcrwConfig{},
           [&](const apps::LcrwWarning& w) {
+            published_about.insert(w.other_station_id);
             spdlog::info("LCRW: {} station {} ({}), TTC {:.2f} s",
                          w.event == apps::WarningEvent::kCleared ? "cleared" : "warning",
                          w.other_station_id, apps::to_string(w.collision_case), w.ttc_s);
@@ -319,6 +324,8 @@ int run(const Options& o) {
           },
           lcrw_denm.get(), nullptr);
     }
+    const std::int64_t decided_ns = tb::trace::Tracer::now_ns();
+    published_about.clear();
     std::vector<apps::VehicleKinematics> others;
     for (const auto& [id, n] : ldm.neighbours())
       others.push_back(tb::its::station::lcrw_kinematics(
@@ -329,16 +336,19 @@ int run(const Options& o) {
       return;
     const auto& assessed = lcrw->lcrw().last_assessments();
     for (const auto& n : others) {
-      if (cam_from && n.station_id != *cam_from)
+      // After a CAM, its sender's decision, and any other that published (a warning cleared
+      // on the passing of time), so that every publication has its decision record.
+      if (cam_from && n.station_id != *cam_from && !published_about.contains(n.station_id))
         continue;
       const auto a = assessed.find(n.station_id);
       if (a == assessed.end())
         continue;  // too old to assess
-      tracer.record("its.lcrw", {{"station", o.station_id},
-                                 {"from", n.station_id},
-                                 {"gdt", apps::generation_delta_time(n.time)},
-                                 {"warn", lcrw->lcrw().active().contains(n.station_id)},
-                                 {"ttc", a->second.ttc_s}});
+      tracer.record_at(decided_ns, "its.lcrw",
+                       {{"station", o.station_id},
+                        {"from", n.station_id},
+                        {"gdt", apps::generation_delta_time(n.time)},
+                        {"warn", lcrw->lcrw().active().contains(n.station_id)},
+                        {"ttc", a->second.ttc_s}});
     }
   };
   position.on_fix([&](const fac::PositionFix& fix) {

@@ -85,8 +85,16 @@ CaService::CaService(clock::Runtime& runtime, PositionProvider& position,
       config_(config),
       rules_(config.timing, config.policy) {
   position_.on_fix([this](const PositionFix& fix) {
-    trace::global().record("its.fix", {{"station", config_.station_id},
-                                       {"fix_ms", clock::to_unix_ns(fix.time) / 1'000'000}});
+    auto& tracer = trace::global();
+    if (tracer.enabled()) {
+      // read_ns: when the gpsd report that completed the fix was read (fix.received, moved
+      // from the steady clock to the trace's), so that the report tells gpsd from the uptake.
+      const std::int64_t now_ns = trace::Tracer::now_ns();
+      tracer.record_at(now_ns, "its.fix",
+                       {{"station", config_.station_id},
+                        {"fix_ms", clock::to_unix_ns(fix.time) / 1'000'000},
+                        {"read_ns", now_ns - (runtime_.steady_now() - fix.received).count()}});
+    }
     path_.add(fix);
     if (running_)
       check();
@@ -212,18 +220,25 @@ void CaService::generate(CamTrigger why, const PositionFix& fix) {
   rules_.generated(now, fix, why);
   if (path)
     rules_.low_frequency_sent(now);
+  // its.cam_tx marks the hand-over to the network (end of p3, start of t4): stamped before the
+  // send, which on a veth or hwsim radio already delivers the frame to the medium and beyond;
+  // sent_ns when the send returned, the frame on the interface (end of t4).
+  const std::int64_t handed_ns = trace::Tracer::now_ns();
   const auto result = sender_.send_single_hop(kBtpPortCam, std::span(buf.data(), *n));
+  const std::int64_t sent_ns = trace::Tracer::now_ns();
   if (result != SendResult::kSent) {
     ++counters_.send_errors;
     spdlog::warn("CA service: CAM not sent: {}", to_string(result));
   } else {
     ++counters_.sent;
   }
-  trace::global().record("its.cam_tx", {{"station", config_.station_id},
-                                        {"fix_ms", fix_ms},
-                                        {"gdt", unsigned{cam.cam.generationDeltaTime}},
-                                        {"bytes", *n},
-                                        {"lf", path.has_value()}});
+  trace::global().record_at(handed_ns, "its.cam_tx",
+                            {{"station", config_.station_id},
+                             {"fix_ms", fix_ms},
+                             {"gdt", unsigned{cam.cam.generationDeltaTime}},
+                             {"bytes", *n},
+                             {"lf", path.has_value()},
+                             {"sent_ns", sent_ns}});
   for (auto& l : sent_listeners_)
     l(cam, why, fix);
 }

@@ -62,7 +62,12 @@ void StationPublisher::publish_warning(const LcrwWarning& w) {
     tracer_->record("its.mqtt", {{"station", cfg_.station_id},
                                  {"topic", std::string_view{topic}},
                                  {"from", w.other_station_id},
-                                 {"gdt", unsigned{generation_delta_time(w.other_state_time)}}});
+                                 {"gdt", unsigned{generation_delta_time(w.other_state_time)}},
+                                 // With from and gdt, names the one message an HMI's receipt
+                                 // (hmi.lcrw, docs/tracing.md) is about: every evaluation
+                                 // while a warning is active publishes again.
+                                 {"own_ms", unix_ms(w.own_state_time)},
+                                 {"event", to_string(w.event)}});
   }
 }
 

@@ -327,13 +327,24 @@ TEST(BrokerConfig, StationWritesOnlyUnderItsOwnPrefix) {
   EXPECT_EQ(got[0].second, "mine");
 }
 
-TEST(BrokerConfig, ReadersCannotPublish) {
+TEST(BrokerConfig, ReadersPublishOnlyHmiTraceRecords) {
   Broker broker("1001");
   ASSERT_TRUE(broker.configured());
   ASSERT_TRUE(broker.start()) << broker.log();
+  Probe collector("collector-probe", "hmi", "hmi", broker.port());
+  collector.subscribe_on_connect("its/#");
+  ASSERT_EQ(collector.connect(), kReasonSuccess);
   Probe hmi("hmi-probe", "hmi", "hmi", broker.port());
   ASSERT_EQ(hmi.connect(), kReasonSuccess);
   EXPECT_EQ(hmi.publish_and_wait("its/1001/app/lcrw", "forged"), kReasonNotAuthorized);
+  EXPECT_EQ(hmi.publish_and_wait("its/1001/hmi/trace/x", "deeper"), kReasonNotAuthorized);
+  EXPECT_EQ(hmi.publish_and_wait("its/1001/hmi", "beside"), kReasonNotAuthorized);
+  // The HMI's receipts of LCRW warnings (hmi/src/trace.js), read by the launcher's collector.
+  EXPECT_NE(hmi.publish_and_wait("its/1001/hmi/trace", "{}"), kReasonNotAuthorized);
+  ASSERT_TRUE(collector.wait_messages(1, 3s)) << broker.log();
+  const auto got = collector.messages();
+  ASSERT_EQ(got.size(), 1u);
+  EXPECT_EQ(got[0].first, "its/1001/hmi/trace");
 }
 
 TEST(BrokerConfig, RefusesAnonymousAndWrongPasswords) {

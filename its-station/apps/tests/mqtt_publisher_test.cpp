@@ -160,6 +160,7 @@ TEST_F(PublisherTest, TracesPublishedCamsAndWarnings) {
     w.station_id = 1001;
     w.other_station_id = 7;
     w.other_state_time = clock::WallTime{std::chrono::milliseconds{kItsEpochUnixMs + 70000}};
+    w.own_state_time = clock::WallTime{std::chrono::milliseconds{kItsEpochUnixMs + 70040}};
     pub.publish_warning(w);
     pub.set_tracer(nullptr);
     tracer.flush();
@@ -178,6 +179,8 @@ TEST_F(PublisherTest, TracesPublishedCamsAndWarnings) {
   EXPECT_EQ(r[0]["gdt"], 4242);
   EXPECT_EQ(r[1]["topic"], "its/1001/app/lcrw");
   EXPECT_EQ(r[1]["gdt"], 70000 - 65536);
+  EXPECT_EQ(r[1]["own_ms"], kItsEpochUnixMs + 70040);
+  EXPECT_EQ(r[1]["event"], "raised");
 }
 
 }  // namespace
