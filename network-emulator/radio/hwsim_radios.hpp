@@ -5,6 +5,7 @@
 /// handler the way wmediumd is, so that the channel model decides every delivery.
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -124,6 +125,9 @@ class HwsimMedium {
 
   std::uint64_t frames_in() const { return frames_in_; }
   std::uint64_t bad_messages() const { return bad_messages_; }
+  /// Called with every frame of one of our radios (802.11), before the channel decides.
+  using FrameObserver = std::function<void(StationId from, std::span<const std::uint8_t> frame)>;
+  void set_frame_observer(FrameObserver o) { frame_observer_ = std::move(o); }
 
  private:
   void wait();
@@ -138,6 +142,7 @@ class HwsimMedium {
   boost::asio::posix::stream_descriptor descriptor_;
   std::set<clock::TimerId> timers_;
   std::map<MacAddress, clock::SteadyTime> last_due_;
+  FrameObserver frame_observer_;
   std::uint64_t frames_in_ = 0;
   std::uint64_t bad_messages_ = 0;
 };

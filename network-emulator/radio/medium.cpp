@@ -19,6 +19,8 @@ void Medium::detach(StationId id) {
 
 void Medium::on_frame(StationId from, std::span<const std::uint8_t> frame) {
   ++frames_in_;
+  if (frame_observer_)
+    frame_observer_(from, frame);
   std::shared_ptr<const std::vector<std::uint8_t>> copy;  // made once, only if a frame waits
   for (auto& [to, rx] : receivers_) {
     if (to == from)

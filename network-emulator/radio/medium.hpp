@@ -4,6 +4,7 @@
 /// is a veth's AF_PACKET socket (veth_medium.hpp) or, in tests, a vector.
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <set>
@@ -33,6 +34,11 @@ class Medium {
   void attach(StationId id, FrameSink& sink);
   void detach(StationId id);
 
+  /// Called with every frame that comes in, before the channel decides (the trace's
+  /// `medium.rx`).
+  using FrameObserver = std::function<void(StationId from, std::span<const std::uint8_t> frame)>;
+  void set_frame_observer(FrameObserver o) { frame_observer_ = std::move(o); }
+
   /// A frame @p from put on the air. Frames with no delay are handed over before this returns;
   /// delayed ones keep their order per receiver, as a radio does not reorder (a later frame
   /// with less jitter waits for the one before it).
@@ -52,6 +58,7 @@ class Medium {
   Channel& channel_;
   std::map<StationId, Receiver> receivers_;
   std::set<clock::TimerId> timers_;
+  FrameObserver frame_observer_;
   std::uint64_t frames_in_ = 0;
   std::uint64_t deliveries_ = 0;
 };

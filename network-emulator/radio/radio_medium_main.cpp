@@ -27,6 +27,7 @@
 #include "common/trace/tracer.hpp"
 #include "common/wire/vehicle_state.hpp"
 #include "network-emulator/radio/channel.hpp"
+#include "network-emulator/radio/frame_tag.hpp"
 #include "network-emulator/radio/hwsim_radios.hpp"
 #include "network-emulator/radio/medium.hpp"
 #include "network-emulator/radio/packet_socket.hpp"
@@ -249,6 +250,23 @@ int run(const Options& opt) {
   asio::io_context io;
   tb::clock::AsioRuntime runtime(io);
   radio::Medium medium(runtime, channel);
+  // One `medium.rx` record per frame a station puts on the air, when it comes in: the end of
+  // t4 (stack → interface → medium) and, for a CAM, its sender and generationDeltaTime, by
+  // which the report joins it to its.cam_tx and the receivers (docs/tracing.md).
+  const auto frame_tracer = [](radio::LinkFraming framing) {
+    return [framing](radio::StationId from, std::span<const std::uint8_t> frame) {
+      auto& t = tb::trace::global();
+      if (const auto cam = radio::peek_cam(frame, framing))
+        t.record("medium.rx", {{"src", from},
+                               {"station", cam->station_id},
+                               {"gdt", unsigned{cam->generation_delta_time}},
+                               {"bytes", frame.size()}});
+      else
+        t.record("medium.rx", {{"src", from}, {"bytes", frame.size()}});
+    };
+  };
+  if (tb::trace::global().enabled())
+    medium.set_frame_observer(frame_tracer(radio::LinkFraming::kEthernet));
 
   // Bound before any radio exists, so that a busy port costs nothing to clean up.
   std::unique_ptr<PositionListener> listener;
@@ -281,6 +299,8 @@ int run(const Options& opt) {
         spdlog::warn("radio-medium: removed radio {} left by a run that did not end cleanly", name);
       hwsim = std::make_unique<radio::HwsimRadios>(stations, opt.prefix);
       hwsim_medium = std::make_unique<radio::HwsimMedium>(io, runtime, channel, *hwsim);
+      if (tb::trace::global().enabled())
+        hwsim_medium->set_frame_observer(frame_tracer(radio::LinkFraming::kIeee80211));
       hwsim_medium->start();
     }
   } catch (const std::exception& e) {

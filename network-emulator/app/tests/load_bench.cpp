@@ -1,11 +1,17 @@
 // network-emulator under load, as a real process: writes a scenario with N stations, starts
-// the program with every station's NMEA and CAN pointed at two sockets of this process, sends
+// the program with every station's NMEA and CAN pointed at sockets of this process, sends
 // each station's state at R Hz in real time for S seconds, and reports the emulator's CPU use
 // (utime + stime from /proc/PID/stat), the states it took in (its final status line) and what
 // arrived.
 //
 //   network-emulator-load --emulator build/bin/network-emulator [--emulator OTHER]...
 //                         [--stations 1000] [--rate 100] [--seconds 10] [--runs 1]
+//                         [--namespaces K] [--emulator-arg ARG]...
+//
+// --namespaces K (root) spreads the stations over K network namespaces, each with its own
+// receivers on 127.0.0.1:10110 (NMEA) and :20000 (CAN): the deployment of the native launcher
+// and of Docker, where each station has a namespace of its own (K = stations). Without it,
+// every station's feeds go to two sockets in this process's namespace.
 //
 // With several --emulator and --runs K, the programs take turns (A B A B ...), so that on a
 // shared machine each sees the same mix of neighbours; the summary gives each one's median and
@@ -13,9 +19,12 @@
 
 #include <arpa/inet.h>
 #include <fcntl.h>
+#include <net/if.h>
 #include <netinet/in.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/epoll.h>
+#include <sys/ioctl.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -36,6 +45,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "common/can/netns.hpp"
 #include "common/wire/vehicle_state.hpp"
 
 extern char** environ;
@@ -88,6 +98,118 @@ std::size_t drain(int fd) {
   return n;
 }
 
+/// The stations' receivers: two sockets in this namespace, or two in each of K namespaces.
+class Receivers {
+ public:
+  /// @p namespaces 0: two sockets here on free ports.
+  explicit Receivers(int namespaces) {
+    epoll_ = ::epoll_create1(EPOLL_CLOEXEC);
+    if (namespaces == 0) {
+      sockaddr_in nmea{}, can{};
+      add(udp_socket(0, &nmea), false);
+      add(udp_socket(0, &can), true);
+      nmea_port_ = ntohs(nmea.sin_port);
+      can_port_ = ntohs(can.sin_port);
+      return;
+    }
+    nmea_port_ = 10110;
+    can_port_ = 20000;
+    std::string batch;
+    for (int i = 0; i < namespaces; ++i) {
+      names_.push_back("tbload" + std::to_string(::getpid()) + "-" + std::to_string(i));
+      batch += "netns add " + names_.back() + "\n";
+    }
+    if (!ip_batch(batch)) {
+      std::fprintf(stderr, "cannot make %d network namespaces (ip netns add; root?)\n", namespaces);
+      return;
+    }
+    for (const std::string& ns : names_) {
+      int nmea = -1, can = -1;
+      const auto ec = tb::can::run_in_netns(ns, [&] {
+        lo_up();
+        nmea = udp_socket(nmea_port_, nullptr);
+        can = udp_socket(can_port_, nullptr);
+      });
+      if (ec || nmea < 0 || can < 0) {
+        std::fprintf(stderr, "cannot listen in netns %s: %s\n", ns.c_str(),
+                     ec ? ec.message().c_str() : "bind failed");
+        return;
+      }
+      add(nmea, false);
+      add(can, true);
+    }
+  }
+  ~Receivers() {
+    for (const auto& [fd, is_can] : fds_)
+      ::close(fd);
+    ::close(epoll_);
+    if (!names_.empty()) {
+      std::string batch;
+      for (const std::string& ns : names_)
+        batch += "netns del " + ns + "\n";
+      ip_batch(batch);
+    }
+  }
+  Receivers(const Receivers&) = delete;
+  Receivers& operator=(const Receivers&) = delete;
+
+  bool ok() const {
+    return !fds_.empty() && fds_.size() == 2 * std::max<std::size_t>(1, names_.size());
+  }
+  int nmea_port() const { return nmea_port_; }
+  int can_port() const { return can_port_; }
+  /// The namespace of station @p i ("" for none).
+  std::string netns_of(int i) const {
+    return names_.empty() ? "" : names_[static_cast<std::size_t>(i) % names_.size()];
+  }
+  /// Reads what has arrived; adds the datagrams to @p nmea and @p can.
+  void drain_all(std::size_t& nmea, std::size_t& can) {
+    epoll_event ev[256];
+    for (;;) {
+      const int n = ::epoll_wait(epoll_, ev, 256, 0);
+      if (n <= 0)
+        return;
+      for (int i = 0; i < n; ++i) {
+        const auto& [fd, is_can] = fds_[ev[i].data.u32];
+        (is_can ? can : nmea) += drain(fd);
+      }
+      if (n < 256)
+        return;
+    }
+  }
+
+ private:
+  void add(int fd, bool is_can) {
+    epoll_event ev{};
+    ev.events = EPOLLIN;
+    ev.data.u32 = static_cast<std::uint32_t>(fds_.size());
+    ::epoll_ctl(epoll_, EPOLL_CTL_ADD, fd, &ev);
+    fds_.emplace_back(fd, is_can);
+  }
+  static void lo_up() {
+    const int s = ::socket(AF_INET, SOCK_DGRAM, 0);
+    ifreq ifr{};
+    std::snprintf(ifr.ifr_name, sizeof ifr.ifr_name, "lo");
+    if (::ioctl(s, SIOCGIFFLAGS, &ifr) == 0) {
+      ifr.ifr_flags = static_cast<short>(ifr.ifr_flags | IFF_UP);
+      ::ioctl(s, SIOCSIFFLAGS, &ifr);
+    }
+    ::close(s);
+  }
+  static bool ip_batch(const std::string& commands) {
+    FILE* p = ::popen("ip -batch - 2>&1", "w");
+    if (!p)
+      return false;
+    std::fwrite(commands.data(), 1, commands.size(), p);
+    return ::pclose(p) == 0;
+  }
+
+  int epoll_ = -1;
+  std::vector<std::pair<int, bool>> fds_;  // socket, carries CAN
+  std::vector<std::string> names_;
+  int nmea_port_ = 0, can_port_ = 0;
+};
+
 struct RunResult {
   double cpu_percent = 0;
   double cpu_us_per_state = 0;     // CPU time over the states taken in: comparable across losses
@@ -131,10 +253,13 @@ std::string load_average() {
 }
 
 /// One run of @p emulator; nullopt when it did not come up.
-std::optional<RunResult> run_once(const std::string& emulator, int stations, int rate,
-                                  double seconds) {
-  sockaddr_in nmea_addr{}, can_addr{}, listen_addr{};
-  const int nmea = udp_socket(0, &nmea_addr), can = udp_socket(0, &can_addr);
+std::optional<RunResult> run_once(const std::string& emulator,
+                                  const std::vector<std::string>& extra_args, int stations,
+                                  int rate, double seconds, int namespaces) {
+  Receivers receivers(namespaces);
+  if (!receivers.ok())
+    return std::nullopt;
+  sockaddr_in listen_addr{};
   const int probe = udp_socket(0, &listen_addr);  // a free port for the emulator to listen on
   ::close(probe);
   const int listen_port = ntohs(listen_addr.sin_port);
@@ -152,8 +277,11 @@ std::optional<RunResult> run_once(const std::string& emulator, int stations, int
       sc << (i ? "," : "") << "{\"id\": \"v" << i << "\", \"station_id\": " << 1000 + i
          << ", \"spawn\": {\"x\": " << i * 10 << ", \"y\": -1.75, \"heading_deg\": 90}}";
       st << (i ? "," : "") << "{\"station_id\": " << 1000 + i
-         << ", \"gnss_port\": " << ntohs(nmea_addr.sin_port)
-         << ", \"can_port\": " << ntohs(can_addr.sin_port) << "}";
+         << ", \"gnss_port\": " << receivers.nmea_port()
+         << ", \"can_port\": " << receivers.can_port();
+      if (const std::string ns = receivers.netns_of(i); !ns.empty())
+        st << ", \"netns\": \"" << ns << "\"";
+      st << "}";
     }
     sc << "]}";
     st << "]}";
@@ -171,6 +299,7 @@ std::optional<RunResult> run_once(const std::string& emulator, int stations, int
                                 "0",
                                 "--log-level",
                                 "info"};
+  args.insert(args.end(), extra_args.begin(), extra_args.end());
   std::vector<char*> argv_c;
   for (auto& a : args)
     argv_c.push_back(a.data());
@@ -183,11 +312,7 @@ std::optional<RunResult> run_once(const std::string& emulator, int stations, int
   pid_t pid = -1;
   const int spawned = ::posix_spawn(&pid, emulator.c_str(), &fa, nullptr, argv_c.data(), environ);
   posix_spawn_file_actions_destroy(&fa);
-  auto cleanup = [&] {
-    ::close(nmea);
-    ::close(can);
-    fs::remove_all(dir);
-  };
+  auto cleanup = [&] { fs::remove_all(dir); };
   if (spawned != 0 || pid <= 0) {
     std::fprintf(stderr, "cannot start %s\n", emulator.c_str());
     cleanup();
@@ -240,10 +365,8 @@ std::optional<RunResult> run_once(const std::string& emulator, int stations, int
     for (int i = 0; i < stations; ++i) {
       send_state(static_cast<std::uint32_t>(1000 + i), tick);
       ++r.sent;
-      if (i % 100 == 99) {
-        r.nmea += drain(nmea);
-        r.can += drain(can);
-      }
+      if (i % 100 == 99)
+        receivers.drain_all(r.nmea, r.can);
     }
     next += period;
     std::this_thread::sleep_until(next);
@@ -253,10 +376,9 @@ std::optional<RunResult> run_once(const std::string& emulator, int stations, int
   // when no CAN datagram came for 200 ms, or after 3 s.
   for (int quiet = 0, i = 0; quiet < 4 && i < 60; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    r.nmea += drain(nmea);
-    const std::size_t n = drain(can);
-    r.can += n;
-    quiet = n == 0 ? quiet + 1 : 0;
+    const std::size_t can_before = r.can;
+    receivers.drain_all(r.nmea, r.can);
+    quiet = r.can == can_before ? quiet + 1 : 0;
   }
   const double cpu = cpu_seconds(pid) - cpu0, sys = cpu_seconds(pid, true) - sys0;
   ::kill(pid, SIGTERM);
@@ -302,7 +424,8 @@ double quantile(std::vector<double> v, double q) {
 int main(int argc, char** argv) {
   CLI::App app{"network-emulator load test"};
   std::vector<std::string> emulators;
-  int stations = 1000, rate = 100, runs = 1;
+  int stations = 1000, rate = 100, runs = 1, namespaces = 0;
+  std::vector<std::string> extra_args;
   double seconds = 10;
   app.add_option("--emulator", emulators, "path of network-emulator (repeatable: take turns)")
       ->required();
@@ -314,16 +437,24 @@ int main(int argc, char** argv) {
   app.add_option("--runs", runs, "runs of each emulator")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
+  app.add_option("--namespaces", namespaces,
+                 "spread the stations over this many network namespaces (root; 0: none)")
+      ->check(CLI::Range(0, 60000))
+      ->capture_default_str();
+  // Written --emulator-arg=--flag=value, so that the value is not taken for an option here.
+  app.add_option("--emulator-arg", extra_args, "passed on to every emulator (repeatable)");
   CLI11_PARSE(app, argc, argv);
 
-  std::printf("load average before: %s\n", load_average().c_str());
+  std::printf("load average before: %s; %d stations in %s\n", load_average().c_str(), stations,
+              namespaces ? (std::to_string(namespaces) + " network namespaces").c_str()
+                         : "this network namespace");
   std::vector<std::vector<RunResult>> results(emulators.size());
   for (int run = 0; run < runs; ++run)
     for (std::size_t e = 0; e < emulators.size(); ++e) {
       // A port taken between the probe and the emulator's bind: try again with another.
       std::optional<RunResult> r;
       for (int attempt = 0; attempt < 3 && !r; ++attempt)
-        r = run_once(emulators[e], stations, rate, seconds);
+        r = run_once(emulators[e], extra_args, stations, rate, seconds, namespaces);
       if (!r)
         return 1;
       results[e].push_back(*r);

@@ -392,17 +392,26 @@ TEST_F(VethMediumIT, RangeModelReachesStationsInRangeAndNoneBeyond) {
   EXPECT_EQ(link(j, 12, 13)["delivered"], 300u);
   EXPECT_EQ(j["totals"]["sent"], 2 * (300u + probes) + 2 * 300u);
 
-  // One medium.frame trace record per decision, agreeing with the statistics.
+  // One medium.frame trace record per decision, agreeing with the statistics, and one
+  // medium.rx per frame that came in (these test frames are no CAMs: no station or gdt).
   std::map<std::pair<int, int>, std::pair<std::uint64_t, std::uint64_t>> traced;  // ok, dropped
+  std::map<int, std::uint64_t> came_in;
   std::ifstream lines(trace);
   std::string line;
   while (std::getline(lines, line)) {
     const auto r = nlohmann::json::parse(line);
-    ASSERT_EQ(r["ev"], "medium.frame");
     ASSERT_EQ(r["proc"], "radio-medium");
+    if (r["ev"] == "medium.rx") {
+      EXPECT_FALSE(r.contains("gdt")) << line;
+      ++came_in[r["src"].get<int>()];
+      continue;
+    }
+    ASSERT_EQ(r["ev"], "medium.frame");
     auto& n = traced[std::make_pair(r["src"].get<int>(), r["dst"].get<int>())];
     (r["ok"].get<bool>() ? n.first : n.second)++;
   }
+  EXPECT_EQ(came_in[11], 300u + probes);
+  EXPECT_EQ(came_in[12], 300u);
   const auto a_b = traced[std::make_pair(11, 12)];
   const auto a_c = traced[std::make_pair(11, 13)];
   const auto b_c = traced[std::make_pair(12, 13)];
