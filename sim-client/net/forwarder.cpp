@@ -66,10 +66,16 @@ void StateForwarder::forward(wire::VehicleState state) {
     return;
   }
   ++sent_;
+  // x, y, v, yaw let the report tell the steps that changed the state (a moving car) from
+  // those that did not (a standing one), docs/tracing.md.
   tracer_.record_at(state.send_wall_ns, "client.forward",
                     {{"station", state.station_id},
                      {"tick", static_cast<unsigned long long>(state.tick)},
-                     {"step_ns", static_cast<long long>(state.step_wall_ns)}});
+                     {"step_ns", static_cast<long long>(state.step_wall_ns)},
+                     {"x", state.position[0]},
+                     {"y", state.position[1]},
+                     {"v", static_cast<double>(state.speed)},
+                     {"yaw", static_cast<double>(state.yaw)}});
 }
 
 }  // namespace tb::client

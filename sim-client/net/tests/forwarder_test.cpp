@@ -6,6 +6,7 @@
 #include <sstream>
 #include <vector>
 
+#include <fmt/format.h>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/udp.hpp>
 
@@ -89,6 +90,11 @@ TEST(StateForwarder, CountsFailuresAndTracesForwards) {
   EXPECT_NE(t.find("\"station\":1001"), std::string::npos) << t;
   EXPECT_NE(t.find("\"tick\":42"), std::string::npos) << t;
   EXPECT_EQ(t.find("\"tick\":43"), std::string::npos) << t;  // not sent, not traced
+  const auto s = sample(1001, 42);
+  EXPECT_NE(t.find(fmt::format("\"x\":{},\"y\":{},\"v\":{}", s.position[0], s.position[1],
+                               static_cast<double>(s.speed))),
+            std::string::npos)
+      << t;
 }
 
 TEST(UdpSink, DatagramsReachAReceiverAndDecode) {
