@@ -10,8 +10,13 @@ CASE is one of:
   forward          scenarios/lcrw-forward.json: red is warned about black (case forward)
   different-lanes  scenarios/lcrw-different-lanes.json: both stations receive each other's CAMs
                    and no warning is ever raised
-  latency          scenarios/lcrw-three-vehicles.json for 30 s with tracing: scripts/report must
-                   find every stage, state → CAM on the air p99 ≤ 250 ms (the thesis's ceiling)
+  latency          scenarios/lcrw-three-vehicles.json for 30 s with tracing and the warned
+                   driver's HMI open in headless Chromium (?trace=1): scripts/report must find
+                   records for every stage, and state → CAM on the air p99 ≤ 250 ms (the
+                   thesis's ceiling)
+
+A run that fails while the virtual machine's host stole ≥ 10 % of the CPU (steal time,
+/proc/stat) is run once more; each run prints the steal.
 
 Runs `scripts/testbed run` (root: network namespaces), subscribes to the broker as the HMI user,
 and checks what arrives. Exits 0 when the checks pass, 1 with the reasons otherwise.
@@ -48,12 +53,36 @@ def wait_port(port, timeout):
     return False
 
 
+def cpu_times():
+    """(total, steal) jiffies of the whole machine, from /proc/stat."""
+    fields = [int(x) for x in open("/proc/stat").readline().split()[1:]]
+    return sum(fields[:8]), fields[7] if len(fields) > 7 else 0
+
+
+# A virtual machine's host may take the CPU away (steal time): at 46 % the three-vehicle run
+# missed its latency bound and raised no warning at all. The checks are about the testbed, not
+# the host: a run that failed while the host stole this much is run again once, and both runs
+# are printed.
+STEAL_RETRY_PERCENT = 10.0
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("case", choices=sorted(CASES))
     ap.add_argument("--build", required=True)
     args = ap.parse_args()
+    rc, steal = run_case(args)
+    if rc != 0 and steal >= STEAL_RETRY_PERCENT:
+        print(f"e2e {args.case}: the host stole {steal:.0f} % of the CPU during the run "
+              f"(≥ {STEAL_RETRY_PERCENT:.0f} %): running once more")
+        rc, steal = run_case(args)
+    return rc
+
+
+def run_case(args):
+    """One run of the case. Returns (exit status, % of CPU time the host stole meanwhile)."""
     scenario, duration = CASES[args.case]
+    cpu0 = cpu_times()
     out = Path(tempfile.mkdtemp(prefix=f"e2e-{args.case}-"))
     out.chmod(0o755)  # the broker drops root and must reach its configuration in there
     testbed = subprocess.Popen(
@@ -62,6 +91,8 @@ def main():
         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
     messages = []
     sub = None
+    hmi = None
+    hmi_log = ""
     try:
         if not wait_port(1883, 60):
             if testbed.poll() is None:
@@ -70,9 +101,17 @@ def main():
             print(log)
             raise SystemExit("e2e: the broker never listened on 1883")
         # Line-buffered: a block-buffered pipe would lose the last messages when it is stopped.
+        # Into a file, read at the end: a pipe read only then fills within seconds of CAMs, and
+        # the broker drops what a subscriber that stopped reading is sent at QoS 0.
+        sub_out = open(out / "mqtt-messages.txt", "w")
         sub = subprocess.Popen(["stdbuf", "-oL", "mosquitto_sub", "-h", "127.0.0.1", "-u", "hmi", "-P", "hmi",
                                 "-t", "its/+/app/lcrw", "-t", "its/+/in/cam/+", "-v"],
-                               stdout=subprocess.PIPE, text=True)
+                               stdout=sub_out, text=True)
+        if args.case == "latency":
+            # The red car's driver looks at the HMI; its page reports each warning's receipt.
+            hmi = subprocess.Popen(["node", str(ROOT / "hmi/tools/headless_hmi.mjs"), "--url",
+                                    "http://127.0.0.1:9001/", "--station", "1001", "--trace"],
+                                   stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         log, _ = testbed.communicate(timeout=duration + 120)
     except subprocess.TimeoutExpired:
         os.killpg(testbed.pid, signal.SIGINT)
@@ -80,9 +119,19 @@ def main():
         print(log)
         raise SystemExit("e2e: the testbed did not stop after its duration")
     finally:
+        if hmi is not None:
+            hmi.terminate()
+            try:
+                hmi_log, _ = hmi.communicate(timeout=20)
+            except subprocess.TimeoutExpired:
+                hmi.kill()
+                hmi_log, _ = hmi.communicate()
+            print(hmi_log)
         if sub is not None:
             sub.terminate()
-            raw, _ = sub.communicate(timeout=10)
+            sub.wait(timeout=10)
+            sub_out.close()
+            raw = (out / "mqtt-messages.txt").read_text(errors="replace")
             for line in raw.splitlines():
                 topic, _, payload = line.partition(" ")
                 try:
@@ -125,18 +174,23 @@ def main():
             trace = runs[-1] / "trace"
             r = subprocess.run([sys.executable, str(ROOT / "scripts/report"), str(trace),
                                 "--out", str(runs[-1] / "histograms"),
-                                "--require", "t1,p1,t2,p2,t3.gpsd,t3.stack,p3,air,state_to_cam",
+                                "--require", "all",
                                 "--max-p99", "state_to_cam=250"], capture_output=True, text=True)
             print(r.stdout + r.stderr)
             if r.returncode != 0:
                 failures.append("latency report failed its checks")
+        if "hmi: station 1001 connected" not in hmi_log:
+            failures.append("the headless HMI of station 1001 never connected to the broker")
+    cpu1 = cpu_times()
+    steal = 100.0 * (cpu1[1] - cpu0[1]) / max(1, cpu1[0] - cpu0[0])
+    print(f"e2e {args.case}: the host stole {steal:.1f} % of the CPU time during the run")
     for f in failures:
         print(f"e2e {args.case}: FAIL: {f}")
     if failures:
         print(f"e2e: logs in {out}")
-        return 1
+        return 1, steal
     print(f"e2e {args.case}: PASS")
-    return 0
+    return 0, steal
 
 
 if __name__ == "__main__":

@@ -1,0 +1,196 @@
+#!/usr/bin/env python3
+"""Unit test of scripts/report's joins on hand-made trace records (no programs, no clocks):
+which steps count as state changes, the CAM and warning stages, the HMI's receipts, --require.
+
+    python3 tests/report/report_test.py
+"""
+import json
+import subprocess
+import sys
+import tempfile
+import unittest
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+MS = 1_000_000
+T0 = 1_750_000_000_000 * MS  # wall clock of tick 0, ns
+START_MS = 1_748_854_800_000  # the scenario's start time (fix_ms of sim time 0)
+ITS_EPOCH_MS = 1_072_915_200_000
+
+
+def step_ns(tick):
+    return T0 + tick * 10 * MS
+
+
+def gdt(unix_ms):
+    return (unix_ms - ITS_EPOCH_MS) % 65536
+
+
+class Trace:
+    def __init__(self):
+        self.records = []
+
+    def add(self, ts, ev, **fields):
+        self.records.append({"ts": ts, "proc": "test", "ev": ev, **fields})
+
+    def write(self, folder):
+        with open(Path(folder) / "all.jsonl", "w") as f:
+            for r in self.records:
+                f.write(json.dumps(r) + "\n")
+
+
+def vehicle(trace, station, ticks, moving):
+    """Steps, forwards, a GNSS epoch every 10 ticks and a CAM from each epoch's fix 30 ms after
+    the step it describes. Returns {tick of the epoch: CAM tx time}."""
+    cams = {}
+    for tick in ticks:
+        x = tick * 0.1 if moving else 5.0
+        trace.add(step_ns(tick) + 200_000, "client.forward", station=station, tick=tick,
+                  step_ns=step_ns(tick), x=x, y=-1.75, v=10.0 if moving else 0.0, yaw=0.0)
+        trace.add(step_ns(tick) + 300_000, "emu.state", station=station, tick=tick)
+        if tick % 10 == 0:
+            fix_ms = START_MS + tick * 10
+            trace.add(step_ns(tick) + 350_000, "emu.nmea", station=station, tick=tick, fix_ms=fix_ms)
+            trace.add(step_ns(tick) + 1 * MS, "its.fix", station=station, fix_ms=fix_ms,
+                      read_ns=step_ns(tick) + 1 * MS - 20_000)
+            g = gdt(fix_ms)
+            trace.add(step_ns(tick) + 29 * MS, "its.cam_build", station=station, fix_ms=fix_ms, gdt=g,
+                      trigger="time")
+            cams[tick] = step_ns(tick) + 30 * MS
+            trace.add(cams[tick], "its.cam_tx", station=station, fix_ms=fix_ms, gdt=g, bytes=50,
+                      sent_ns=cams[tick] + 40_000)
+    return cams
+
+
+def run_report(trace, *args):
+    with tempfile.TemporaryDirectory() as d:
+        trace.write(d)
+        out = Path(d) / "stats.json"
+        r = subprocess.run([sys.executable, str(ROOT / "scripts/report"), d, "--json", str(out), *args],
+                           capture_output=True, text=True)
+        stats = json.loads(out.read_text())["stages"] if out.exists() else {}
+        return r, stats
+
+
+class ReportTest(unittest.TestCase):
+    def setUp(self):
+        self.trace = Trace()
+        for tick in range(1, 31):
+            self.trace.add(step_ns(tick), "server.step", tick=tick, dur_ns=100_000)
+        # Station 1 drives, station 2 stands; the epoch at tick 30 is each one's last fix.
+        self.moving = vehicle(self.trace, 1, range(1, 31), True)
+        self.standing = vehicle(self.trace, 2, range(1, 31), False)
+
+    def test_standing_steps_are_no_state_change(self):
+        _, st = run_report(self.trace)
+        # Station 1: the first epoch's CAM carries its own step (no epoch before it), the second
+        # one ticks 11-20, each 30 ms after the epoch's step plus the step's distance before it
+        # (epoch 30 is the last fix: left out). Station 2 stands: its only change, the first
+        # step, comes before its first epoch, which carries no change.
+        want = [30] + [30 + 10 * (20 - k) for k in range(11, 21)]
+        self.assertEqual(st["state_to_cam"]["n"], len(want))
+        self.assertAlmostEqual(st["state_to_cam"]["mean"], sum(want) / len(want), places=6)
+        self.assertAlmostEqual(st["state_to_cam"]["max"], 120.0, places=6)
+        self.assertEqual(st["fix_state_to_cam"]["n"], 4)  # per CAM, whether it carries a change
+        # The receiver's period wait of the same changes: the epoch's step minus theirs.
+        self.assertEqual(st["t3.period"]["n"], len(want))
+        self.assertAlmostEqual(st["t3.period"]["mean"], st["state_to_cam"]["mean"] - 30, places=6)
+        self.assertAlmostEqual(st["t3.uptake"]["mean"], 0.02, places=6)
+        self.assertAlmostEqual(st["t3.gpsd"]["mean"], 0.65, places=6)
+
+    def test_air_splits_at_the_medium(self):
+        # Station 1's CAM of epoch 20 is on the interface 0.04 ms after it was handed to the
+        # network (every CAM, vehicle()), at the medium 0.2 ms after, and station 2 decodes it
+        # 0.5 ms after that.
+        fix_ms = START_MS + 200
+        self.trace.add(self.moving[20] + 200_000, "medium.rx", src=1, station=1, gdt=gdt(fix_ms), bytes=120)
+        self.trace.add(self.moving[20] + 210_000, "medium.rx", src=1, bytes=60)  # no CAM: ignored
+        self.trace.add(self.moving[20] + 700_000, "its.cam_rx", station=2, **{"from": 1}, gdt=gdt(fix_ms))
+        r, st = run_report(self.trace, "--require", "t4,p4.t5,air")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertAlmostEqual(st["t4"]["mean"], 0.04, places=6)
+        self.assertEqual(st["t4"]["n"], 4)
+        self.assertAlmostEqual(st["p4.t5"]["mean"], 0.5, places=6)
+        self.assertAlmostEqual(st["air"]["mean"], 0.7, places=6)
+
+    def test_old_traces_count_every_step(self):
+        for r in self.trace.records:
+            if r["ev"] == "client.forward":
+                del r["x"]
+        _, st = run_report(self.trace)
+        self.assertEqual(st["state_to_cam"]["n"], 22)
+
+    def test_warning_to_hmi(self):
+        # Station 1 warns about station 2 on the CAM of its epoch 20, decided 0.5 ms after the
+        # own fix of epoch 20 arrived; published 0.1 ms later; the HMI receives it 2 ms later
+        # and shows it 1 ms after that. A second receipt names no publication (other own_ms).
+        cam_fix = START_MS + 200
+        own_fix = START_MS + 200
+        decided = step_ns(20) + 31 * MS
+        self.trace.add(decided, "its.lcrw", station=1, **{"from": 2}, gdt=gdt(cam_fix), warn=True, ttc=2.0)
+        self.trace.add(decided + 100_000, "its.mqtt", station=1, topic="its/1/app/lcrw", **{"from": 2},
+                       gdt=gdt(cam_fix), own_ms=own_fix, event="raised")
+        self.trace.add(decided + 2_100_000, "hmi.lcrw", station=1, **{"from": 2}, gdt=gdt(cam_fix),
+                       own_ms=own_fix, event="raised", shown_ns=decided + 3_100_000)
+        self.trace.add(decided + 2_200_000, "hmi.lcrw", station=1, **{"from": 2}, gdt=gdt(cam_fix),
+                       own_ms=own_fix + 100, event="updated", shown_ns=decided + 3_200_000)
+        r, st = run_report(self.trace, "--require", "mqtt,hmi,hmi.show,state_to_hmi")
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        self.assertAlmostEqual(st["mqtt"]["mean"], 0.1, places=6)
+        self.assertEqual(st["hmi"]["n"], 1)
+        self.assertAlmostEqual(st["hmi"]["mean"], 2.0, places=6)
+        self.assertAlmostEqual(st["hmi.show"]["mean"], 1.0, places=6)
+        # The evaluation ran on the own fix of epoch 20, which arrived after the neighbour's CAM
+        # (ticks 11-20 moved the car): 10 changes.
+        self.assertEqual(st["state_to_warning"]["n"], 10)
+        self.assertEqual(st["state_to_hmi"]["n"], 10)
+        self.assertAlmostEqual(st["state_to_hmi"]["mean"] - st["state_to_warning"]["mean"], 2.0, places=6)
+
+    def test_a_standing_cars_warning_answers_no_state_change(self):
+        # Station 2 stands and warns on its own fix of epoch 20 about station 1's CAM of epoch
+        # 10, which arrived before that fix: the fix brought no change, so no samples. The same
+        # warning made on the CAM's arrival answers the CAM's changes.
+        cam_fix = START_MS + 100
+        self.trace.add(self.moving[10] + 500_000, "its.cam_rx", station=2, **{"from": 1}, gdt=gdt(cam_fix))
+        decided = step_ns(20) + 2 * MS
+        self.trace.add(decided, "its.lcrw", station=2, **{"from": 1}, gdt=gdt(cam_fix), warn=True, ttc=2.0)
+        self.trace.add(decided + 100_000, "its.mqtt", station=2, topic="its/2/app/lcrw", **{"from": 1},
+                       gdt=gdt(cam_fix), own_ms=START_MS + 200, event="raised")
+        _, st = run_report(self.trace)
+        self.assertNotIn("state_to_warning", st)
+        self.assertEqual(st["cam_state_to_warning"]["n"], 1)  # the CAM of epoch 10: its own step
+        self.trace.add(self.moving[10] + 600_000, "its.mqtt", station=2, topic="its/2/app/lcrw",
+                       **{"from": 1}, gdt=gdt(cam_fix), own_ms=START_MS + 100, event="raised")
+        _, st = run_report(self.trace)
+        self.assertEqual(st["state_to_warning"]["n"], 1)
+        self.assertAlmostEqual(st["state_to_warning"]["mean"], 30.6, places=6)
+
+    def test_a_warning_made_on_a_third_stations_cam_answers_no_state_change(self):
+        # Station 1 clears its warning about station 2 in an evaluation made on a CAM of
+        # another station, 59 ms after its own last fix: no new input of the pair, no samples.
+        cam_fix = START_MS + 200
+        cleared = step_ns(20) + 60 * MS
+        self.trace.add(cleared, "its.lcrw", station=1, **{"from": 2}, gdt=gdt(cam_fix), warn=False, ttc=None)
+        self.trace.add(cleared + 50_000, "its.mqtt", station=1, topic="its/1/app/lcrw", **{"from": 2},
+                       gdt=gdt(cam_fix), own_ms=START_MS + 200, event="cleared")
+        _, st = run_report(self.trace)
+        self.assertNotIn("state_to_warning", st)
+        self.assertAlmostEqual(st["mqtt"]["mean"], 0.05, places=6)
+
+    def test_require_all_names_the_missing_stages(self):
+        r, _ = run_report(self.trace, "--require", "all")
+        self.assertEqual(r.returncode, 1)
+        for stage in ("t1", "air", "hmi", "state_to_hmi"):
+            self.assertIn(f"stage {stage} has no records", r.stderr)
+        self.assertNotIn("stage state_to_cam has no records", r.stderr)
+
+    def test_bounds(self):
+        r, _ = run_report(self.trace, "--max-p99", "state_to_cam=100")
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("state_to_cam p99", r.stderr)
+        r, _ = run_report(self.trace, "--max-p99", "state_to_cam=250")
+        self.assertEqual(r.returncode, 0, r.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()
