@@ -5,7 +5,6 @@
 namespace tb::emu::radio {
 namespace {
 
-constexpr std::uint16_t kEtherTypeGeoNetworking = 0x8947;
 // EN 302 636-4-1 9.6/9.7/9.8.4: Basic (4) and Common (8) header, SHB extended header: the
 // sender's long position vector (24) and 4 bytes of media-dependent data.
 constexpr std::size_t kBasicHeader = 4, kCommonHeader = 8, kShbHeader = 28;
@@ -26,7 +25,7 @@ std::uint16_t be16(std::span<const std::uint8_t> b, std::size_t at) {
 /// Where the GeoNetworking packet starts, or nullopt when this is no GN frame.
 std::optional<std::size_t> gn_offset(std::span<const std::uint8_t> f, LinkFraming framing) {
   if (framing == LinkFraming::kEthernet) {
-    if (f.size() < 14 || be16(f, 12) != kEtherTypeGeoNetworking)
+    if (f.size() < 14 || be16(f, 12) != kEthertypeGeoNetworking)
       return std::nullopt;
     return 14;
   }
@@ -47,7 +46,7 @@ std::optional<std::size_t> gn_offset(std::span<const std::uint8_t> f, LinkFramin
   for (std::size_t i = 0; i < sizeof kSnap; ++i)
     if (f[at + i] != kSnap[i])
       return std::nullopt;
-  if (be16(f, at + 6) != kEtherTypeGeoNetworking)
+  if (be16(f, at + 6) != kEthertypeGeoNetworking)
     return std::nullopt;
   return at + 8;
 }

@@ -11,6 +11,9 @@
 
 namespace tb::emu::radio {
 
+/// GeoNetworking's ethertype (EN 302 636-4-1, IEEE registration).
+inline constexpr std::uint16_t kEthertypeGeoNetworking = 0x8947;
+
 struct CamTag {
   std::uint32_t station_id = 0;
   std::uint16_t generation_delta_time = 0;

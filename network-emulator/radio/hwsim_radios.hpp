@@ -5,7 +5,6 @@
 /// handler the way wmediumd is, so that the channel model decides every delivery.
 
 #include <cstdint>
-#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -21,6 +20,7 @@
 #include "network-emulator/radio/channel.hpp"
 #include "network-emulator/radio/genl.hpp"
 #include "network-emulator/radio/hwsim.hpp"
+#include "network-emulator/radio/medium.hpp"
 #include "network-emulator/radio/veth_radios.hpp"
 
 namespace tb::emu::radio {
@@ -126,7 +126,6 @@ class HwsimMedium {
   std::uint64_t frames_in() const { return frames_in_; }
   std::uint64_t bad_messages() const { return bad_messages_; }
   /// Called with every frame of one of our radios (802.11), before the channel decides.
-  using FrameObserver = std::function<void(StationId from, std::span<const std::uint8_t> frame)>;
   void set_frame_observer(FrameObserver o) { frame_observer_ = std::move(o); }
 
  private:

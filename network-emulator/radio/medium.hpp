@@ -23,6 +23,10 @@ class FrameSink {
   virtual void transmit(std::span<const std::uint8_t> frame) = 0;
 };
 
+/// Sees every frame a station puts on the air, before the channel decides: the veth medium's
+/// (Ethernet) and the hwsim medium's (802.11) alike.
+using FrameObserver = std::function<void(StationId from, std::span<const std::uint8_t> frame)>;
+
 class Medium {
  public:
   Medium(clock::Runtime& runtime, Channel& channel) : runtime_(runtime), channel_(channel) {}
@@ -36,7 +40,6 @@ class Medium {
 
   /// Called with every frame that comes in, before the channel decides (the trace's
   /// `medium.rx`).
-  using FrameObserver = std::function<void(StationId from, std::span<const std::uint8_t> frame)>;
   void set_frame_observer(FrameObserver o) { frame_observer_ = std::move(o); }
 
   /// A frame @p from put on the air. Frames with no delay are handed over before this returns;

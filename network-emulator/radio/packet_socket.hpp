@@ -11,13 +11,14 @@
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/posix/stream_descriptor.hpp>
 
+#include "network-emulator/radio/frame_tag.hpp"
 #include "network-emulator/radio/medium.hpp"
 
 namespace tb::emu::radio {
 
-/// Ethertype to capture: ETH_P_ALL for every frame, or one protocol such as 0x8947 (GN).
+/// Ethertype to capture: ETH_P_ALL for every frame, or one protocol such as
+/// kEthertypeGeoNetworking (frame_tag.hpp).
 inline constexpr std::uint16_t kEthertypeAll = 0x0003;
-inline constexpr std::uint16_t kEthertypeGeoNetworking = 0x8947;
 
 /// Blocking-free raw socket. Opened in the calling thread's network namespace.
 class PacketSocket {
