@@ -22,11 +22,6 @@ struct LocationTableEntry {
   bool is_neighbour = false;
   clock::SteadyTime expires{};
 
-  // Annex A.3: the source TST of the last SHB or beacon, kept apart from the position's TST so
-  // that a multi-hop packet carrying the same fix does not make the next SHB a duplicate.
-  bool has_single_hop_timestamp = false;
-  Timestamp single_hop_timestamp = 0;
-
   // Duplicate packet list (Annex A.2): a ring of the last sequence numbers seen.
   std::array<std::uint16_t, kDuplicatePacketListLength> dpl{};
   std::uint8_t dpl_size = 0;
@@ -52,6 +47,11 @@ class LocationTable {
   /// entry's lifetime. Returns false (and changes nothing) for an older or equal timestamp.
   bool update_position(LocationTableEntry& entry, const LongPositionVector& pv,
                        clock::SteadyTime now);
+
+  /// Restarts the entry's lifetime without touching its position: its source was heard again.
+  void refresh(LocationTableEntry& entry, clock::SteadyTime now) const {
+    entry.expires = now + lifetime_;
+  }
 
   /// Annex A.2: true if @p sn is in the entry's duplicate packet list; otherwise records it.
   static bool is_duplicate_sequence_number(LocationTableEntry& entry, std::uint16_t sn);

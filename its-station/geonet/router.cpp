@@ -384,20 +384,14 @@ void Router::on_frame(const link::ReceivedFrame& frame) {
     drop(DropReason::kHopLimitExceedsMaximum);
     return;
   }
-  // LT bounds how long the packet may live after its source stamped its position. The age is
-  // measured in GNSS time, the time base of every TST: our latest fix's time minus the
-  // source's, so that stations agree even when the simulation's clock is not the host's. A
-  // source TST ahead of ours counts as age 0; without a fix of our own only LT = 0 is stale.
-  clock::Duration remaining_lifetime = p.basic.lifetime.duration();
-  if (p.common.type != PacketType::kBeacon) {
-    std::int32_t age_ms = 0;
-    if (const auto own = position_.current_position())
-      age_ms = std::max(0, timestamp_difference(to_timestamp(own->time), so.timestamp));
-    remaining_lifetime -= std::chrono::milliseconds{age_ms};
-    if (remaining_lifetime <= clock::Duration::zero()) {
-      drop(DropReason::kLifetimeExpired);
-      return;
-    }
+  // Clause 10.3.10.3 / 10.3.11.3: the lifetime governs buffering and forwarding; nothing is
+  // dropped for the age (own time − source TST) it would suggest, since peers stamp TSTs in
+  // TAI or UTC (5 s apart) from clocks we cannot check, with lifetimes as short as 1 s. Only
+  // a packet that arrives with no lifetime at all is stale by its own word.
+  const clock::Duration remaining_lifetime = p.basic.lifetime.duration();
+  if (p.common.type != PacketType::kBeacon && remaining_lifetime <= clock::Duration::zero()) {
+    drop(DropReason::kLifetimeExpired);
+    return;
   }
 
   if (table_.size() >= config_.max_location_entries &&
@@ -413,15 +407,11 @@ void Router::on_frame(const link::ReceivedFrame& frame) {
   switch (p.common.type) {
     case PacketType::kBeacon:
     case PacketType::kSingleHopBroadcast: {
-      // Annex A.3: single-hop packets carry no sequence number; a source timestamp not newer
-      // than that of the last single-hop packet from the source marks a duplicate.
-      if (entry.has_single_hop_timestamp && !is_newer(so.timestamp, entry.single_hop_timestamp)) {
-        drop(DropReason::kDuplicate);
-        return;
-      }
-      entry.has_single_hop_timestamp = true;
-      entry.single_hop_timestamp = so.timestamp;
-      table_.update_position(entry, so, now);
+      // Clause 10.3.10.3 (V1.3.1 on): no duplicate packet detection for single-hop packets.
+      // A newer TST updates the entry (Annex C.2), an older or equal one does not; the packet
+      // goes up either way, and hearing the source directly keeps its entry alive.
+      if (!table_.update_position(entry, so, now))
+        table_.refresh(entry, now);
       entry.is_neighbour = true;
       entry.link_address = frame.source;
       if (p.common.type == PacketType::kSingleHopBroadcast)

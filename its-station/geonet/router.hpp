@@ -125,8 +125,8 @@ enum class DropReason {
   kWrongEtherType,
   kParseError,              ///< see the ParseError passed along
   kOwnPacket,               ///< our own packet, rebroadcast by a neighbour
-  kDuplicate,               ///< Annex A: seen before (sequence number or timestamp)
-  kLifetimeExpired,         ///< LT zero, or older than LT by its source timestamp
+  kDuplicate,               ///< Annex A: seen before (sequence number; multi-hop packets only)
+  kLifetimeExpired,         ///< LT zero on reception
   kHopLimitZero,            ///< RHL 0 on reception
   kHopLimitExceedsMaximum,  ///< RHL > MHL: inconsistent, so not trusted
   kOutsideArea,             ///< GBC for an area we are not in: forwarded, not delivered

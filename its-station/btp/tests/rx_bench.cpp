@@ -1,5 +1,5 @@
 // The GN + BTP receive path on one core: a frame from the link through parsing, header checks,
-// lifetime, location table update, duplicate detection and BTP dispatch to a port handler.
+// location table update, duplicate detection (multi-hop) and BTP dispatch to a port handler.
 
 #include <benchmark/benchmark.h>
 
@@ -35,8 +35,8 @@ struct Receiver {
   }
 };
 
-// kSources stations' packets; each iteration bumps a packet's TST (single hop) or SN (multi
-// hop) so that none is a duplicate, as in real traffic.
+// kSources stations' packets; each iteration bumps a packet's TST (single hop: every packet
+// updates the location table entry) or SN (multi hop: none is a duplicate), as in real traffic.
 void run(benchmark::State& state, geonet::PacketType type) {
   Receiver rx;
   std::vector<std::vector<std::uint8_t>> frames;

@@ -8,6 +8,7 @@
 
 #include "its-station/link/capturing_link.hpp"
 #include "its-station/link/packet_socket_link.hpp"
+#include "its-station/link/pcap_reader.hpp"
 #include "its-station/link/pcap_writer.hpp"
 #include "its-station/link/test_link.hpp"
 
@@ -100,6 +101,72 @@ TEST(PcapWriter, WritesTheClassicHeaderAndOneRecordPerFrame) {
       0x89, 0x47, 0x11, 0x22};                                                 // type, data
   EXPECT_EQ(read_file(path), expected);
   std::remove(path.c_str());
+}
+
+TEST(PcapReader, ReadsBackWhatTheWriterWrote) {
+  const std::string path = ::testing::TempDir() + "/gn_reader_test.pcap";
+  {
+    auto w = PcapWriter::create(path);
+    ASSERT_TRUE(w) << w.error();
+    const std::uint8_t one[] = {0x11, 0x22};
+    const std::uint8_t two[] = {0x33};
+    ASSERT_TRUE(w->write(clock::WallTime{std::chrono::milliseconds{1500}}, kBroadcastMac,
+                         {2, 0, 0, 0, 0, 1}, kEtherTypeGeoNetworking, one));
+    ASSERT_TRUE(w->write(clock::WallTime{std::chrono::microseconds{2'000'007}}, {2, 0, 0, 0, 0, 9},
+                         {2, 0, 0, 0, 0, 2}, 0x0800, two));
+    ASSERT_TRUE(w->flush());
+  }
+  const auto frames = read_capture(path);
+  ASSERT_TRUE(frames) << frames.error();
+  ASSERT_EQ(frames->size(), 2u);
+  EXPECT_EQ((*frames)[0].time, clock::WallTime{std::chrono::milliseconds{1500}});
+  EXPECT_EQ((*frames)[0].destination, kBroadcastMac);
+  EXPECT_EQ((*frames)[0].source, (MacAddress{2, 0, 0, 0, 0, 1}));
+  EXPECT_EQ((*frames)[0].ethertype, kEtherTypeGeoNetworking);
+  EXPECT_EQ((*frames)[0].payload, (std::vector<std::uint8_t>{0x11, 0x22}));
+  EXPECT_EQ((*frames)[1].time, clock::WallTime{std::chrono::microseconds{2'000'007}});
+  EXPECT_EQ((*frames)[1].ethertype, 0x0800);
+
+  // A record cut short names where.
+  auto bytes = read_file(path);
+  bytes.pop_back();
+  const auto cut = parse_capture(bytes);
+  ASSERT_FALSE(cut);
+  EXPECT_NE(cut.error().find("truncated at byte 56"), std::string::npos) << cut.error();
+  std::remove(path.c_str());
+}
+
+TEST(PcapReader, ReadsPcapngWithItsInterfaceTimeResolution) {
+  // Section header (little endian), an Ethernet interface with if_tsresol 9 (ns), one enhanced
+  // packet block of a 15-byte frame at 3.000000005 s.
+  const std::vector<std::uint8_t> file = {
+      0x0a, 0x0d, 0x0d, 0x0a, 28,   0,    0,    0,    0x4d, 0x3c, 0x2b, 0x1a,
+      1,    0,    0,    0,                                                  // SHB
+      0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 28,   0,    0,    0,  //
+      1,    0,    0,    0,    28,   0,    0,    0,    1,    0,    0,    0,
+      0,    0,    0,    0,                                                  // IDB
+      9,    0,    1,    0,    9,    0,    0,    0,    28,   0,    0,    0,  // if_tsresol
+      6,    0,    0,    0,    48,   0,    0,    0,    0,    0,    0,    0,  // EPB, if 0
+      0,    0,    0,    0,    0x05, 0x5e, 0xd0, 0xb2, 15,   0,    0,    0,
+      15,   0,    0,    0,  // 3e9+5 ns
+      0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 2,    0,    0,    0,    0,    7,
+      0x89, 0x47, 0xab, 0,  // frame
+      48,   0,    0,    0};
+  const auto frames = parse_capture(file);
+  ASSERT_TRUE(frames) << frames.error();
+  ASSERT_EQ(frames->size(), 1u);
+  EXPECT_EQ((*frames)[0].time,
+            clock::WallTime{std::chrono::duration_cast<clock::WallClock::duration>(
+                std::chrono::nanoseconds{3'000'000'005})});
+  EXPECT_EQ((*frames)[0].source, (MacAddress{2, 0, 0, 0, 0, 7}));
+  EXPECT_EQ((*frames)[0].payload, std::vector<std::uint8_t>{0xab});
+
+  auto wrong_if = file;
+  wrong_if[64] = 1;
+  const auto e = parse_capture(wrong_if);
+  ASSERT_FALSE(e);
+  EXPECT_NE(e.error().find("interface 1"), std::string::npos) << e.error();
+  EXPECT_FALSE(parse_capture(std::vector<std::uint8_t>{1, 2, 3, 4, 5}));
 }
 
 TEST(CapturingLink, RecordsSentAndReceivedFramesAndPassesThemOn) {
