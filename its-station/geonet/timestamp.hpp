@@ -4,9 +4,9 @@
 /// TST = TST(TAI) mod 2^32, where TST(TAI) counts TAI milliseconds since 2004-01-01 00:00:00.000
 /// UTC. TAI runs on through leap seconds, UTC does not: so TST(TAI) is the UTC milliseconds since
 /// that instant plus the leap seconds inserted since (five by 2017-01-01, none since). We count
-/// them because the standard says TAI and because other stacks (and the security layer's Time64)
-/// do, so our position vectors age the same as theirs; the CAM's TimestampIts of CDD V1.3.1 is
-/// plain UTC and is not computed here.
+/// them because the standard says TAI. Other stacks stamp UTC (Vanetza), so a TST is only ever
+/// compared with earlier TSTs of the same source, never used to age a packet; docs/time.md
+/// lists every time base of the station. The CAM's TimestampIts (CDD V1.3.1, UTC) is not here.
 
 #include <cstdint>
 

@@ -97,5 +97,16 @@ TEST(ItsTime, GenerationTimeFromDeltaTime) {
   EXPECT_EQ(generation_time(gdt, gen - milliseconds{1500}), gen);
 }
 
+TEST(ItsTime, APeerCountingTaiIsDatedFiveSecondsAheadNotAMinuteBack) {
+  // CDD V2.x TimestampIts is TAI, 5 s ahead of our UTC since 2017 (docs/time.md).
+  using namespace std::chrono;
+  const clock::WallTime utc{milliseconds{1'763'770'000'123}};
+  const auto tai_gdt = generation_delta_time(timestamp_its(utc + seconds{5}));
+  EXPECT_EQ(generation_time(tai_gdt, utc + milliseconds{40}), utc + seconds{5});
+  // And a UTC peer's CAM 55 s old is still placed in the past.
+  const auto gdt = generation_delta_time(timestamp_its(utc));
+  EXPECT_EQ(generation_time(gdt, utc + seconds{55}), utc);
+}
+
 }  // namespace
 }  // namespace tb::its::facilities
