@@ -42,7 +42,8 @@ facilities::SendResult to_send_result(geonet::DataConfirm c) {
 
 facilities::SendResult BtpMessageSender::send_single_hop(std::uint16_t port,
                                                          std::span<const std::uint8_t> payload) {
-  return to_send_result(btp_.send_b(geonet::DataRequest::single_hop(), port, 0, payload));
+  return to_send_result(btp_.send_b(geonet::DataRequest::single_hop(kCamTrafficClass, kCamLifetime),
+                                    port, 0, payload));
 }
 
 facilities::SendResult BtpMessageSender::send_geobroadcast(std::uint16_t port,
@@ -58,6 +59,7 @@ facilities::SendResult BtpMessageSender::send_geobroadcast(std::uint16_t port,
       geonet::make_geo_area(shape, {area.latitude_deg, area.longitude_deg}, area.distance_a_m,
                             area.distance_b_m, area.angle_deg));
   r.lifetime = std::chrono::milliseconds{lifetime_ms};
+  r.traffic_class = kDenmTrafficClass;
   return to_send_result(btp_.send_b(r, port, 0, payload));
 }
 

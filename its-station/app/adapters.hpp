@@ -55,6 +55,15 @@ class GnPositionAdapter final : public geonet::PositionProvider {
 /// CAMs as SHB and DENMs as GBC, both BTP-B (EN 302 636-5-1).
 class BtpMessageSender final : public facilities::MessageSender {
  public:
+  /// CAMs go with traffic class 2 and a GN lifetime of 1 s, as C2C-CC vehicles send them (DCC
+  /// profile DP2 of TS 102 636-4-2: periodic awareness); the lifetime bounds nothing for SHB.
+  static constexpr geonet::TrafficClass kCamTrafficClass{false, false, 2};
+  static constexpr clock::Duration kCamLifetime = std::chrono::seconds{1};
+  /// DENMs go with traffic class 0, the highest (DP0 of TS 102 636-4-2: event-driven safety
+  /// warnings; EN 302 637-3 leaves the value to the profile, and our DENMs are collision
+  /// warnings); no store-carry-forward, so a GBC at a greedy local optimum is broadcast.
+  static constexpr geonet::TrafficClass kDenmTrafficClass{false, false, 0};
+
   explicit BtpMessageSender(btp::Dispatcher& btp) : btp_(btp) {}
   facilities::SendResult send_single_hop(std::uint16_t port,
                                          std::span<const std::uint8_t> payload) override;

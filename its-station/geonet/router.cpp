@@ -218,7 +218,7 @@ DataConfirm Router::request(const DataRequest& req, std::span<const std::uint8_t
       // Clause 10.3.11.2 with Annex F: broadcast inside the area, greedy towards it otherwise.
       const GeoPoint ego = position_of(*epv);
       if (!is_inside_or_at_border(*req.area, ego)) {
-        const auto next = greedy_next_hop(*req.area, ego);
+        const auto next = greedy_next_hop(*req.area, ego, req.traffic_class);
         if (!next)
           return DataConfirm::kNoNeighbourTowardsArea;
         destination = *next;
@@ -244,8 +244,8 @@ void Router::drop(DropReason reason, std::optional<ParseError> pe) {
     drop_hook_(DropEvent{reason, pe});
 }
 
-std::optional<link::MacAddress> Router::greedy_next_hop(const GeoArea& area,
-                                                        const GeoPoint& ego) const {
+std::optional<link::MacAddress> Router::greedy_next_hop(const GeoArea& area, const GeoPoint& ego,
+                                                        TrafficClass tc) const {
   // Annex E.2, most forward within radius: the neighbour nearest to the destination, if it is
   // nearer than we are.
   const GeoPoint centre{to_degrees(area.latitude), to_degrees(area.longitude)};
@@ -258,6 +258,11 @@ std::optional<link::MacAddress> Router::greedy_next_hop(const GeoArea& area,
       next = e.link_address;
     }
   });
+  // Annex E.2 at a local optimum (no neighbour makes progress): with store-carry-forward the
+  // packet waits in the forwarding buffer, which this router does not implement (so: none);
+  // without, it is broadcast for whoever hears it.
+  if (!next && !tc.store_carry_forward)
+    next = link::kBroadcastMac;
   return next;
 }
 
@@ -292,7 +297,8 @@ void Router::forward(const Packet& packet, std::span<const std::uint8_t> bytes,
   link::MacAddress destination = link::kBroadcastMac;
   if (area && !inside) {
     const auto epv = ego_position_vector();
-    const auto next = epv ? greedy_next_hop(*area, position_of(*epv)) : std::nullopt;
+    const auto next =
+        epv ? greedy_next_hop(*area, position_of(*epv), packet.common.traffic_class) : std::nullopt;
     if (!next) {
       drop(DropReason::kNoForwardingNeighbour);
       return;

@@ -50,7 +50,8 @@ struct RouterConfig {
     kContentionBased,  ///< Annex F.3: after a timeout shorter the farther the sender; a copy
                        ///< heard meanwhile means someone farther on forwarded it already
   };
-  AreaForwarding area_forwarding = AreaForwarding::kSimple;
+  /// Annex H: itsGnAreaForwardingAlgorithm defaults to CBF.
+  AreaForwarding area_forwarding = AreaForwarding::kContentionBased;
   clock::Duration cbf_min_time = 1ms;         ///< itsGnCbfMinTime
   clock::Duration cbf_max_time = 100ms;       ///< itsGnCbfMaxTime
   double max_communication_range_m = 1000.0;  ///< itsGnDefaultMaxCommunicationRange
@@ -98,7 +99,8 @@ enum class DataConfirm {
   kMaxLifetimeExceeded,
   kMissingArea,             ///< GBC request without a destination area
   kNoPosition,              ///< the positioning service has no fix yet
-  kNoNeighbourTowardsArea,  ///< GBC from outside the area and greedy forwarding found no one
+  kNoNeighbourTowardsArea,  ///< GBC from outside the area, no neighbour towards it, and
+                            ///< store-carry-forward asked for (its buffer is not implemented)
   kLinkError,
 };
 std::string to_string(DataConfirm c);
@@ -131,7 +133,7 @@ enum class DropReason {
   kHopLimitExceedsMaximum,  ///< RHL > MHL: inconsistent, so not trusted
   kOutsideArea,             ///< GBC for an area we are not in: forwarded, not delivered
   kNotForwardedHopLimit,    ///< delivered, but RHL reached 0 so not forwarded
-  kNoForwardingNeighbour,   ///< greedy forwarding towards the area found no one
+  kNoForwardingNeighbour,   ///< local optimum with store-carry-forward (no buffer for it)
   kForwardLinkError,
   kContentionLost,     ///< CBF: another router rebroadcast it first, so we do not
   kLocationTableFull,  ///< a new source while max_location_entries live entries exist
@@ -188,7 +190,10 @@ class Router {
   void schedule_beacon(clock::Duration delay);
   void on_beacon_timer();
   bool send_frame(const link::MacAddress& to, std::span<const std::uint8_t> bytes);
-  std::optional<link::MacAddress> greedy_next_hop(const GeoArea& area, const GeoPoint& ego) const;
+  /// Annex E.2: the neighbour to unicast to, broadcast at a local optimum, or nullopt where
+  /// the standard would buffer the packet (store-carry-forward, not implemented).
+  std::optional<link::MacAddress> greedy_next_hop(const GeoArea& area, const GeoPoint& ego,
+                                                  TrafficClass tc) const;
   /// Annex F.3: buffers the packet for a timeout that shrinks with the sender's distance.
   void contend(const Packet& packet, std::span<const std::uint8_t> bytes,
                const link::MacAddress& sender, std::uint64_t key);

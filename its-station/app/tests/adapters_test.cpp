@@ -112,6 +112,18 @@ TEST_F(TwoStations, CamsReachTheOtherLdmWithPositionAndSpeed) {
   EXPECT_LE(enu.east, 27.8 + 0.05);
   EXPECT_GE(b->ca.counters().received, 4u);
   EXPECT_EQ(b->ca.counters().decode_errors, 0u);
+  // Every CAM on the air: GN SHB with traffic class 2 and a lifetime of 1 s.
+  std::size_t cams = 0;
+  for (const auto& f : a->link.sent()) {
+    const auto p = geonet::parse_packet(f.payload);
+    ASSERT_TRUE(p);
+    if (p->common.type != geonet::PacketType::kSingleHopBroadcast)
+      continue;
+    ++cams;
+    EXPECT_EQ(p->common.traffic_class, (geonet::TrafficClass{false, false, 2}));
+    EXPECT_EQ(p->basic.lifetime.duration(), 1s);
+  }
+  EXPECT_GE(cams, 4u);
 
   // The LCRW view of the neighbour: bounding-box centre half a length behind the reference.
   const auto k = neighbour_kinematics(*seen_by_b);
@@ -138,6 +150,17 @@ TEST_F(TwoStations, DenmFromTheAppPortIsGeoBroadcastAndCancelled) {
   EXPECT_NEAR(view.event_latitude_deg, g.latitude_deg, 1e-7);
   EXPECT_EQ(view.relevance_distance, apps::RelevanceDistance::kLessThan100m);
   EXPECT_EQ(view.validity_duration_s, 10u);
+  // On the air: a GBC with traffic class 0.
+  bool seen_gbc = false;
+  for (const auto& f : a->link.sent()) {
+    const auto p = geonet::parse_packet(f.payload);
+    ASSERT_TRUE(p);
+    if (p->common.type == geonet::PacketType::kGeoBroadcastCircle) {
+      seen_gbc = true;
+      EXPECT_EQ(p->common.traffic_class, (geonet::TrafficClass{false, false, 0}));
+    }
+  }
+  EXPECT_TRUE(seen_gbc);
   rt.advance(300ms);
   ASSERT_TRUE(a->port.terminate(*id));
   EXPECT_EQ(b->ldm.event({id->originating_station_id, id->sequence_number}), nullptr);

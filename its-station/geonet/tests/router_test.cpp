@@ -355,8 +355,8 @@ TEST_F(RouterTest, TsbIsDeliveredAndRebroadcastWithOneHopLess) {
   EXPECT_EQ(drops.back().reason, DropReason::kNotForwardedHopLimit);
 }
 
-TEST_F(RouterTest, GbcInsideTheAreaIsDeliveredAndRebroadcast) {
-  start();
+TEST_F(RouterTest, GbcInsideTheAreaIsDeliveredAndRebroadcastAfterContentionByDefault) {
+  start();  // Annex H: itsGnAreaForwardingAlgorithm is CBF by default
   set_position(at(0, 0));
   PacketSpec s;
   s.type = PacketType::kGeoBroadcastCircle;
@@ -368,6 +368,10 @@ TEST_F(RouterTest, GbcInsideTheAreaIsDeliveredAndRebroadcast) {
   ASSERT_EQ(delivered.size(), 1u);
   EXPECT_EQ(delivered[0].first.destination_area, s.area);
   EXPECT_EQ(delivered[0].first.packet_type, PacketType::kGeoBroadcastCircle);
+  EXPECT_TRUE(link.sent().empty());  // contending: the sender's position is unknown, 100 ms
+  rt.advance(99ms);
+  EXPECT_TRUE(link.sent().empty());
+  rt.advance(1ms);
   ASSERT_EQ(link.sent().size(), 1u);
   EXPECT_EQ(link.sent()[0].destination, link::kBroadcastMac);
   EXPECT_EQ(link.sent()[0].payload[3], 4);
@@ -473,7 +477,7 @@ TEST_F(RouterTest, GbcOutsideTheAreaGoesGreedilyToTheNeighbourNearestToIt) {
   EXPECT_EQ(drop_reasons(), std::vector{DropReason::kOutsideArea});
 }
 
-TEST_F(RouterTest, GbcOutsideWithNoNeighbourNearerOrFromInsideIsNotForwarded) {
+TEST_F(RouterTest, GbcAtALocalOptimumIsBroadcastAndFromInsideIsNotForwarded) {
   start();
   set_position(at(0, 0));
   PacketSpec s;
@@ -483,8 +487,12 @@ TEST_F(RouterTest, GbcOutsideWithNoNeighbourNearerOrFromInsideIsNotForwarded) {
   s.rhl = 5;
   s.mhl = 5;
   receive(make_packet(s), mac(2));
-  EXPECT_EQ(drop_reasons(),
-            (std::vector{DropReason::kOutsideArea, DropReason::kNoForwardingNeighbour}));
+  // Annex E.2: no neighbour nearer to the area and no store-carry-forward: broadcast.
+  EXPECT_EQ(drop_reasons(), std::vector{DropReason::kOutsideArea});
+  ASSERT_EQ(link.sent().size(), 1u);
+  EXPECT_EQ(link.sent()[0].destination, link::kBroadcastMac);
+  EXPECT_EQ(link.sent()[0].payload[3], 4);
+  link.sent().clear();
   drops.clear();
 
   // Station 6 sits inside the area and its broadcast reached us outside: let it be.
@@ -500,11 +508,18 @@ TEST_F(RouterTest, GbcOutsideWithNoNeighbourNearerOrFromInsideIsNotForwarded) {
   EXPECT_TRUE(link.sent().empty());
 }
 
-TEST_F(RouterTest, GbcRequestFromOutsideTheAreaNeedsANeighbourTowardsIt) {
+TEST_F(RouterTest, GbcRequestFromOutsideTheAreaGoesGreedilyOrIsBroadcastAtALocalOptimum) {
   start();
   set_position(at(0, 0));
+  auto scf = DataRequest::geo_broadcast(circle_at(at(0, 2000), 300));
+  scf.traffic_class.store_carry_forward = true;  // would wait in a buffer we do not have
+  EXPECT_EQ(router->request(scf, Bytes{1}), DataConfirm::kNoNeighbourTowardsArea);
+  EXPECT_TRUE(link.sent().empty());
   const auto gbc = DataRequest::geo_broadcast(circle_at(at(0, 2000), 300));
-  EXPECT_EQ(router->request(gbc, Bytes{1}), DataConfirm::kNoNeighbourTowardsArea);
+  EXPECT_EQ(router->request(gbc, Bytes{1}), DataConfirm::kAccepted);
+  ASSERT_EQ(link.sent().size(), 1u);
+  EXPECT_EQ(link.sent()[0].destination, link::kBroadcastMac);
+  link.sent().clear();
   PacketSpec n;
   n.source = remote_pv(9, at(0, 250), now_tst());
   receive(make_packet(n), mac(9));

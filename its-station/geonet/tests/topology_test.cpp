@@ -9,12 +9,15 @@ using namespace std::chrono_literals;
 using namespace testing;
 
 // Five stations on a line, 100 m apart, radio range 150 m: each hears only its direct
-// neighbours.
+// neighbours. Simple GeoBroadcast forwarding inside areas, so that a dispatch shows every hop
+// at once (contention-based forwarding, the default, has its own tests below).
 class LineTopology : public ::testing::Test {
  protected:
   void SetUp() override {
+    RouterConfig config;
+    config.area_forwarding = RouterConfig::AreaForwarding::kSimple;
     for (std::uint8_t i = 0; i < 5; ++i)
-      net.add_station(i, at(100.0 * i, 0));
+      net.add_station(i, at(100.0 * i, 0), config);
     net.advance_time(4s);  // everyone has beaconed at least once
   }
   std::vector<std::size_t> deliveries() {
@@ -93,7 +96,16 @@ TEST_F(LineTopology, GbcStopsWhereNoNeighbourLeadsTowardsTheArea) {
                                            payload),
             DataConfirm::kAccepted);
   net.dispatch();
+  // Annex E.2: 2 is a local optimum and broadcasts; 3 does not hear it, 1 drops the copy.
   EXPECT_EQ(deliveries(), (std::vector<std::size_t>{0, 0, 0, 0, 0}));
+  EXPECT_EQ(net.station(2).dropped(DropReason::kNoForwardingNeighbour), 0u);
+  EXPECT_EQ(net.station(1).dropped(DropReason::kDuplicate), 1u);
+
+  // With store-carry-forward the packet would wait in a buffer this router does not have.
+  auto scf = DataRequest::geo_broadcast(circle_at(at(400, 0), 50));
+  scf.traffic_class.store_carry_forward = true;
+  ASSERT_EQ(net.station(0).router->request(scf, payload), DataConfirm::kAccepted);
+  net.dispatch();
   EXPECT_EQ(net.station(2).dropped(DropReason::kNoForwardingNeighbour), 1u);
 }
 
