@@ -20,18 +20,19 @@ std::string_view to_string(DenError e) {
       return "event already terminated";
     case DenError::kBadRequest:
       return "bad request";
-    case DenError::kEncodeFailed:
-      return "DENM encoding failed";
+    case DenError::kSendFailed:
+      return "DENM not sent (encoding or the network refused it; see the log)";
   }
   return "?";
 }
 
 namespace {
 
-// GeoNetworking packet lifetime (EN 302 636-4-1 clause 9.6.5) is at most 63 × 100 s; the DENM
-// needs no forwarding after its validity ends.
+// The GN packet lifetime follows the validity (no forwarding after it ends) but is capped at
+// itsGnMaxPacketLifetime, 600 s (EN 302 636-4-1 Annex H), which the router enforces: a DENM valid
+// for longer is still sent, repetitions carry it on.
 std::uint32_t gn_lifetime_ms(messages::ValidityDuration validity_s) {
-  return std::min<std::uint32_t>(validity_s * 1000u, 6'300'000u);
+  return std::min<std::uint32_t>(validity_s * 1000u, kMaxGnLifetimeMs);
 }
 
 }  // namespace
@@ -98,9 +99,9 @@ bool DenService::transmit(const messages::Denm& denm, const GeoArea& area) {
   if (r != SendResult::kSent) {
     ++counters_.send_errors;
     spdlog::warn("DEN service: DENM not sent: {}", to_string(r));
-  } else {
-    ++counters_.sent;
+    return false;
   }
+  ++counters_.sent;
   const auto& mc = denm.denm.management;
   trace::global().record("its.denm_tx", {{"station", config_.station_id},
                                          {"origin", mc.actionID.originatingStationID},
@@ -170,7 +171,7 @@ Expected<messages::ActionID, DenError> DenService::trigger(const DenRequest& req
                             Own{*denm, request.destination_area, {}, {}, 0, false, false});
   if (!transmit(it->second.denm, it->second.area)) {
     own_.erase(it);
-    return Unexpected{DenError::kEncodeFailed};
+    return Unexpected{DenError::kSendFailed};
   }
   start_repetition(it->second, request.repetition_interval, request.repetition_duration);
   return id;
@@ -192,7 +193,7 @@ Expected<messages::ActionID, DenError> DenService::update(const messages::Action
   it->second.denm = *denm;
   it->second.area = request.destination_area;
   if (!transmit(it->second.denm, it->second.area))
-    return Unexpected{DenError::kEncodeFailed};
+    return Unexpected{DenError::kSendFailed};
   start_repetition(it->second, request.repetition_interval, request.repetition_duration);
   return id;
 }
@@ -208,7 +209,7 @@ Expected<messages::ActionID, DenError> DenService::terminate(const messages::Act
     own.denm.denm.management.termination = messages::Termination::isCancellation;
     own.denm.denm.management.referenceTime = static_cast<messages::TimestampIts>(now_its);
     if (!transmit(own.denm, own.area))
-      return Unexpected{DenError::kEncodeFailed};
+      return Unexpected{DenError::kSendFailed};
     // Repeat the cancellation as the event was repeated, over the remaining duration.
     const auto remaining =
         std::max<clock::Duration>(own.repeat_until - runtime_.steady_now(), clock::Duration{});
@@ -222,8 +223,10 @@ Expected<messages::ActionID, DenError> DenService::terminate(const messages::Act
   messages::Denm neg = e->denm;
   neg.header.stationID = config_.station_id;
   auto& mc = neg.denm.management;
+  // EN 302 637-3 clause 8.1: a negation keeps the event's referenceTime (receivers match it
+  // to the event they hold) and carries the time the event was found gone as detectionTime.
   mc.termination = messages::Termination::isNegation;
-  mc.referenceTime = static_cast<messages::TimestampIts>(now_its);
+  mc.detectionTime = static_cast<messages::TimestampIts>(std::max<std::int64_t>(0, now_its));
   mc.stationType = config_.station_type;
   GeoArea area;
   area.latitude_deg = cdd::latitude_deg(mc.eventPosition.latitude).value_or(0.0);
@@ -231,7 +234,7 @@ Expected<messages::ActionID, DenError> DenService::terminate(const messages::Act
   area.distance_a_m = config_.negation_radius_m;
   area.distance_b_m = config_.negation_radius_m;
   if (!transmit(neg, area))
-    return Unexpected{DenError::kEncodeFailed};
+    return Unexpected{DenError::kSendFailed};
   // Our own LDM applies the negation too, so the event stops being active here at once.
   ldm_.add_denm(neg);
   return id;

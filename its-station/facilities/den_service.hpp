@@ -42,8 +42,11 @@ enum class DenError : std::uint8_t {
   kUnknownAction,  ///< no such event (own, or received and active)
   kAlreadyTerminated,
   kBadRequest,  ///< a parameter outside what the DENM can carry (named in the log)
-  kEncodeFailed,
+  kSendFailed,  ///< encoding failed or the network did not take it (no position, link...)
 };
+
+/// itsGnMaxPacketLifetime (EN 302 636-4-1 Annex H): the GN lifetime of a DENM is capped at it.
+inline constexpr std::uint32_t kMaxGnLifetimeMs = 600'000;
 std::string_view to_string(DenError e);
 
 struct DenConfig {

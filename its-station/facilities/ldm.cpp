@@ -1,5 +1,7 @@
 #include "its-station/facilities/ldm.hpp"
 
+#include <utility>
+
 #include "its-station/facilities/cdd_convert.hpp"
 #include "its-station/facilities/its_time.hpp"
 
@@ -96,10 +98,14 @@ DenmOutcome Ldm::add_denm(const messages::Denm& denm) {
     return notify(pos->second, DenmOutcome::kNew);
   }
   Event& e = it->second;
-  const auto held = e.denm.denm.management.referenceTime;
-  if (mc.referenceTime < held)
+  // Clause 8.2.2: DENMs of one event are ordered by referenceTime, then detectionTime (a
+  // negation keeps the event's referenceTime and brings a later detectionTime).
+  const auto& held = e.denm.denm.management;
+  const auto order = std::make_pair(mc.referenceTime, mc.detectionTime);
+  const auto held_order = std::make_pair(held.referenceTime, held.detectionTime);
+  if (order < held_order)
     return DenmOutcome::kOutdated;
-  if (mc.referenceTime == held)
+  if (order == held_order)
     return DenmOutcome::kRepetition;
   if (e.terminated) {
     // A newer repetition of the termination keeps the tombstone; anything else about a

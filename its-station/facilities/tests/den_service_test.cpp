@@ -140,6 +140,13 @@ TEST_F(DenTest, NegationByAnotherStationRemovesTheEventEverywhere) {
   EXPECT_EQ(sent->header.stationID, 202u);
   EXPECT_EQ(sent->denm.management.actionID, (messages::ActionID{101, 0}));
   EXPECT_EQ(sent->denm.management.termination, messages::Termination::isNegation);
+  // The negation keeps the event's referenceTime and dates itself by detectionTime.
+  const auto original = messages::decode_denm(a().sender.packets.front().payload);
+  ASSERT_TRUE(original);
+  EXPECT_EQ(sent->denm.management.referenceTime, original->denm.management.referenceTime);
+  EXPECT_EQ(sent->denm.management.detectionTime,
+            static_cast<messages::TimestampIts>(timestamp_its(rt.wall_now())));
+  EXPECT_GT(sent->denm.management.detectionTime, original->denm.management.detectionTime);
   EXPECT_EQ(c().ldm.event(*id), nullptr);
   EXPECT_EQ(b().ldm.event(*id), nullptr);
   // A stops repeating its negated event; later repetitions already in flight would be older
@@ -168,6 +175,37 @@ TEST_F(DenTest, SequenceNumbersIdentifyEventsAndValidityExpires) {
   EXPECT_TRUE(b().ldm.active_events().empty());
   EXPECT_EQ(a().den.originated(), 0u);
   EXPECT_EQ(a().sender.packets.size(), 2u);
+}
+
+TEST_F(DenTest, ValidityBeyondTheGnMaximumIsSentWithTheLifetimeCapped) {
+  auto r = collision_risk();
+  r.validity_s = 3600;
+  ASSERT_TRUE(a().den.trigger(r));
+  ASSERT_FALSE(a().sender.packets.empty());
+  EXPECT_EQ(a().sender.packets.back().lifetime_ms, 600'000u);  // itsGnMaxPacketLifetime
+  r.validity_s = 10;
+  ASSERT_TRUE(a().den.trigger(r));
+  EXPECT_EQ(a().sender.packets.back().lifetime_ms, 10'000u);
+}
+
+TEST_F(DenTest, ATransmitTheNetworkRefusesIsReportedAsAFailure) {
+  a().sender.result = SendResult::kNoPosition;
+  const auto id = a().den.trigger(collision_risk());
+  ASSERT_FALSE(id);
+  EXPECT_EQ(id.error(), DenError::kSendFailed);
+  EXPECT_EQ(a().den.originated(), 0u);
+  EXPECT_EQ(a().den.counters().sent, 0u);
+  EXPECT_EQ(a().den.counters().send_errors, 1u);
+  a().sender.result = SendResult::kSent;
+  const auto ok = a().den.trigger(collision_risk());
+  ASSERT_TRUE(ok);
+  a().sender.result = SendResult::kLinkError;
+  const auto up = a().den.update(*ok, collision_risk());
+  ASSERT_FALSE(up);
+  EXPECT_EQ(up.error(), DenError::kSendFailed);
+  const auto end = a().den.terminate(*ok);
+  ASSERT_FALSE(end);
+  EXPECT_EQ(end.error(), DenError::kSendFailed);
 }
 
 TEST_F(DenTest, BadRequestsAreRefused) {
