@@ -58,11 +58,19 @@ TEST(Powertrain, EngagesReverseOnlyNearStandstill) {
 }
 
 TEST(Powertrain, BrakeAndHandbrakeForces) {
+  // Worked by hand: force at the tyre = torque at the wheel / wheel radius.
   scenario::VehicleModel m;
+  m.brake_torque_nm = 3000.0;
+  m.handbrake_torque_nm = 900.0;
+  m.wheel_radius_m = 0.3;
   Powertrain p(m);
   const auto f = p.update({0.0f, 0.5f, 0.0f, false, true}, 10.0, kDt);
-  EXPECT_DOUBLE_EQ(f.brake_n, 0.5 * m.brake_torque_nm / m.wheel_radius_m);
-  EXPECT_DOUBLE_EQ(f.handbrake_n, m.handbrake_torque_nm / m.wheel_radius_m);
+  EXPECT_NEAR(f.brake_n, 5000.0, 1e-9);  // half of 3000 N·m at 0.3 m
+  EXPECT_NEAR(f.handbrake_n, 3000.0, 1e-9);
+  // The pedal saturates at fully pressed; no handbrake, no handbrake force.
+  const auto full = p.update({0.0f, 1.5f, 0.0f, false, false}, 10.0, kDt);
+  EXPECT_NEAR(full.brake_n, 10000.0, 1e-9);
+  EXPECT_EQ(full.handbrake_n, 0.0);
 }
 
 TEST(Powertrain, ClosedThrottleDragsAgainstTheMotion) {

@@ -2,10 +2,13 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 #include "common/trace/tracer.hpp"
 
@@ -92,10 +95,32 @@ TEST_F(TracerTest, RecordsReachTheFileWithinASecondWithoutFlush) {
 }
 
 TEST(Tracer, DisabledTracerWritesNothing) {
+  // Records go nowhere: not to the console, not to a file in the working directory, and the
+  // global tracer stays off while TESTBED_TRACE_DIR is empty.
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("tracer_off_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto cwd = std::filesystem::current_path();
+  std::filesystem::current_path(dir);
+  ::setenv("TESTBED_TRACE_DIR", "", 1);
+  ::testing::internal::CaptureStdout();
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(configure_from_env("p"), "");
+  EXPECT_FALSE(global().enabled());
   Tracer t;
   EXPECT_FALSE(t.enabled());
   t.record("x", {{"i", 1}});
+  t.record_at(1, "y", {{"s", "text"}});
   t.flush();
+  global().record("z", {{"i", 2}});
+  global().flush();
+  const std::string out = ::testing::internal::GetCapturedStdout();
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  std::filesystem::current_path(cwd);
+  EXPECT_EQ(out, "");
+  EXPECT_EQ(err, "");
+  EXPECT_TRUE(std::filesystem::is_empty(dir));
+  std::filesystem::remove_all(dir);
 }
 
 TEST(Tracer, UnwritablePathIsAnErrorNamingIt) {

@@ -82,6 +82,13 @@ TEST_F(PublisherTest, ZeroIntervalPublishesEveryCam) {
   for (int i = 0; i < 5; ++i) {
     EXPECT_TRUE(all.publish_cam(cam(7)));
   }
+  EXPECT_EQ(all.cams_suppressed(), 0u);
+  ASSERT_EQ(sink.sent.size(), 5u);
+  for (const auto& m : sink.sent) {
+    EXPECT_EQ(m.topic, "its/1001/in/cam/7");
+    EXPECT_EQ(m.payload["type"], "cam");
+    EXPECT_EQ(m.payload["message"]["station_id"], 7);
+  }
 }
 
 TEST_F(PublisherTest, WarningsAreQos1AndNotRetained) {

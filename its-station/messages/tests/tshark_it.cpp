@@ -147,7 +147,7 @@ class TsharkInterop : public ::testing::Test {
  protected:
   void SetUp() override {
     if (std::system("command -v tshark >/dev/null 2>&1") != 0)
-      GTEST_SKIP() << "tshark not installed (scripts/install-deps installs it)";
+      GTEST_FAIL() << "tshark not installed (scripts/install-deps installs it)";
     std::string tmpl = (std::filesystem::temp_directory_path() / "asn1-tshark-XXXXXX").string();
     ASSERT_NE(mkdtemp(tmpl.data()), nullptr);
     dir_ = tmpl;
