@@ -164,8 +164,8 @@ m::SteeringWheelAngle steering_wheel_angle(std::optional<double> deg) {
     return s;
   s.steeringWheelAngleValue =
       static_cast<m::SteeringWheelAngleValue>(round_clamped(*deg / 1.5, -511, 511));
-  // One step of the CDD's 1.5° unit: the value's own rounding.
-  s.steeringWheelAngleConfidence = 1;
+  // The sensor's accuracy is not known (the CAN signal gives none): "unavailable", not the best
+  // class, which would claim 1.5° for a reading nobody vouched for.
   return s;
 }
 

@@ -280,6 +280,16 @@ TEST(CaService, EncodedCamDecodesToWhatWasBuilt) {
   EXPECT_EQ(hf.longitudinalAcceleration.longitudinalAccelerationValue, -13);  // −1.25 → −12.5
   EXPECT_EQ(hf.yawRate.yawRateValue, 200);
   EXPECT_EQ(hf.steeringWheelAngle->steeringWheelAngleValue, 20);
+  // The CAN signals say nothing of their sensors' accuracy: every such confidence is sent as
+  // unavailable, never as the best class.
+  EXPECT_EQ(hf.steeringWheelAngle->steeringWheelAngleConfidence,
+            messages::kSteeringWheelAngleConfidenceUnavailable);
+  EXPECT_EQ(hf.yawRate.yawRateConfidence, messages::YawRateConfidence::unavailable);
+  EXPECT_EQ(hf.longitudinalAcceleration.longitudinalAccelerationConfidence,
+            messages::kAccelerationConfidenceUnavailable);
+  EXPECT_EQ(hf.lateralAcceleration->lateralAccelerationConfidence,
+            messages::kAccelerationConfidenceUnavailable);
+  EXPECT_EQ(hf.curvature.curvatureConfidence, messages::CurvatureConfidence::unavailable);
   EXPECT_EQ(*hf.accelerationControl, messages::acceleration_control::kBrakePedalEngaged);
   // κ = ω / v = (2° /s in rad) / 15 m/s = 0.002327 1/m → 23 in 1/10000 m.
   EXPECT_EQ(hf.curvature.curvatureValue, 23);
