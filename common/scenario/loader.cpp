@@ -523,6 +523,15 @@ Vehicle read_vehicle(Node n, const map::RoadMap& road_map) {
     v.model = read_model(*m);
   v.spawn = read_spawn(n.required("spawn"), road_map);
   v.driver = n.optional("driver") ? read_driver(n.required("driver")) : Driver{HumanDriver{}};
+  if (auto st = n.optional("station")) {
+    st->expect_object("a station (\"command\": the program and its arguments)");
+    for (const Node& a : st->required("command").array(1, 256)) {
+      v.station_command.push_back(a.string());
+      if (v.station_command.size() == 1 && v.station_command[0].empty())
+        a.fail("the program to run must not be empty");
+    }
+    st->finish();
+  }
   n.finish();
   return v;
 }

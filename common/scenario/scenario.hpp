@@ -136,6 +136,10 @@ struct Vehicle {
   VehicleModel model;
   Spawn spawn;
   Driver driver;
+  /// "station": {"command": [...]}: a program run in place of its-station for this vehicle
+  /// (bring your own stack, docs/station-contract.md); empty: its-station. Placeholders such as
+  /// {station_id} are the launcher's to fill.
+  std::vector<std::string> station_command;
 };
 
 // ---------------------------------------------------------------------------------------------

@@ -63,6 +63,8 @@ const BadCase kBadCases[] = {
     {"bad-driver.json", "/vehicles/0/driver", "\"robot\" is not one of \"human\""},
     {"noise-on-ideal-gnss.json", "/gnss/white_noise_m", "only with \"model\": \"noisy\""},
     {"not-an-object.json", "", "expected a scenario (an object), found an array"},
+    {"station-command-empty.json", "/vehicles/0/station/command",
+     "expected 1 to 256 elements, found 0"},
 };
 
 TEST(ScenarioLoader, EveryBadFileGetsAnErrorNamingFilePathAndReason) {
@@ -136,6 +138,30 @@ TEST(ScenarioLoader, DefaultsAreFilledAndDocumentedValuesRead) {
   EXPECT_EQ(spawn.lane, 1);
   EXPECT_DOUBLE_EQ(spawn.s, 3.5);
   EXPECT_DOUBLE_EQ(v.spawn.speed, 10.0);
+  EXPECT_TRUE(v.station_command.empty());  // its-station
+}
+
+TEST(ScenarioLoader, AVehicleMayBringItsOwnStationProgram) {
+  const Scenario s = parse(R"({
+    "name": "byo",
+    "map": {"type": "ring", "lanes": 2},
+    "origin": {"lat": 48.1, "lon": 11.5},
+    "vehicles": [{"id": "v1", "station_id": 7, "spawn": {"lane": 1, "s": 3.5, "speed": 10},
+                  "station": {"command": ["its-gn-probe", "--interface", "{radio}"]}}]
+  })",
+                           "inline.json");
+  EXPECT_EQ(s.vehicles[0].station_command,
+            (std::vector<std::string>{"its-gn-probe", "--interface", "{radio}"}));
+  try {
+    parse(R"({"name": "byo", "map": {"type": "ring", "lanes": 2},
+      "origin": {"lat": 48.1, "lon": 11.5},
+      "vehicles": [{"id": "v1", "station_id": 7, "spawn": {"lane": 1, "s": 3.5},
+                    "station": {"cmd": ["x"]}}]})",
+          "inline.json");
+    FAIL() << "a misspelled station field loaded";
+  } catch (const ScenarioError& e) {
+    EXPECT_EQ(e.path(), "/vehicles/0/station/command") << e.what();
+  }
 }
 
 TEST(ScenarioLoader, ReadsEveryKindOfSection) {
