@@ -198,7 +198,7 @@ VerifyResult Verifier::ticket_entry(const Certificate& c, Psid psid, Time64 at, 
   return VerifyResult::kOk;
 }
 
-VerifyResult Verifier::check(Verification& v, Psid psid, Time64 now) {
+VerifyResult Verifier::check(Verification& v, std::optional<Psid> expected, Time64 now) {
   const auto& d = v.data;
   if (d.content != Ieee1609Dot2Data::Content::kSignedData)
     return VerifyResult::kNotSigned;
@@ -208,8 +208,9 @@ VerifyResult Verifier::check(Verification& v, Psid psid, Time64 now) {
   if (!s.tbs.payload.data)
     return VerifyResult::kNotSigned;
   const auto& h = s.tbs.header;
-  if (h.psid != psid)
+  if (expected && h.psid != *expected)
     return VerifyResult::kWrongPsid;
+  const Psid psid = h.psid;
   if (!h.generation_time)
     return VerifyResult::kGenerationTimeMissing;
   // The window on TAI, then on UTC without leap seconds (5 s behind since 2017).
@@ -252,8 +253,10 @@ VerifyResult Verifier::check(Verification& v, Psid psid, Time64 now) {
       const auto& at_cert = s.signer.certificates.front();
       v.signer_certificate_included = true;
       v.signer = certificate_id(at_cert);
+      const bool known = entries_.contains(*v.signer);
       if (const auto r = ticket_entry(at_cert, psid, at, &signer); r != VerifyResult::kOk)
         return r;
+      v.signer_learned = !known && entries_.contains(*v.signer);
       if (!within_validity(signer->cert, at) || !within_validity(signer->issuer->cert, at))
         return VerifyResult::kCertificateNotValid;
       break;
@@ -269,7 +272,8 @@ VerifyResult Verifier::check(Verification& v, Psid psid, Time64 now) {
   return VerifyResult::kOk;
 }
 
-Verification Verifier::verify(std::span<const std::uint8_t> secured, Psid psid, Time64 now) {
+Verification Verifier::verify_for(std::span<const std::uint8_t> secured, std::optional<Psid> psid,
+                                  Time64 now) {
   Verification v;
   auto d = decode_data(secured);
   if (!d) {

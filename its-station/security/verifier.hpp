@@ -62,6 +62,7 @@ struct Verification {
   asn1::CodecError decode_error{};
   std::optional<HashedId8> signer;  ///< the AT's HashedId8 (digest or certificate signer)
   bool signer_certificate_included = false;
+  bool signer_learned = false;  ///< the included AT was new to the verifier (and now is known)
   std::optional<TimeBase> time_base;  ///< the base the generation time matched
 
   /// The signed payload (empty when there is none).
@@ -76,8 +77,15 @@ class Verifier {
   /// Adds an AA certificate after checking it against the trusted roots at @p now.
   VerifyResult add_authority(const Certificate& aa, Time64 now);
 
-  /// Verifies one Ieee1609Dot2Data against @p psid at TAI time @p now.
-  Verification verify(std::span<const std::uint8_t> secured, Psid psid, Time64 now);
+  /// Verifies one Ieee1609Dot2Data for the service @p psid at TAI time @p now.
+  Verification verify(std::span<const std::uint8_t> secured, Psid psid, Time64 now) {
+    return verify_for(secured, psid, now);
+  }
+  /// Verifies for whichever psid the header names (the layer above checks that it fits the
+  /// BTP port the payload goes to).
+  Verification verify(std::span<const std::uint8_t> secured, Time64 now) {
+    return verify_for(secured, std::nullopt, now);
+  }
 
   /// A known certificate (root, AA or verified AT) by its HashedId3 (P2PCD requests).
   const Certificate* find(const HashedId3& id) const;
@@ -103,7 +111,9 @@ class Verifier {
   VerifyResult check_issued(const Certificate& c, const Entry& issuer, Time64 at) const;
   /// The entry of the AT @p c (verified against its AA and cached when new).
   VerifyResult ticket_entry(const Certificate& c, Psid psid, Time64 at, const Entry** out);
-  VerifyResult check(Verification& v, Psid psid, Time64 now);
+  VerifyResult check(Verification& v, std::optional<Psid> psid, Time64 now);
+  Verification verify_for(std::span<const std::uint8_t> secured, std::optional<Psid> psid,
+                          Time64 now);
 
   VerifierConfig config_;
   std::unordered_map<HashedId8, Entry, Id8Hash> entries_;
