@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <utility>
 
 namespace tb::its::security {
 namespace {
@@ -102,20 +103,51 @@ Octets32 signed_digest(std::span<const std::uint8_t> tbs, const Octets32& signer
   return sha256(both);
 }
 
-EcKey::EcKey(EcKey&& o) noexcept : key_(o.key_), curve_(o.curve_) {
-  o.key_ = nullptr;
-}
+EcKey::EcKey(EcKey&& o) noexcept
+    : key_(std::exchange(o.key_, nullptr)),
+      sign_ctx_(std::exchange(o.sign_ctx_, nullptr)),
+      verify_ctx_(std::exchange(o.verify_ctx_, nullptr)),
+      curve_(o.curve_) {}
+
 EcKey& EcKey::operator=(EcKey&& o) noexcept {
   if (this != &o) {
+    EVP_PKEY_CTX_free(sign_ctx_);
+    EVP_PKEY_CTX_free(verify_ctx_);
     EVP_PKEY_free(key_);
-    key_ = o.key_;
+    key_ = std::exchange(o.key_, nullptr);
+    sign_ctx_ = std::exchange(o.sign_ctx_, nullptr);
+    verify_ctx_ = std::exchange(o.verify_ctx_, nullptr);
     curve_ = o.curve_;
-    o.key_ = nullptr;
   }
   return *this;
 }
+
 EcKey::~EcKey() {
+  EVP_PKEY_CTX_free(sign_ctx_);
+  EVP_PKEY_CTX_free(verify_ctx_);
   EVP_PKEY_free(key_);
+}
+
+EVP_PKEY_CTX* EcKey::sign_context() const {
+  if (sign_ctx_ == nullptr) {
+    CtxPtr ctx(EVP_PKEY_CTX_new(key_, nullptr));
+    if (!ctx || EVP_PKEY_sign_init(ctx.get()) != 1 ||
+        EVP_PKEY_CTX_set_signature_md(ctx.get(), EVP_sha256()) != 1)
+      throw CryptoError("ECDSA sign: " + openssl_error());
+    sign_ctx_ = ctx.release();
+  }
+  return sign_ctx_;
+}
+
+EVP_PKEY_CTX* EcKey::verify_context() const {
+  if (verify_ctx_ == nullptr) {
+    CtxPtr ctx(EVP_PKEY_CTX_new(key_, nullptr));
+    if (!ctx || EVP_PKEY_verify_init(ctx.get()) != 1 ||
+        EVP_PKEY_CTX_set_signature_md(ctx.get(), EVP_sha256()) != 1)
+      throw CryptoError("ECDSA verify: " + openssl_error());
+    verify_ctx_ = ctx.release();
+  }
+  return verify_ctx_;
 }
 
 EcKey EcKey::generate(EccCurve curve) {
@@ -199,12 +231,10 @@ EccP256CurvePoint EcKey::public_point() const {
 }
 
 Signature EcKey::sign(const Octets32& digest) const {
-  CtxPtr ctx(EVP_PKEY_CTX_new(key_, nullptr));
   std::array<std::uint8_t, 80> der{};
   std::size_t der_len = der.size();
-  if (!ctx || EVP_PKEY_sign_init(ctx.get()) != 1 ||
-      EVP_PKEY_CTX_set_signature_md(ctx.get(), EVP_sha256()) != 1 ||
-      EVP_PKEY_sign(ctx.get(), der.data(), &der_len, digest.data(), digest.size()) != 1)
+  if (key_ == nullptr ||
+      EVP_PKEY_sign(sign_context(), der.data(), &der_len, digest.data(), digest.size()) != 1)
     throw CryptoError("ECDSA sign: " + openssl_error());
   const unsigned char* p = der.data();
   SigPtr sig(d2i_ECDSA_SIG(nullptr, &p, static_cast<long>(der_len)));
@@ -238,11 +268,7 @@ bool EcKey::verify(const Octets32& digest, const Signature& sig) const {
   if (der_len <= 0 || static_cast<std::size_t>(der_len) > der.size() ||
       i2d_ECDSA_SIG(s.get(), &p) != der_len)
     return false;
-  CtxPtr ctx(EVP_PKEY_CTX_new(key_, nullptr));
-  if (!ctx || EVP_PKEY_verify_init(ctx.get()) != 1 ||
-      EVP_PKEY_CTX_set_signature_md(ctx.get(), EVP_sha256()) != 1)
-    throw CryptoError("ECDSA verify: " + openssl_error());
-  const int ok = EVP_PKEY_verify(ctx.get(), der.data(), static_cast<std::size_t>(der_len),
+  const int ok = EVP_PKEY_verify(verify_context(), der.data(), static_cast<std::size_t>(der_len),
                                  digest.data(), digest.size());
   ERR_clear_error();  // a failed verification leaves an error on the queue
   return ok == 1;

@@ -10,7 +10,8 @@
 
 #include "its-station/security/ieee1609dot2.hpp"
 
-struct evp_pkey_st;  // OpenSSL's EVP_PKEY
+struct evp_pkey_st;      // OpenSSL's EVP_PKEY
+struct evp_pkey_ctx_st;  // OpenSSL's EVP_PKEY_CTX
 
 namespace tb::its::security {
 
@@ -64,7 +65,13 @@ class EcKey {
 
  private:
   EcKey(evp_pkey_st* k, EccCurve c) : key_(k), curve_(c) {}
+  // One context per operation, initialised on first use and reused: making one per call costs
+  // as much as a third of a P-256 signature. An EcKey is therefore used by one thread at a time.
+  evp_pkey_ctx_st* sign_context() const;
+  evp_pkey_ctx_st* verify_context() const;
   evp_pkey_st* key_ = nullptr;
+  mutable evp_pkey_ctx_st* sign_ctx_ = nullptr;
+  mutable evp_pkey_ctx_st* verify_ctx_ = nullptr;
   EccCurve curve_ = EccCurve::kNistP256;
 };
 
