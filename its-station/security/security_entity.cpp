@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "common/trace/tracer.hpp"
+
 namespace tb::its::security {
 
 std::string_view to_string(SecurityMode m) {
@@ -28,11 +30,15 @@ SecurityEntity::SecurityEntity(SecurityMode mode, Signer signer, Verifier verifi
 
 Bytes SecurityEntity::encapsulate(Psid psid, std::span<const std::uint8_t> payload, Time64 now,
                                   const std::optional<ThreeDLocation>& where) {
-  if (psid == kPsidCam)
-    return signer_.sign_cam(payload, now);
-  if (psid == kPsidDenm && where)
-    return signer_.sign_denm(payload, now, *where);
-  return signer_.sign(psid, payload, now, where, true);
+  // Tracing: the sign stage of the latency chain (inside t4, its.cam_tx -> sent_ns).
+  const std::int64_t start_ns = trace::Tracer::now_ns();
+  Bytes out = psid == kPsidCam               ? signer_.sign_cam(payload, now)
+              : (psid == kPsidDenm && where) ? signer_.sign_denm(payload, now, *where)
+                                             : signer_.sign(psid, payload, now, where, true);
+  trace::global().record_at(
+      start_ns, "its.sign",
+      {{"psid", psid}, {"bytes", out.size()}, {"end_ns", trace::Tracer::now_ns()}});
+  return out;
 }
 
 SecuredIndication SecurityEntity::outcome(Verification& v) {
@@ -56,7 +62,13 @@ SecuredIndication SecurityEntity::outcome(Verification& v) {
 std::vector<SecuredIndication> SecurityEntity::decapsulate(std::span<const std::uint8_t> secured,
                                                            Time64 now) {
   std::vector<SecuredIndication> out = expire(now);
+  // Tracing: the verify stage of the receive path (decode included).
+  const std::int64_t start_ns = trace::Tracer::now_ns();
   Verification v = verifier_.verify(secured, now);
+  trace::global().record_at(start_ns, "its.verify",
+                            {{"result", to_string(v.result)},
+                             {"certificate", v.signer_certificate_included},
+                             {"end_ns", trace::Tracer::now_ns()}});
   if (v.result != VerifyResult::kMalformed &&
       v.data.content == Ieee1609Dot2Data::Content::kSignedData) {
     const auto& h = v.data.signed_data.tbs.header;
