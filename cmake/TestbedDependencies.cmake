@@ -5,6 +5,7 @@ find_package(spdlog REQUIRED)
 find_package(fmt REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(Boost 1.74 REQUIRED)
+find_package(OpenSSL 3.0 REQUIRED)  # its-station/security: ECDSA, SHA-256
 find_package(GTest REQUIRED)
 if(TESTBED_BENCHMARKS)
   find_package(benchmark REQUIRED)

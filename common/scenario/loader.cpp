@@ -564,6 +564,17 @@ Scenario parse(std::string_view json_text, const std::string& file_name) {
     s.cam = read_cam(*c);
   if (auto c = root.optional("channel"))
     s.channel = read_channel(*c);
+  if (auto sec = root.optional("security")) {
+    const std::string m = sec->string();
+    if (m == "none")
+      s.security = SecurityMode::kNone;
+    else if (m == "signed")
+      s.security = SecurityMode::kSigned;
+    else if (m == "signed-permissive")
+      s.security = SecurityMode::kSignedPermissive;
+    else
+      sec->fail(fmt::format("\"{}\" is not one of \"none\", \"signed\", \"signed-permissive\"", m));
+  }
 
   const map::RoadMap road_map(s.map);
   std::unordered_map<std::string, std::size_t> ids;

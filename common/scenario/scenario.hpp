@@ -190,6 +190,14 @@ struct ChannelModel {
   double jitter_ms = 0.0;
 };
 
+/// `security` (issue 20): what the stations do with TS 103 097 signatures. Stations of one
+/// scenario trust its test PKI's root (its-pki).
+enum class SecurityMode {
+  kNone,              ///< unsecured packets only
+  kSigned,            ///< sign; verify and drop what fails
+  kSignedPermissive,  ///< sign; pass up what fails verification, with the reason
+};
+
 struct Scenario {
   std::string name;
   std::string description;
@@ -203,6 +211,7 @@ struct Scenario {
   GnssErrors gnss;
   CamPolicy cam;
   ChannelModel channel;
+  SecurityMode security = SecurityMode::kNone;
   std::vector<Vehicle> vehicles;
 
   const Vehicle* find_vehicle(std::string_view id) const;

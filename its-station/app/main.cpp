@@ -39,6 +39,8 @@
 #include "its-station/facilities/ldm.hpp"
 #include "its-station/geonet/router.hpp"
 #include "its-station/link/packet_socket_link.hpp"
+#include "its-station/security/pki_files.hpp"
+#include "its-station/security/security_entity.hpp"
 
 namespace {
 
@@ -61,6 +63,8 @@ struct Options {
   std::uint16_t nmea_port = 10110;
   double gpsd_wait_s = 10.0;
   std::string cam_policy;  // etsi | fixed; empty: from the scenario
+  std::string security;    // none | signed | signed-permissive; empty: from the scenario
+  std::string pki_dir;     // its-pki's directory (root, AA, this station's AT)
   double cam_period_ms = 0.0;
   std::string mqtt_host;
   int mqtt_port = 1883;
@@ -76,6 +80,11 @@ struct Options {
   double duration_s = 0.0;
   std::string log_level = "info";
 };
+
+/// The security entity of --security / the scenario's `security`, with this station's AT and
+/// the scenario's root from --pki-dir; null for none.
+std::unique_ptr<tb::its::security::SecurityEntity> make_security(
+    const Options& o, const std::optional<tb::scenario::Scenario>& scenario);
 
 /// What cannot go on: a message for the log and the exit code.
 struct Fatal {
@@ -193,6 +202,8 @@ int run(const Options& o) {
   tb::its::geonet::RouterConfig gn_cfg;
   gn_cfg.station_type = static_cast<tb::its::geonet::StationType>(ca_cfg.station_type);
   tb::its::geonet::Router router(runtime, **link, gn_position, gn_cfg);
+  std::unique_ptr<tb::its::security::SecurityEntity> security = make_security(o, scenario);
+  router.set_security(security.get());
   tb::its::btp::Dispatcher btp(router);
   tb::its::station::BtpMessageSender sender(btp);
 
@@ -398,6 +409,20 @@ int run(const Options& o) {
       j["neighbours"].push_back(e);
     }
     j["events"] = ldm.active_events().size();
+    if (security) {
+      // Each verification outcome by name (TS 103 097 drop reasons), and what a permissive
+      // station passed up although it failed.
+      nlohmann::json v;
+      const auto& counts = security->verifier().counts();
+      for (std::size_t i = 0; i < counts.size(); ++i)
+        if (counts[i] != 0)
+          v[std::string(tb::its::security::to_string(
+              static_cast<tb::its::security::VerifyResult>(i)))] = counts[i];
+      j["security"] = {{"mode", tb::its::security::to_string(security->mode())},
+                       {"verify", v},
+                       {"passed_unverified", security->passed_unverified()},
+                       {"held", security->held()}};
+    }
     const std::string tmp = o.status_file + ".tmp";
     std::ofstream(tmp) << j.dump() << "\n";
     std::rename(tmp.c_str(), o.status_file.c_str());
@@ -472,6 +497,50 @@ int run(const Options& o) {
   return exit_code;
 }
 
+std::unique_ptr<tb::its::security::SecurityEntity> make_security(
+    const Options& o, const std::optional<tb::scenario::Scenario>& scenario) {
+  namespace sec = tb::its::security;
+  sec::SecurityMode mode = sec::SecurityMode::kNone;
+  if (!o.security.empty()) {
+    mode = *sec::parse_security_mode(o.security);  // CLI11 checked the name
+  } else if (scenario) {
+    switch (scenario->security) {
+      case tb::scenario::SecurityMode::kNone:
+        break;
+      case tb::scenario::SecurityMode::kSigned:
+        mode = sec::SecurityMode::kSigned;
+        break;
+      case tb::scenario::SecurityMode::kSignedPermissive:
+        mode = sec::SecurityMode::kSignedPermissive;
+        break;
+    }
+  }
+  if (mode == sec::SecurityMode::kNone)
+    return nullptr;
+  if (o.pki_dir.empty())
+    throw Fatal{fmt::format("security {} needs --pki-dir (make one with its-pki make)",
+                            sec::to_string(mode)),
+                2};
+  try {
+    auto creds = sec::load_station_credentials(sec::PkiPaths{o.pki_dir}, o.station_id);
+    sec::Verifier verifier({creds.root});
+    const auto aa = verifier.add_authority(creds.aa, sec::to_time64(tb::clock::WallClock::now()));
+    if (aa != sec::VerifyResult::kOk)
+      throw Fatal{fmt::format("{}: the AA does not verify under the root: {}", o.pki_dir,
+                              sec::to_string(aa)),
+                  2};
+    spdlog::info("security: {}, AT {} of {}", sec::to_string(mode),
+                 sec::PkiPaths{o.pki_dir}.at_cert(o.station_id).string(), o.pki_dir);
+    return std::make_unique<sec::SecurityEntity>(
+        mode, sec::Signer(std::move(creds.at), std::move(creds.at_key), creds.aa),
+        std::move(verifier));
+  } catch (const sec::PkiFileError& e) {
+    throw Fatal{fmt::format("security: {}", e.what()), 2};
+  } catch (const sec::CryptoError& e) {
+    throw Fatal{fmt::format("security: {}", e.what()), 2};
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -500,6 +569,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--cam-policy", o.cam_policy, "override the scenario's CAM policy")
       ->check(CLI::IsMember({"etsi", "fixed"}));
+  app.add_option("--security", o.security,
+                 "override the scenario's security: none, signed, signed-permissive")
+      ->check(CLI::IsMember({"none", "signed", "signed-permissive"}));
+  app.add_option("--pki-dir", o.pki_dir, "its-pki directory with root, AA and this station's AT");
   app.add_option("--cam-period-ms", o.cam_period_ms, "period of the fixed CAM policy")
       ->check(CLI::Range(10.0, 10000.0));
   app.add_option("--mqtt-host", o.mqtt_host, "MQTT broker (none: no MQTT)");

@@ -44,6 +44,12 @@ geonet::DataConfirm Dispatcher::send_b(geonet::DataRequest gn, std::uint16_t des
   write_header(w, HeaderB{destination_port, destination_port_info});
   w.write(payload);
   gn.upper_protocol = geonet::UpperProtocol::kBtpB;
+  // The ITS-AID the security entity signs for: the service of the well-known port (TS 103 248
+  // ports, TS 102 965 ITS-AIDs) unless the caller named one.
+  if (gn.its_aid == 0 && destination_port == kPortCam)
+    gn.its_aid = 36;
+  else if (gn.its_aid == 0 && destination_port == kPortDenm)
+    gn.its_aid = 37;
   return router_.request(gn, std::span(tx_).first(w.position()));
 }
 

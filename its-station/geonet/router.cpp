@@ -57,6 +57,8 @@ std::string to_string(DropReason r) {
       return "not forwarded: another router rebroadcast it first";
     case DropReason::kLocationTableFull:
       return "location table full";
+    case DropReason::kSecurity:
+      return "refused by security";
     case DropReason::kCount:
       break;
   }
@@ -226,9 +228,24 @@ DataConfirm Router::request(const DataRequest& req, std::span<const std::uint8_t
       break;
     }
   }
-  const std::size_t n = serialize(basic, common, ext, payload, tx_);
+  std::size_t n = serialize(basic, common, ext, payload, tx_);
   if (n == 0)
     return DataConfirm::kMaxSduSizeExceeded;
+  if (security_on()) {
+    // Clause 9.3 / TS 103 097: the basic header stays in clear, the rest goes signed.
+    std::optional<security::ThreeDLocation> where;
+    if (req.its_aid == security::kPsidDenm)
+      where = security::ThreeDLocation{epv->latitude, epv->longitude, 4096};  // 0 m: unknown
+    const security::Bytes secured =
+        security_->encapsulate(req.its_aid, std::span(tx_).subspan(4, n - 4),
+                               security::to_time64(runtime_.wall_now()), where);
+    if (4 + secured.size() > tx_.size())
+      return DataConfirm::kMaxSduSizeExceeded;
+    tx_[0] = static_cast<std::uint8_t>((tx_[0] & 0xf0) |
+                                       static_cast<unsigned>(BasicNextHeader::kSecuredPacket));
+    std::copy(secured.begin(), secured.end(), tx_.begin() + 4);
+    n = 4 + secured.size();
+  }
   if (!send_frame(destination, std::span(tx_).first(n)))
     return DataConfirm::kLinkError;
   ++stats_.sent;
@@ -283,11 +300,19 @@ void Router::deliver(const Packet& packet, const link::ReceivedFrame& frame,
   ind.remaining_hop_limit = packet.basic.remaining_hop_limit;
   ind.sender = frame.source;
   ind.rx_time = frame.rx_time;
+  if (unwrapped_ != nullptr) {
+    ind.security_report = unwrapped_->reason;
+    ind.its_aid = unwrapped_->psid;
+  }
   indication_(ind, packet.payload);
 }
 
 void Router::forward(const Packet& packet, std::span<const std::uint8_t> bytes,
                      const std::optional<GeoArea>& area, bool inside) {
+  if (unwrapped_ != nullptr) {
+    drop(DropReason::kSecurity);  // re-sending it would strip the signature
+    return;
+  }
   // Clause 10.3.9.3 / 10.3.11.3: decrement RHL; at 0 the packet goes no further.
   const std::uint8_t rhl = packet.basic.remaining_hop_limit - 1;
   if (rhl == 0) {
@@ -320,6 +345,10 @@ void Router::forward(const Packet& packet, std::span<const std::uint8_t> bytes,
 
 void Router::contend(const Packet& packet, std::span<const std::uint8_t> bytes,
                      const link::MacAddress& sender, std::uint64_t key) {
+  if (unwrapped_ != nullptr) {
+    drop(DropReason::kSecurity);  // as in forward()
+    return;
+  }
   const std::uint8_t rhl = packet.basic.remaining_hop_limit - 1;
   if (rhl == 0) {
     drop(DropReason::kNotForwardedHopLimit);
@@ -358,7 +387,37 @@ void Router::contend(const Packet& packet, std::span<const std::uint8_t> bytes,
   ++stats_.cbf_buffered;
 }
 
+void Router::on_secured_frame(const link::ReceivedFrame& frame) {
+  // The secured packet (clause 9.3): basic header, then the Ieee1609Dot2Data whose payload is
+  // common header onwards. What passes verification (or a permissive station passes up) goes
+  // through the ordinary receive path as basic header + that payload.
+  const auto outcomes =
+      security_->decapsulate(frame.payload.subspan(4), security::to_time64(runtime_.wall_now()));
+  for (const auto& o : outcomes) {
+    if (!o.pass_up) {
+      ++stats_.received;
+      drop(DropReason::kSecurity);
+      continue;
+    }
+    std::vector<std::uint8_t> plain(frame.payload.begin(), frame.payload.begin() + 4);
+    plain[0] = static_cast<std::uint8_t>((plain[0] & 0xf0) |
+                                         static_cast<unsigned>(BasicNextHeader::kCommonHeader));
+    plain.insert(plain.end(), o.payload.begin(), o.payload.end());
+    link::ReceivedFrame inner = frame;
+    inner.payload = plain;
+    unwrapped_ = &o;
+    on_frame(inner);
+    unwrapped_ = nullptr;
+  }
+}
+
 void Router::on_frame(const link::ReceivedFrame& frame) {
+  if (security_on() && unwrapped_ == nullptr && frame.ethertype == link::kEtherTypeGeoNetworking &&
+      frame.payload.size() > 4 &&
+      (frame.payload[0] & 0x0f) == static_cast<unsigned>(BasicNextHeader::kSecuredPacket)) {
+    on_secured_frame(frame);
+    return;
+  }
   ++stats_.received;
   if (frame.ethertype != link::kEtherTypeGeoNetworking) {
     drop(DropReason::kWrongEtherType);
@@ -376,6 +435,13 @@ void Router::on_frame(const link::ReceivedFrame& frame) {
     return;
   }
   const Packet& p = *parsed;
+  // TS 103 097 with a strict station: only secured packets carry data (beacons stay in clear:
+  // our ATs carry no GN-management permission to sign them with).
+  if (security_on() && unwrapped_ == nullptr && p.common.type != PacketType::kBeacon &&
+      security_->mode() == security::SecurityMode::kSigned) {
+    drop(DropReason::kSecurity);
+    return;
+  }
   const LongPositionVector& so = source_position(p.extended);
   if (so.address.mid == address_.mid || frame.source == address_.mid) {
     drop(DropReason::kOwnPacket);

@@ -21,6 +21,7 @@
 #include "its-station/geonet/packet.hpp"
 #include "its-station/geonet/position_provider.hpp"
 #include "its-station/link/link_layer.hpp"
+#include "its-station/security/security_entity.hpp"
 
 namespace tb::its::geonet {
 
@@ -70,6 +71,9 @@ struct DataRequest {
   std::uint8_t max_hop_limit = 0;
   /// GBC only.
   std::optional<GeoArea> area;
+  /// ITS-AID (psid) of the payload's service, which the security entity signs it for (Annex J
+  /// "security profile"); 0 when the service has none.
+  std::uint64_t its_aid = 0;
 
   static DataRequest single_hop(TrafficClass tc = {}, clock::Duration lifetime = {}) {
     DataRequest r;
@@ -117,6 +121,10 @@ struct DataIndication {
   std::uint8_t remaining_hop_limit = 0;
   link::MacAddress sender{};  ///< link-layer source of the frame (the last forwarder)
   clock::WallTime rx_time{};  ///< kernel receive time of the frame
+  /// A secured packet's verification outcome (kOk, or the failure a permissive station passed
+  /// it up with); empty for an unsecured packet.
+  std::optional<security::VerifyResult> security_report;
+  std::uint64_t its_aid = 0;  ///< the psid a secured packet was signed for
 };
 
 using IndicationHandler =
@@ -137,6 +145,7 @@ enum class DropReason {
   kForwardLinkError,
   kContentionLost,     ///< CBF: another router rebroadcast it first, so we do not
   kLocationTableFull,  ///< a new source while max_location_entries live entries exist
+  kSecurity,           ///< the security entity refused it (its verifier counts the reason)
   kCount
 };
 std::string to_string(DropReason r);
@@ -173,6 +182,9 @@ class Router {
 
   void set_indication_handler(IndicationHandler h) { indication_ = std::move(h); }
   void set_drop_hook(DropHook h) { drop_hook_ = std::move(h); }
+  /// Signs what the station sends and verifies what it receives (EN 302 636-4-1 10.3.x "if
+  /// security is enabled"); null or mode none: unsecured packets only, as without security.
+  void set_security(security::SecurityEntity* entity) { security_ = entity; }
 
   /// The receive path; the constructor binds it to the link. Public so that a caller holding
   /// frames from elsewhere (a pcap, a fuzzer) can feed them.
@@ -222,6 +234,14 @@ class Router {
   DropHook drop_hook_;
   RouterStats stats_;
   std::array<std::uint8_t, link::kMaxPayload> tx_{};
+  /// Secured packets: the entity, and whether the packet being processed was unwrapped from
+  /// one (it is delivered, not forwarded: forwarding re-sends the signed original, to come).
+  void on_secured_frame(const link::ReceivedFrame& frame);
+  bool security_on() const {
+    return security_ != nullptr && security_->mode() != security::SecurityMode::kNone;
+  }
+  security::SecurityEntity* security_ = nullptr;
+  const security::SecuredIndication* unwrapped_ = nullptr;
 };
 
 }  // namespace tb::its::geonet

@@ -70,6 +70,8 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("case", choices=sorted(CASES))
     ap.add_argument("--build", required=True)
+    ap.add_argument("--security", choices=["none", "signed", "signed-permissive"],
+                    help="run the case with this security mode (scripts/testbed --security)")
     args = ap.parse_args()
     rc, steal = run_case(args)
     if rc != 0 and steal >= STEAL_RETRY_PERCENT:
@@ -87,7 +89,8 @@ def run_case(args):
     out.chmod(0o755)  # the broker drops root and must reach its configuration in there
     testbed = subprocess.Popen(
         [sys.executable, str(ROOT / "scripts/testbed"), "run", str(ROOT / "scenarios" / scenario),
-         "--build", args.build, "--duration", str(duration), "--out", str(out)],
+         "--build", args.build, "--duration", str(duration), "--out", str(out)] +
+        (["--security", args.security] if args.security else []),
         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
     messages = []
     sub = None
@@ -142,6 +145,22 @@ def run_case(args):
     failures = []
     if testbed.returncode != 0:
         failures.append(f"scripts/testbed exited with {testbed.returncode}")
+
+    if args.security in ("signed", "signed-permissive"):
+        # Every station verified the others' signed CAMs and refused none.
+        for status in sorted(out.glob("run-*/station-*.status.json")):
+            sec = json.loads(status.read_text()).get("security", {})
+            verify = sec.get("verify", {})
+            print(f"e2e: {status.name}: security {sec.get('mode')} {verify}")
+            if sec.get("mode") != args.security:
+                failures.append(f"{status.name}: security mode {sec.get('mode')}")
+            if verify.get("ok", 0) == 0:
+                failures.append(f"{status.name}: no packet verified")
+            # unknown_signer is normal at a start: a digest heard before the AT, held and
+            # verified when the AT comes.
+            refused = {k: v for k, v in verify.items() if k not in ("ok", "unknown_signer")}
+            if refused:
+                failures.append(f"{status.name}: verification failures {refused}")
 
     warnings = [(t, m["message"]) for t, m in messages if t.endswith("/app/lcrw")]
     cams = {t for t, _ in messages if "/in/cam/" in t}

@@ -65,6 +65,7 @@ const BadCase kBadCases[] = {
     {"not-an-object.json", "", "expected a scenario (an object), found an array"},
     {"station-command-empty.json", "/vehicles/0/station/command",
      "expected 1 to 256 elements, found 0"},
+    {"bad-security.json", "/security", "\"sign\" is not one of \"none\", \"signed\""},
 };
 
 TEST(ScenarioLoader, EveryBadFileGetsAnErrorNamingFilePathAndReason) {
@@ -122,6 +123,7 @@ TEST(ScenarioLoader, DefaultsAreFilledAndDocumentedValuesRead) {
   EXPECT_DOUBLE_EQ(s.rates.physics_hz, 100.0);
   EXPECT_DOUBLE_EQ(s.rates.gnss_hz, 10.0);
   EXPECT_EQ(s.cam.kind, CamPolicy::Kind::kEtsi);
+  EXPECT_EQ(s.security, SecurityMode::kNone);
   EXPECT_EQ(s.channel.kind, ChannelModel::Kind::kIdeal);
   EXPECT_TRUE(s.gnss.ideal);
   EXPECT_FALSE(s.duration_s.has_value());
@@ -176,6 +178,7 @@ TEST(ScenarioLoader, ReadsEveryKindOfSection) {
     "gnss": {"model": "noisy", "white_noise_m": 0.5, "bias_walk_m": 0.2, "hdop": 1.1,
              "satellites": 7, "fix_loss": [{"from_s": 10, "to_s": 12.5}]},
     "cam": {"policy": "fixed", "period_ms": 100},
+    "security": "signed-permissive",
     "channel": {"model": "log_distance", "tx_power_dbm": 20, "path_loss_exponent": 2.5,
                 "packet_error_rate": 0.01, "delay_ms": 1, "jitter_ms": 0.5},
     "vehicles": [
@@ -193,6 +196,7 @@ TEST(ScenarioLoader, ReadsEveryKindOfSection) {
                            "inline.json");
   EXPECT_EQ(s.map.type, MapType::kCrossing);
   EXPECT_EQ(s.map.oncoming_lanes, 2);
+  EXPECT_EQ(s.security, SecurityMode::kSignedPermissive);
   EXPECT_DOUBLE_EQ(*s.duration_s, 90.0);
   EXPECT_EQ(std::chrono::duration_cast<std::chrono::milliseconds>(s.start_time.time_since_epoch())
                 .count(),

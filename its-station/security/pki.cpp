@@ -1,0 +1,75 @@
+#include "its-station/security/pki.hpp"
+
+namespace tb::its::security {
+
+Octets32 certificate_hash(const Certificate& c) {
+  return sha256(canonical_encoding(c));
+}
+
+void sign_certificate(Certificate& c, const Certificate* issuer, const EcKey& issuer_key) {
+  if (issuer != nullptr) {
+    c.issuer.kind = IssuerIdentifier::Kind::kSha256AndDigest;
+    c.issuer.digest = certificate_id(*issuer);
+  } else {
+    c.issuer.kind = IssuerIdentifier::Kind::kSelf;
+    c.issuer.self_hash = HashAlgorithm::kSha256;
+  }
+  const Octets32 signer_hash = issuer != nullptr ? certificate_hash(*issuer) : sha256({});
+  c.signature = issuer_key.sign(signed_digest(encode(c.tbs), signer_hash));
+  c.encoding = encode(c);
+}
+
+namespace {
+
+ToBeSignedCertificate base_tbs(const EcKey& key, ValidityPeriod validity) {
+  ToBeSignedCertificate t;
+  t.validity = validity;
+  t.verify_key.curve = key.curve();
+  t.verify_key.point = key.public_point();
+  return t;
+}
+
+std::vector<PsidSspRange> cam_denm_ranges() {
+  return {PsidSspRange{kPsidCam, SspRange{SspRange::Kind::kAll, {}, {}, {}}},
+          PsidSspRange{kPsidDenm, SspRange{SspRange::Kind::kAll, {}, {}, {}}}};
+}
+
+}  // namespace
+
+Certificate make_root(const EcKey& key, const std::string& name, ValidityPeriod validity) {
+  Certificate c;
+  c.tbs = base_tbs(key, validity);
+  c.tbs.id = {CertificateId::Kind::kName, Bytes(name.begin(), name.end())};
+  PsidGroupPermissions all;
+  all.all_psids = true;
+  all.min_chain_length = 2;  // root -> AA -> AT
+  c.tbs.cert_issue_permissions = std::vector{all};
+  sign_certificate(c, nullptr, key);
+  return c;
+}
+
+Certificate make_authority(const EcKey& key, const std::string& name, ValidityPeriod validity,
+                           const Certificate& root, const EcKey& root_key) {
+  Certificate c;
+  c.tbs = base_tbs(key, validity);
+  c.tbs.id = {CertificateId::Kind::kName, Bytes(name.begin(), name.end())};
+  PsidGroupPermissions perms;
+  perms.psids = cam_denm_ranges();
+  c.tbs.cert_issue_permissions = std::vector{perms};
+  sign_certificate(c, &root, root_key);
+  return c;
+}
+
+Certificate make_ticket(const EcKey& key, ValidityPeriod validity, const Certificate& aa,
+                        const EcKey& aa_key) {
+  Certificate c;
+  c.tbs = base_tbs(key, validity);
+  c.tbs.id = {CertificateId::Kind::kNone, {}};
+  c.tbs.app_permissions =
+      std::vector<PsidSsp>{PsidSsp{kPsidCam, Ssp{Ssp::Kind::kBitmap, kCamSsp}},
+                           PsidSsp{kPsidDenm, Ssp{Ssp::Kind::kBitmap, kDenmSsp}}};
+  sign_certificate(c, &aa, aa_key);
+  return c;
+}
+
+}  // namespace tb::its::security

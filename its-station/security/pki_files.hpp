@@ -1,0 +1,65 @@
+#pragma once
+/// @file The files of a scenario's test PKI, as its-pki writes them into one directory:
+///
+///   root.cert  root.pem         the root CA (the scenario's trust anchor)
+///   aa.cert    aa.pem           the authorization authority
+///   at-<station id>.cert/.pem   each station's authorization ticket
+///
+/// `.cert` files hold a certificate's COER octets (what goes on the air), `.pem` files the
+/// P-256 private key (PKCS#8, owner-only). Errors name the file and what was wrong.
+
+#include <cstdint>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+
+#include "its-station/security/crypto.hpp"
+#include "its-station/security/ieee1609dot2.hpp"
+
+namespace tb::its::security {
+
+class PkiFileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct PkiPaths {
+  std::filesystem::path dir;
+  std::filesystem::path root_cert() const { return dir / "root.cert"; }
+  std::filesystem::path root_key() const { return dir / "root.pem"; }
+  std::filesystem::path aa_cert() const { return dir / "aa.cert"; }
+  std::filesystem::path aa_key() const { return dir / "aa.pem"; }
+  std::filesystem::path at_cert(std::uint32_t station) const {
+    return dir / ("at-" + std::to_string(station) + ".cert");
+  }
+  std::filesystem::path at_key(std::uint32_t station) const {
+    return dir / ("at-" + std::to_string(station) + ".pem");
+  }
+};
+
+Certificate read_certificate(const std::filesystem::path& file);
+void write_certificate(const std::filesystem::path& file, const Certificate& c);
+
+/// What a station needs: the root it trusts, its AA, its AT and the AT's key.
+struct StationCredentials {
+  Certificate root;
+  Certificate aa;
+  Certificate at;
+  EcKey at_key;
+};
+StationCredentials load_station_credentials(const PkiPaths& paths, std::uint32_t station);
+
+struct PkiOptions {
+  std::string name = "testbed";
+  Time32 now = 0;                     ///< TAI seconds; validity starts an hour before
+  std::uint16_t ca_hours = 24 * 365;  ///< root and AA
+  std::uint16_t ticket_hours = 24 * 7;
+};
+
+/// Makes the root and AA when missing, and the ATs of @p stations that are missing (all of
+/// them anew when the root or AA was made). Returns the files written.
+std::vector<std::filesystem::path> make_pki(const PkiPaths& paths,
+                                            const std::vector<std::uint32_t>& stations,
+                                            const PkiOptions& options);
+
+}  // namespace tb::its::security

@@ -1,0 +1,123 @@
+#include "its-station/security/security_entity.hpp"
+
+#include <algorithm>
+
+#include "common/trace/tracer.hpp"
+
+namespace tb::its::security {
+
+std::string_view to_string(SecurityMode m) {
+  switch (m) {
+    case SecurityMode::kNone:
+      return "none";
+    case SecurityMode::kSigned:
+      return "signed";
+    case SecurityMode::kSignedPermissive:
+      return "signed-permissive";
+  }
+  return "unknown";
+}
+
+std::optional<SecurityMode> parse_security_mode(std::string_view s) {
+  for (auto m : {SecurityMode::kNone, SecurityMode::kSigned, SecurityMode::kSignedPermissive})
+    if (s == to_string(m))
+      return m;
+  return std::nullopt;
+}
+
+SecurityEntity::SecurityEntity(SecurityMode mode, Signer signer, Verifier verifier)
+    : mode_(mode), signer_(std::move(signer)), verifier_(std::move(verifier)) {}
+
+Bytes SecurityEntity::encapsulate(Psid psid, std::span<const std::uint8_t> payload, Time64 now,
+                                  const std::optional<ThreeDLocation>& where) {
+  // Tracing: the sign stage of the latency chain (inside t4, its.cam_tx -> sent_ns).
+  const std::int64_t start_ns = trace::Tracer::now_ns();
+  Bytes out = psid == kPsidCam               ? signer_.sign_cam(payload, now)
+              : (psid == kPsidDenm && where) ? signer_.sign_denm(payload, now, *where)
+                                             : signer_.sign(psid, payload, now, where, true);
+  trace::global().record_at(
+      start_ns, "its.sign",
+      {{"psid", psid}, {"bytes", out.size()}, {"end_ns", trace::Tracer::now_ns()}});
+  return out;
+}
+
+SecuredIndication SecurityEntity::outcome(Verification& v) {
+  SecuredIndication ind;
+  ind.reason = v.result;
+  ind.time_base = v.time_base;
+  if (v.result != VerifyResult::kMalformed &&
+      v.data.content == Ieee1609Dot2Data::Content::kSignedData)
+    ind.psid = v.data.signed_data.tbs.header.psid;
+  const auto p = v.payload();
+  const bool ok = v.result == VerifyResult::kOk;
+  ind.pass_up = !p.empty() && (ok || mode_ == SecurityMode::kSignedPermissive);
+  if (ind.pass_up) {
+    ind.payload.assign(p.begin(), p.end());
+    if (!ok)
+      ++passed_unverified_;
+  }
+  return ind;
+}
+
+std::vector<SecuredIndication> SecurityEntity::decapsulate(std::span<const std::uint8_t> secured,
+                                                           Time64 now) {
+  std::vector<SecuredIndication> out = expire(now);
+  // Tracing: the verify stage of the receive path (decode included).
+  const std::int64_t start_ns = trace::Tracer::now_ns();
+  Verification v = verifier_.verify(secured, now);
+  trace::global().record_at(start_ns, "its.verify",
+                            {{"result", to_string(v.result)},
+                             {"certificate", v.signer_certificate_included},
+                             {"end_ns", trace::Tracer::now_ns()}});
+  if (v.result != VerifyResult::kMalformed &&
+      v.data.content == Ieee1609Dot2Data::Content::kSignedData) {
+    const auto& h = v.data.signed_data.tbs.header;
+    // Peers' P2PCD: what they ask of us, and an AA one of them sent.
+    if (h.inline_p2pcd_request)
+      for (const auto& id : *h.inline_p2pcd_request)
+        signer_.on_certificate_request(id);
+    if (h.requested_certificate)
+      verifier_.add_authority(*h.requested_certificate, now);
+  }
+  if (v.result == VerifyResult::kUnknownSigner && mode_ == SecurityMode::kSigned && v.signer) {
+    signer_.request_certificate(*v.signer);
+    signer_.on_unknown_station();
+    if (held_.size() >= kMaxHeld) {
+      out.push_back(SecuredIndication{false, VerifyResult::kUnknownSigner, 0, {}, {}});
+      held_.pop_front();
+    }
+    held_.push_back(Held{*v.signer, now + kHoldUs, Bytes(secured.begin(), secured.end())});
+    return out;
+  }
+  if (v.result == VerifyResult::kUnknownSigner && v.signer) {
+    signer_.request_certificate(*v.signer);
+    signer_.on_unknown_station();
+  }
+  out.push_back(outcome(v));
+  if (v.result == VerifyResult::kOk && v.signer_learned) {
+    signer_.on_unknown_station();  // TS 103 097 7.1.1: a new station hears our AT next
+    // Its held packets can be verified now.
+    const HashedId8 id = *v.signer;
+    for (auto it = held_.begin(); it != held_.end();) {
+      if (it->digest != id) {
+        ++it;
+        continue;
+      }
+      Verification again = verifier_.verify(it->packet, now);
+      out.push_back(outcome(again));
+      it = held_.erase(it);
+    }
+  }
+  return out;
+}
+
+std::vector<SecuredIndication> SecurityEntity::expire(Time64 now) {
+  std::vector<SecuredIndication> out;
+  while (!held_.empty() && held_.front().until <= now) {
+    out.push_back(SecuredIndication{false, VerifyResult::kUnknownSigner, 0, {}, {}});
+    held_.pop_front();
+  }
+  return out;
+}
+
+}  // namespace tb::its::security

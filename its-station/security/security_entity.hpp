@@ -1,0 +1,84 @@
+#pragma once
+/// @file The security entity of the station (EN 302 636-4-1 clause 9.3 "security services",
+/// TS 103 097): wraps outgoing GN payloads (common header onwards) in signed data, and
+/// unwraps, verifies and passes up or drops incoming ones, after the scenario's mode.
+///
+/// Packets signed by a certificate digest we do not know yet are held for a short while and
+/// their certificate requested (1609.2 P2PCD, TS 103 097 7.1.1): they are verified when a
+/// packet carrying that certificate arrives, and dropped as unknown_signer when the hold ends.
+
+#include <chrono>
+#include <deque>
+#include <optional>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "its-station/security/signer.hpp"
+#include "its-station/security/verifier.hpp"
+
+namespace tb::its::security {
+
+/// Scenario `security`: none (unsecured packets only, as before), signed (sign and verify,
+/// drop what fails), signed-permissive (sign; pass up what fails verification, with the
+/// reason).
+enum class SecurityMode : std::uint8_t { kNone, kSigned, kSignedPermissive };
+
+std::string_view to_string(SecurityMode m);
+std::optional<SecurityMode> parse_security_mode(std::string_view s);
+
+/// One incoming packet's outcome.
+struct SecuredIndication {
+  bool pass_up = false;
+  VerifyResult reason = VerifyResult::kMalformed;
+  Psid psid = 0;
+  Bytes payload;  ///< the signed payload: GN common header onwards
+  std::optional<TimeBase> time_base;
+};
+
+class SecurityEntity {
+ public:
+  /// How long a packet from an unknown digest waits for its certificate: within the CAM
+  /// generation-time window, so that it can still verify when the certificate comes.
+  static constexpr Time64 kHoldUs = 1'000'000;
+  static constexpr std::size_t kMaxHeld = 32;
+
+  SecurityEntity(SecurityMode mode, Signer signer, Verifier verifier);
+
+  SecurityMode mode() const { return mode_; }
+
+  /// The signed data for @p payload of service @p psid (CAM and DENM after their profiles;
+  /// @p where is the DENM's generationLocation).
+  Bytes encapsulate(Psid psid, std::span<const std::uint8_t> payload, Time64 now,
+                    const std::optional<ThreeDLocation>& where = std::nullopt);
+
+  /// Verifies @p secured; returns its outcome first, then those of held packets it released
+  /// (verified now that their certificate came, or timed out).
+  std::vector<SecuredIndication> decapsulate(std::span<const std::uint8_t> secured, Time64 now);
+
+  /// Drops held packets whose hold ended; their outcomes (unknown_signer).
+  std::vector<SecuredIndication> expire(Time64 now);
+
+  const Verifier& verifier() const { return verifier_; }
+  Verifier& verifier() { return verifier_; }
+  const Signer& signer() const { return signer_; }
+  std::size_t held() const { return held_.size(); }
+  /// Packets passed up in permissive mode although they failed verification.
+  std::uint64_t passed_unverified() const { return passed_unverified_; }
+
+ private:
+  struct Held {
+    HashedId8 digest{};
+    Time64 until = 0;
+    Bytes packet;
+  };
+  SecuredIndication outcome(Verification& v);
+
+  SecurityMode mode_;
+  Signer signer_;
+  Verifier verifier_;
+  std::deque<Held> held_;
+  std::uint64_t passed_unverified_ = 0;
+};
+
+}  // namespace tb::its::security

@@ -1,0 +1,141 @@
+#include "its-station/security/security_entity.hpp"
+
+#include <gtest/gtest.h>
+
+#include "its-station/security/pki.hpp"
+#include "its-station/security/tests/pcapng.hpp"
+#include "its-station/security/time.hpp"
+
+namespace tb::its::security {
+namespace {
+
+const Time64 kNow = to_time64(clock::WallTime{std::chrono::seconds(1795454308)});
+const Time32 kNowS = static_cast<Time32>(kNow / 1000000);
+const Bytes kPayload{0x20, 0x50, 0x00, 0x80, 0x00, 0x2d, 0x01, 0x00};
+
+struct Fixture {
+  EcKey root_key = EcKey::generate(EccCurve::kNistP256);
+  EcKey aa_key = EcKey::generate(EccCurve::kNistP256);
+  Certificate root = make_root(root_key, "root", {kNowS - 3600, DurationUnit::kHours, 100});
+  Certificate aa =
+      make_authority(aa_key, "aa", {kNowS - 3600, DurationUnit::kHours, 100}, root, root_key);
+
+  SecurityEntity station(SecurityMode mode) {
+    EcKey k = EcKey::generate(EccCurve::kNistP256);
+    Certificate at = make_ticket(k, {kNowS - 60, DurationUnit::kHours, 10}, aa, aa_key);
+    Verifier v({root});
+    EXPECT_EQ(v.add_authority(aa, kNow), VerifyResult::kOk);
+    return SecurityEntity(mode, Signer(std::move(at), std::move(k), aa), std::move(v));
+  }
+};
+
+TEST(SecurityMode, ParsesTheScenarioNames) {
+  EXPECT_EQ(parse_security_mode("none"), SecurityMode::kNone);
+  EXPECT_EQ(parse_security_mode("signed"), SecurityMode::kSigned);
+  EXPECT_EQ(parse_security_mode("signed-permissive"), SecurityMode::kSignedPermissive);
+  EXPECT_FALSE(parse_security_mode("Signed"));
+}
+
+TEST(SecurityEntity, SignedStationsExchangeCams) {
+  Fixture f;
+  auto a = f.station(SecurityMode::kSigned);
+  auto b = f.station(SecurityMode::kSigned);
+  auto out = b.decapsulate(a.encapsulate(kPsidCam, kPayload, kNow), kNow);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_TRUE(out[0].pass_up);
+  EXPECT_EQ(out[0].reason, VerifyResult::kOk);
+  EXPECT_EQ(out[0].psid, kPsidCam);
+  EXPECT_EQ(out[0].payload, kPayload);
+  // b heard a new station: its next CAM carries its AT; the one after is a digest until a
+  // second has passed.
+  auto first = decode_data(b.encapsulate(kPsidCam, kPayload, kNow));
+  auto second = decode_data(b.encapsulate(kPsidCam, kPayload, kNow + 100'000));
+  ASSERT_TRUE(first && second);
+  EXPECT_EQ(first->signed_data.signer.kind, SignerIdentifier::Kind::kCertificate);
+  EXPECT_EQ(second->signed_data.signer.kind, SignerIdentifier::Kind::kDigest);
+}
+
+TEST(SecurityEntity, UnknownDigestIsHeldRequestedAndReleasedByTheCertificate) {
+  Fixture f;
+  auto a = f.station(SecurityMode::kSigned);
+  auto b = f.station(SecurityMode::kSigned);
+  b.encapsulate(kPsidCam, kPayload, kNow);  // b's first CAM (its AT) goes out
+  a.encapsulate(kPsidCam, kPayload, kNow);  // lost
+  const Bytes digest = a.encapsulate(kPsidCam, kPayload, kNow + 100'000);
+  auto out = b.decapsulate(digest, kNow + 100'000);
+  EXPECT_TRUE(out.empty());
+  EXPECT_EQ(b.held(), 1u);
+  // b's next CAM asks for a's AT and carries b's own (a new station was heard).
+  auto ask = b.encapsulate(kPsidCam, kPayload, kNow + 150'000);
+  auto ask_d = decode_data(ask);
+  ASSERT_TRUE(ask_d);
+  ASSERT_TRUE(ask_d->signed_data.tbs.header.inline_p2pcd_request);
+  EXPECT_EQ(ask_d->signed_data.tbs.header.inline_p2pcd_request->front(),
+            hashed_id3(a.signer().id()));
+  EXPECT_EQ(ask_d->signed_data.signer.kind, SignerIdentifier::Kind::kCertificate);
+  // a learns b and is asked for its AT: its next CAM carries it; b releases the held one.
+  auto at_a = a.decapsulate(ask, kNow + 150'000);
+  ASSERT_EQ(at_a.size(), 1u);
+  EXPECT_TRUE(at_a[0].pass_up);
+  auto released = b.decapsulate(a.encapsulate(kPsidCam, kPayload, kNow + 200'000), kNow + 200'000);
+  ASSERT_EQ(released.size(), 2u);
+  EXPECT_TRUE(released[0].pass_up);
+  EXPECT_TRUE(released[1].pass_up);
+  EXPECT_EQ(released[1].reason, VerifyResult::kOk);
+  EXPECT_EQ(b.held(), 0u);
+}
+
+TEST(SecurityEntity, HeldPacketsTimeOutAsUnknownSigner) {
+  Fixture f;
+  auto a = f.station(SecurityMode::kSigned);
+  auto b = f.station(SecurityMode::kSigned);
+  a.encapsulate(kPsidCam, kPayload, kNow);
+  b.decapsulate(a.encapsulate(kPsidCam, kPayload, kNow + 100'000), kNow + 100'000);
+  EXPECT_TRUE(b.expire(kNow + 100'000 + SecurityEntity::kHoldUs - 1).empty());
+  auto out = b.expire(kNow + 100'000 + SecurityEntity::kHoldUs);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_FALSE(out[0].pass_up);
+  EXPECT_EQ(out[0].reason, VerifyResult::kUnknownSigner);
+}
+
+TEST(SecurityEntity, SocktapSelfSignerDroppedWhenSignedPassedUpWhenPermissive) {
+  Fixture f;
+  auto strict = f.station(SecurityMode::kSigned);
+  auto permissive = f.station(SecurityMode::kSignedPermissive);
+  const auto frames = test::read_pcapng(std::string(TESTBED_SECURITY_DATA) +
+                                        "/vanetza-socktap-cams-dummy-signed.pcap");
+  ASSERT_FALSE(frames.empty());
+  const std::span<const std::uint8_t> secured(frames[0].data() + 18, frames[0].size() - 18);
+  const Time64 now = 722539108207911ull + 5'000'000;  // on our TAI base
+  auto s = strict.decapsulate(secured, now);
+  ASSERT_EQ(s.size(), 1u);
+  EXPECT_FALSE(s[0].pass_up);
+  EXPECT_EQ(s[0].reason, VerifyResult::kSelfSigned);
+  auto p = permissive.decapsulate(secured, now);
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_TRUE(p[0].pass_up);
+  EXPECT_EQ(p[0].reason, VerifyResult::kSelfSigned);
+  EXPECT_EQ(p[0].psid, kPsidCam);
+  EXPECT_EQ(p[0].payload.size(), 81u);
+  EXPECT_EQ(p[0].time_base, TimeBase::kUtcNoLeapSeconds);
+  EXPECT_EQ(permissive.passed_unverified(), 1u);
+  EXPECT_EQ(strict.verifier().count(VerifyResult::kSelfSigned), 1u);
+}
+
+TEST(SecurityEntity, ForeignRootStationIsIgnored) {
+  Fixture ours;
+  Fixture foreign;
+  auto a = ours.station(SecurityMode::kSigned);
+  auto stranger = foreign.station(SecurityMode::kSigned);
+  auto out = a.decapsulate(stranger.encapsulate(kPsidCam, kPayload, kNow), kNow);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_FALSE(out[0].pass_up);
+  EXPECT_EQ(out[0].reason, VerifyResult::kUnknownIssuer);
+  // Even when it hands out its AA: that AA's root is not ours.
+  auto aa_packet = decode_data(stranger.encapsulate(kPsidCam, kPayload, kNow + 1));
+  ASSERT_TRUE(aa_packet);
+  EXPECT_EQ(a.verifier().add_authority(foreign.aa, kNow), VerifyResult::kUntrustedRoot);
+}
+
+}  // namespace
+}  // namespace tb::its::security

@@ -1,0 +1,324 @@
+#include <gtest/gtest.h>
+
+#include <chrono>
+
+#include "its-station/security/pki.hpp"
+#include "its-station/security/signer.hpp"
+#include "its-station/security/tests/pcapng.hpp"
+#include "its-station/security/time.hpp"
+#include "its-station/security/verifier.hpp"
+
+namespace tb::its::security {
+namespace {
+
+using namespace std::chrono_literals;
+
+// 2026-11-23 17:18:28 UTC, the instant of the socktap capture.
+const clock::WallTime kWall{std::chrono::seconds(1795454308)};
+const Time64 kNow = to_time64(kWall);
+const Time32 kNowS = static_cast<Time32>(kNow / 1000000);
+
+ValidityPeriod week_from(Time32 start) {
+  return {start, DurationUnit::kHours, 168};
+}
+
+/// A root, an AA and two ATs, as its-pki makes them.
+struct Pki {
+  EcKey root_key = EcKey::generate(EccCurve::kNistP256);
+  EcKey aa_key = EcKey::generate(EccCurve::kNistP256);
+  Certificate root = make_root(root_key, "testbed root", week_from(kNowS - 3600));
+  Certificate aa = make_authority(aa_key, "testbed aa", week_from(kNowS - 3600), root, root_key);
+
+  std::pair<Certificate, EcKey> ticket(ValidityPeriod v = week_from(kNowS - 60)) {
+    EcKey k = EcKey::generate(EccCurve::kNistP256);
+    Certificate c = make_ticket(k, v, aa, aa_key);
+    return {std::move(c), std::move(k)};
+  }
+  Signer signer(ValidityPeriod v = week_from(kNowS - 60)) {
+    auto [c, k] = ticket(v);
+    return Signer(std::move(c), std::move(k), aa);
+  }
+  Verifier verifier(VerifierConfig cfg = {}) {
+    Verifier v({root}, cfg);
+    EXPECT_EQ(v.add_authority(aa, kNow), VerifyResult::kOk);
+    return v;
+  }
+};
+
+const Bytes kPayload{0x20, 0x50, 0x00, 0x80, 0x00, 0x2d, 0x01, 0x00, 0xaa, 0xbb};
+
+TEST(Pki, CertificatesAreCanonicalAndVerifyUpTheChain) {
+  Pki pki;
+  EXPECT_EQ(pki.root.issuer.kind, IssuerIdentifier::Kind::kSelf);
+  EXPECT_EQ(pki.aa.issuer.digest, certificate_id(pki.root));
+  auto [at, key] = pki.ticket();
+  EXPECT_EQ(at.issuer.digest, certificate_id(pki.aa));
+  EXPECT_EQ(at.tbs.verify_key.point, key.public_point());
+  // Decoding the octets gives the certificate back, and its hash is that of those octets.
+  auto back = decode_certificate(at.encoding);
+  ASSERT_TRUE(back) << asn1::to_string(back.error());
+  EXPECT_EQ(*back, at);
+  EXPECT_EQ(certificate_hash(*back), sha256(at.encoding));
+  // An AT of TS 103 097 7.2.1: explicit, id none, x-only r, compressed key, CAM+DENM.
+  EXPECT_EQ(at.tbs.id.kind, CertificateId::Kind::kNone);
+  EXPECT_EQ(at.signature->r.form, EccP256CurvePoint::Form::kXOnly);
+  ASSERT_TRUE(at.tbs.app_permissions);
+  EXPECT_EQ(at.tbs.app_permissions->size(), 2u);
+}
+
+TEST(Pki, KeysSurviveAPemFile) {
+  const std::string path = ::testing::TempDir() + "/i20-key.pem";
+  EcKey k = EcKey::generate(EccCurve::kNistP256);
+  k.save_private_pem(path);
+  EcKey again = EcKey::load_private_pem(path);
+  EXPECT_EQ(again.public_point(), k.public_point());
+  const Octets32 digest = sha256(kPayload);
+  EXPECT_TRUE(k.verify(digest, again.sign(digest)));
+  EXPECT_THROW(EcKey::load_private_pem(path + ".missing"), CryptoError);
+}
+
+TEST(SignVerify, CamWithCertificateThenDigestVerifies) {
+  Pki pki;
+  Signer signer = pki.signer();
+  Verifier verifier = pki.verifier();
+  const Bytes first = signer.sign_cam(kPayload, kNow);
+  auto v = verifier.verify(first, kPsidCam, kNow);
+  ASSERT_EQ(v.result, VerifyResult::kOk) << to_string(v.result);
+  EXPECT_TRUE(v.signer_certificate_included);
+  EXPECT_EQ(v.signer, signer.id());
+  EXPECT_EQ(v.time_base, TimeBase::kTai);
+  EXPECT_EQ(Bytes(v.payload().begin(), v.payload().end()), kPayload);
+  // Within the second: the digest, which the verifier knows from the first CAM.
+  const Bytes second = signer.sign_cam(kPayload, kNow + 100'000);
+  v = verifier.verify(second, kPsidCam, kNow + 100'000);
+  ASSERT_EQ(v.result, VerifyResult::kOk) << to_string(v.result);
+  EXPECT_FALSE(v.signer_certificate_included);
+  EXPECT_LT(second.size(), first.size());
+  // A second later the AT again.
+  const Bytes third = signer.sign_cam(kPayload, kNow + 1'000'000);
+  v = verifier.verify(third, kPsidCam, kNow + 1'000'000);
+  EXPECT_EQ(v.result, VerifyResult::kOk);
+  EXPECT_TRUE(v.signer_certificate_included);
+  EXPECT_EQ(verifier.count(VerifyResult::kOk), 3u);
+}
+
+TEST(SignVerify, UnknownDigestIsNamedAndResolvedByTheCertificate) {
+  Pki pki;
+  Signer signer = pki.signer();
+  Verifier verifier = pki.verifier();
+  signer.sign_cam(kPayload, kNow);  // lost on the air
+  const Bytes digest = signer.sign_cam(kPayload, kNow + 100'000);
+  auto v = verifier.verify(digest, kPsidCam, kNow + 100'000);
+  EXPECT_EQ(v.result, VerifyResult::kUnknownSigner);
+  ASSERT_TRUE(v.signer);
+  // The receiver asks for it by HashedId3; the sender's next CAM carries its AT.
+  Signer receiver = pki.signer();
+  receiver.request_certificate(*v.signer);
+  auto request = decode_data(receiver.sign_cam(kPayload, kNow + 150'000));
+  ASSERT_TRUE(request);
+  const auto& asked = request->signed_data.tbs.header.inline_p2pcd_request;
+  ASSERT_TRUE(asked);
+  ASSERT_EQ(asked->size(), 1u);
+  signer.on_certificate_request(asked->front());
+  auto answer =
+      verifier.verify(signer.sign_cam(kPayload, kNow + 200'000), kPsidCam, kNow + 200'000);
+  EXPECT_EQ(answer.result, VerifyResult::kOk);
+  EXPECT_TRUE(answer.signer_certificate_included);
+  EXPECT_EQ(verifier.verify(digest, kPsidCam, kNow + 200'000).result, VerifyResult::kOk);
+  EXPECT_EQ(verifier.count(VerifyResult::kUnknownSigner), 1u);
+}
+
+TEST(SignVerify, PeerAskingForOurAaGetsItAsRequestedCertificate) {
+  Pki pki;
+  Signer signer = pki.signer();
+  signer.sign_cam(kPayload, kNow);
+  signer.on_certificate_request(hashed_id3(certificate_id(pki.aa)));
+  auto d = decode_data(signer.sign_cam(kPayload, kNow + 100'000));
+  ASSERT_TRUE(d);
+  ASSERT_TRUE(d->signed_data.tbs.header.requested_certificate);
+  EXPECT_EQ(*d->signed_data.tbs.header.requested_certificate, pki.aa);
+  EXPECT_EQ(d->signed_data.signer.kind, SignerIdentifier::Kind::kDigest);
+}
+
+/// Flips every bit of octets [from, to) of @p packet and expects each to be rejected.
+void expect_every_flip_rejected(Verifier& verifier, const Bytes& packet, std::size_t from,
+                                std::size_t to, Psid psid, Time64 now) {
+  for (std::size_t i = from; i < to; ++i) {
+    for (int bit = 0; bit < 8; ++bit) {
+      Bytes b = packet;
+      b[i] ^= static_cast<std::uint8_t>(1u << bit);
+      const auto r = verifier.verify(b, psid, now).result;
+      EXPECT_NE(r, VerifyResult::kOk) << "octet " << i << " bit " << bit;
+    }
+  }
+}
+
+TEST(SignVerify, EverySingleBitFlipInTheSignedPartIsRejected) {
+  Pki pki;
+  Signer signer = pki.signer();
+  Verifier verifier = pki.verifier();
+  const Bytes with_cert = signer.sign_cam(kPayload, kNow);
+  const Bytes digest = signer.sign_cam(kPayload, kNow + 100'000);
+  auto d = decode_data(digest);
+  ASSERT_TRUE(d);
+  // protocolVersion, content tag, hashId, tbsData, signer digest: every octet before the
+  // signature's own tags.
+  const std::size_t signed_end = 3 + d->signed_data.tbs_encoding.size() + 1 + 8;
+  ASSERT_EQ(verifier.verify(with_cert, kPsidCam, kNow).result, VerifyResult::kOk);
+  expect_every_flip_rejected(verifier, digest, 0, signed_end, kPsidCam, kNow + 100'000);
+  // The signature values themselves (after the Signature and rSig tags).
+  expect_every_flip_rejected(verifier, digest, signed_end + 2, digest.size(), kPsidCam,
+                             kNow + 100'000);
+  // A fresh verifier sees the certificate form: the tbsData and the AT in it.
+  Verifier fresh = pki.verifier();
+  auto dc = decode_data(with_cert);
+  ASSERT_TRUE(dc);
+  const std::size_t cert_end = with_cert.size() - 66;  // signature: tags + r + s
+  // The AT's own rSig tag is outside what anything signs: 1609.2 6.4.3 hashes a certificate
+  // with r made x-only, so x-only -> compressed-y-0 (one bit) names the same certificate.
+  const std::size_t at_r_tag = cert_end - 65;
+  ASSERT_EQ(with_cert[at_r_tag], 0x80);
+  expect_every_flip_rejected(fresh, with_cert, 0, at_r_tag, kPsidCam, kNow);
+  expect_every_flip_rejected(fresh, with_cert, at_r_tag + 1, cert_end, kPsidCam, kNow);
+  EXPECT_EQ(fresh.count(VerifyResult::kOk), 0u);
+  EXPECT_GT(fresh.count(VerifyResult::kSignatureInvalid), 0u);
+  EXPECT_GT(fresh.count(VerifyResult::kCertificateSignature), 0u);
+}
+
+TEST(SignVerify, WrongPsidAndMissingPermissionAreRejected) {
+  Pki pki;
+  Signer signer = pki.signer();
+  Verifier verifier = pki.verifier();
+  const Bytes cam = signer.sign_cam(kPayload, kNow);
+  EXPECT_EQ(verifier.verify(cam, kPsidDenm, kNow).result, VerifyResult::kWrongPsid);
+  // An AT whose permissions lack the psid it signs with.
+  const Bytes other = signer.sign(0x8007, kPayload, kNow, std::nullopt, true);
+  EXPECT_EQ(verifier.verify(other, 0x8007, kNow).result, VerifyResult::kIssuerNotPermitted);
+  EcKey k = EcKey::generate(EccCurve::kNistP256);
+  Certificate cam_only = make_ticket(k, week_from(kNowS - 60), pki.aa, pki.aa_key);
+  cam_only.tbs.app_permissions->pop_back();  // no DENM
+  sign_certificate(cam_only, &pki.aa, pki.aa_key);
+  Signer s2(cam_only, std::move(k), pki.aa);
+  const Bytes denm = s2.sign_denm(kPayload, kNow, ThreeDLocation{481351000, 115830000, 4096});
+  EXPECT_EQ(verifier.verify(denm, kPsidDenm, kNow).result, VerifyResult::kPsidNotPermitted);
+  EXPECT_EQ(verifier.count(VerifyResult::kPsidNotPermitted), 1u);
+}
+
+TEST(SignVerify, DenmCarriesLocationAndCertificate) {
+  Pki pki;
+  Signer signer = pki.signer();
+  Verifier verifier = pki.verifier();
+  const ThreeDLocation where{481351000, 115830000, 4096 + 5000};
+  signer.sign_cam(kPayload, kNow);
+  const Bytes denm = signer.sign_denm(kPayload, kNow + 10'000, where);
+  auto v = verifier.verify(denm, kPsidDenm, kNow + 10'000);
+  ASSERT_EQ(v.result, VerifyResult::kOk) << to_string(v.result);
+  EXPECT_TRUE(v.signer_certificate_included);
+  EXPECT_EQ(v.data.signed_data.tbs.header.generation_location, where);
+  // A DENM without the location is not one TS 103 097 7.1.2 allows.
+  const Bytes bare = signer.sign(kPsidDenm, kPayload, kNow, std::nullopt, true);
+  EXPECT_EQ(verifier.verify(bare, kPsidDenm, kNow).result,
+            VerifyResult::kGenerationLocationMissing);
+}
+
+TEST(SignVerify, ExpiredAndNotYetValidTicketsAreRejected) {
+  Pki pki;
+  Verifier verifier = pki.verifier();
+  Signer expired = pki.signer({kNowS - 7200, DurationUnit::kHours, 1});
+  EXPECT_EQ(verifier.verify(expired.sign_cam(kPayload, kNow), kPsidCam, kNow).result,
+            VerifyResult::kCertificateNotValid);
+  Signer future = pki.signer({kNowS + 3600, DurationUnit::kHours, 1});
+  EXPECT_EQ(verifier.verify(future.sign_cam(kPayload, kNow), kPsidCam, kNow).result,
+            VerifyResult::kCertificateNotValid);
+  // A known AT expires too: digest CAMs after its end are rejected.
+  Signer short_lived = pki.signer({kNowS - 60, DurationUnit::kSeconds, 120});
+  EXPECT_EQ(verifier.verify(short_lived.sign_cam(kPayload, kNow), kPsidCam, kNow).result,
+            VerifyResult::kOk);
+  const Time64 later = kNow + 61'000'000;
+  EXPECT_EQ(
+      verifier
+          .verify(short_lived.sign(kPsidCam, kPayload, later, std::nullopt, false), kPsidCam, later)
+          .result,
+      VerifyResult::kCertificateNotValid);
+}
+
+TEST(SignVerify, TicketFromAForeignRootIsRejected) {
+  Pki ours;
+  Pki foreign;
+  Verifier verifier = ours.verifier();
+  EXPECT_EQ(verifier.add_authority(foreign.aa, kNow), VerifyResult::kUntrustedRoot);
+  Signer stranger = foreign.signer();
+  EXPECT_EQ(verifier.verify(stranger.sign_cam(kPayload, kNow), kPsidCam, kNow).result,
+            VerifyResult::kUnknownIssuer);
+  // An AA that claims our root but was signed by another key.
+  Certificate forged = make_authority(foreign.aa_key, "forged", week_from(kNowS - 3600), ours.root,
+                                      foreign.root_key);
+  EXPECT_EQ(verifier.add_authority(forged, kNow), VerifyResult::kCertificateSignature);
+  // A root that does not verify cannot be trusted at all.
+  Certificate bad_root = ours.root;
+  bad_root.signature->s[0] ^= 1;
+  EXPECT_THROW(Verifier({bad_root}), CryptoError);
+}
+
+TEST(SignVerify, GenerationTimeWindowOnTaiOrUtc) {
+  Pki pki;
+  Signer signer = pki.signer();
+  Verifier verifier = pki.verifier();
+  auto at = [&](std::int64_t offset_us) {
+    const Time64 gen = static_cast<Time64>(static_cast<std::int64_t>(kNow) + offset_us);
+    return verifier.verify(signer.sign(kPsidCam, kPayload, gen, std::nullopt, true), kPsidCam,
+                           kNow);
+  };
+  EXPECT_EQ(at(0).time_base, TimeBase::kTai);
+  EXPECT_EQ(at(-1'999'000).result, VerifyResult::kOk);
+  EXPECT_EQ(at(39'000).result, VerifyResult::kOk);
+  EXPECT_EQ(at(-2'100'000).result, VerifyResult::kGenerationTimeOutOfWindow);
+  EXPECT_EQ(at(50'000).result, VerifyResult::kGenerationTimeOutOfWindow);
+  // Vanetza stamps UTC without leap seconds: 5 s behind TAI, and still within the window.
+  auto utc = at(-5'000'000 - 300'000);
+  EXPECT_EQ(utc.result, VerifyResult::kOk);
+  EXPECT_EQ(utc.time_base, TimeBase::kUtcNoLeapSeconds);
+  EXPECT_EQ(at(-7'100'000).result, VerifyResult::kGenerationTimeOutOfWindow);
+  EXPECT_EQ(at(-3'500'000).result, VerifyResult::kGenerationTimeOutOfWindow);
+  // Without the UTC base only TAI counts.
+  Verifier tai_only = pki.verifier(VerifierConfig{2s, 40ms, false});
+  EXPECT_EQ(tai_only
+                .verify(signer.sign(kPsidCam, kPayload, kNow - 5'300'000, std::nullopt, true),
+                        kPsidCam, kNow)
+                .result,
+            VerifyResult::kGenerationTimeOutOfWindow);
+}
+
+TEST(SignVerify, SocktapSelfSignedCamsAreRejectedWithTheirReason) {
+  Pki pki;
+  Verifier verifier = pki.verifier();
+  const auto frames = test::read_pcapng(std::string(TESTBED_SECURITY_DATA) +
+                                        "/vanetza-socktap-cams-dummy-signed.pcap");
+  ASSERT_FALSE(frames.empty());
+  for (const auto& f : frames) {
+    const std::span<const std::uint8_t> secured(f.data() + 18, f.size() - 18);
+    auto d = decode_data(secured);
+    ASSERT_TRUE(d);
+    // Verified at the instant it was stamped: socktap's UTC base is 5 s behind ours.
+    const Time64 now = *d->signed_data.tbs.header.generation_time + 5'000'000 + 1'000;
+    auto v = verifier.verify(secured, kPsidCam, now);
+    EXPECT_EQ(v.result, VerifyResult::kSelfSigned);
+    EXPECT_EQ(v.time_base, TimeBase::kUtcNoLeapSeconds);
+    EXPECT_EQ(v.payload().size(), d->signed_data.tbs.payload.data->size());
+  }
+  EXPECT_EQ(verifier.count(VerifyResult::kSelfSigned), frames.size());
+}
+
+TEST(SignVerify, MalformedInputIsCountedNotThrown) {
+  Pki pki;
+  Verifier verifier = pki.verifier();
+  const Bytes junk{0x03, 0x81, 0x00, 0x40};
+  auto v = verifier.verify(junk, kPsidCam, kNow);
+  EXPECT_EQ(v.result, VerifyResult::kMalformed);
+  EXPECT_EQ(v.decode_error.code, asn1::Error::kTruncated);
+  EXPECT_EQ(verifier.count(VerifyResult::kMalformed), 1u);
+  EXPECT_EQ(to_string(VerifyResult::kGenerationTimeOutOfWindow), "generation_time_out_of_window");
+}
+
+}  // namespace
+}  // namespace tb::its::security

@@ -1,0 +1,297 @@
+#include "its-station/security/verifier.hpp"
+
+#include <cstring>
+
+#include "its-station/security/pki.hpp"
+
+namespace tb::its::security {
+
+std::string_view to_string(VerifyResult r) {
+  switch (r) {
+    case VerifyResult::kOk:
+      return "ok";
+    case VerifyResult::kMalformed:
+      return "malformed";
+    case VerifyResult::kNotSigned:
+      return "not_signed";
+    case VerifyResult::kUnsupportedHash:
+      return "unsupported_hash";
+    case VerifyResult::kWrongPsid:
+      return "wrong_psid";
+    case VerifyResult::kGenerationTimeMissing:
+      return "generation_time_missing";
+    case VerifyResult::kGenerationTimeOutOfWindow:
+      return "generation_time_out_of_window";
+    case VerifyResult::kGenerationLocationMissing:
+      return "generation_location_missing";
+    case VerifyResult::kSelfSigned:
+      return "self_signed";
+    case VerifyResult::kUnknownSigner:
+      return "unknown_signer";
+    case VerifyResult::kUnknownIssuer:
+      return "unknown_issuer";
+    case VerifyResult::kUntrustedRoot:
+      return "untrusted_root";
+    case VerifyResult::kCertificateSignature:
+      return "certificate_signature";
+    case VerifyResult::kCertificateNotValid:
+      return "certificate_not_valid";
+    case VerifyResult::kPsidNotPermitted:
+      return "psid_not_permitted";
+    case VerifyResult::kSspNotPermitted:
+      return "ssp_not_permitted";
+    case VerifyResult::kIssuerNotPermitted:
+      return "issuer_not_permitted";
+    case VerifyResult::kSignatureInvalid:
+      return "signature_invalid";
+    case VerifyResult::kCount:
+      break;
+  }
+  return "unknown";
+}
+
+std::span<const std::uint8_t> Verification::payload() const {
+  if (data.content == Ieee1609Dot2Data::Content::kUnsecuredData)
+    return data.unsecured_data;
+  if (data.signed_data.tbs.payload.data)
+    return *data.signed_data.tbs.payload.data;
+  return {};
+}
+
+std::size_t Verifier::Id8Hash::operator()(const HashedId8& id) const {
+  std::uint64_t v = 0;
+  std::memcpy(&v, id.data(), sizeof v);  // already the tail of a SHA-256: uniform
+  return static_cast<std::size_t>(v);
+}
+
+namespace {
+
+/// A cache of verified ATs that cannot grow without bound when a peer changes pseudonyms or
+/// floods certificates; past it, new ATs are verified every time.
+constexpr std::size_t kMaxKnownCertificates = 4096;
+
+bool within_validity(const Certificate& c, Time64 at) {
+  const std::uint64_t s = at / 1000000;
+  return s >= c.tbs.validity.start && s < c.tbs.validity.end_seconds();
+}
+
+bool issuer_permits(const Certificate& aa, Psid psid) {
+  if (!aa.tbs.cert_issue_permissions)
+    return false;
+  for (const auto& g : *aa.tbs.cert_issue_permissions) {
+    if (g.all_psids)
+      return true;
+    for (const auto& p : g.psids)
+      if (p.psid == psid)
+        return true;
+  }
+  return false;
+}
+
+/// 1609.2 5.2.4.2.3 consistency of the packet with the AT's permissions. The SSP layouts of
+/// CAM (TS 103 900 6.2.2.1) and DENM (TS 103 831) start with an SSP version octet, 1; the
+/// testbed's stations send no special-vehicle container or restricted cause code, so they
+/// need no further bit.
+VerifyResult ticket_permits(const Certificate& at, Psid psid) {
+  if (!at.tbs.app_permissions)
+    return VerifyResult::kPsidNotPermitted;
+  for (const auto& p : *at.tbs.app_permissions) {
+    if (p.psid != psid)
+      continue;
+    if (p.ssp && (psid == kPsidCam || psid == kPsidDenm) &&
+        (p.ssp->bytes.empty() || p.ssp->bytes[0] != 0x01))
+      return VerifyResult::kSspNotPermitted;
+    return VerifyResult::kOk;
+  }
+  return VerifyResult::kPsidNotPermitted;
+}
+
+}  // namespace
+
+Verifier::Verifier(std::vector<Certificate> trusted_roots, VerifierConfig config)
+    : config_(config) {
+  for (auto& root : trusted_roots) {
+    if (root.issuer.kind != IssuerIdentifier::Kind::kSelf || !root.signature)
+      throw CryptoError("trusted root: not a self-signed certificate");
+    Entry e;
+    e.hash = certificate_hash(root);
+    e.key = EcKey::from_point(root.tbs.verify_key.curve, root.tbs.verify_key.point);
+    if (!e.key.verify(signed_digest(encode(root.tbs), sha256({})), *root.signature))
+      throw CryptoError("trusted root: its self-signature does not verify");
+    e.cert = std::move(root);
+    const HashedId8 id = hashed_id8(e.hash);
+    entries_.emplace(id, std::move(e));
+  }
+}
+
+VerifyResult Verifier::check_issued(const Certificate& c, const Entry& issuer, Time64 at) const {
+  if (!c.signature || c.issuer.kind != IssuerIdentifier::Kind::kSha256AndDigest)
+    return VerifyResult::kCertificateSignature;
+  if (!within_validity(c, at) || !within_validity(issuer.cert, at))
+    return VerifyResult::kCertificateNotValid;
+  // The tbsCertificate as received: COER is canonical, so its re-encoding is those octets.
+  if (!issuer.key.verify(signed_digest(encode(c.tbs), issuer.hash), *c.signature))
+    return VerifyResult::kCertificateSignature;
+  return VerifyResult::kOk;
+}
+
+VerifyResult Verifier::add_authority(const Certificate& aa, Time64 now) {
+  const Octets32 hash = certificate_hash(aa);
+  const HashedId8 id = hashed_id8(hash);
+  if (entries_.contains(id))
+    return VerifyResult::kOk;
+  if (aa.issuer.kind != IssuerIdentifier::Kind::kSha256AndDigest)
+    return VerifyResult::kUntrustedRoot;
+  auto root = entries_.find(aa.issuer.digest);
+  if (root == entries_.end() || root->second.issuer != nullptr)
+    return VerifyResult::kUntrustedRoot;
+  if (const auto r = check_issued(aa, root->second, now); r != VerifyResult::kOk)
+    return r;
+  Entry e;
+  e.cert = aa;
+  e.hash = hash;
+  try {
+    e.key = EcKey::from_point(aa.tbs.verify_key.curve, aa.tbs.verify_key.point);
+  } catch (const CryptoError&) {
+    return VerifyResult::kCertificateSignature;
+  }
+  e.issuer = &root->second;
+  entries_.emplace(id, std::move(e));
+  return VerifyResult::kOk;
+}
+
+VerifyResult Verifier::ticket_entry(const Certificate& c, Psid psid, Time64 at, const Entry** out) {
+  const Octets32 hash = certificate_hash(c);
+  const HashedId8 id = hashed_id8(hash);
+  if (auto it = entries_.find(id); it != entries_.end()) {
+    *out = &it->second;
+    return VerifyResult::kOk;
+  }
+  if (c.issuer.kind != IssuerIdentifier::Kind::kSha256AndDigest)
+    return VerifyResult::kUnknownIssuer;
+  auto aa = entries_.find(c.issuer.digest);
+  if (aa == entries_.end())
+    return VerifyResult::kUnknownIssuer;
+  if (aa->second.issuer == nullptr)
+    return VerifyResult::kUnknownIssuer;  // an AT straight under a root is not the EU chain
+  if (!issuer_permits(aa->second.cert, psid))
+    return VerifyResult::kIssuerNotPermitted;
+  if (const auto r = check_issued(c, aa->second, at); r != VerifyResult::kOk)
+    return r;
+  Entry e;
+  e.cert = c;
+  e.hash = hash;
+  try {
+    e.key = EcKey::from_point(c.tbs.verify_key.curve, c.tbs.verify_key.point);
+  } catch (const CryptoError&) {
+    return VerifyResult::kCertificateSignature;
+  }
+  e.issuer = &aa->second;
+  if (entries_.size() >= kMaxKnownCertificates) {
+    // Not cached: verified on every packet that carries it; digest-signed ones stay unknown.
+    static thread_local Entry overflow;
+    overflow = std::move(e);
+    *out = &overflow;
+    return VerifyResult::kOk;
+  }
+  *out = &entries_.emplace(id, std::move(e)).first->second;
+  return VerifyResult::kOk;
+}
+
+VerifyResult Verifier::check(Verification& v, std::optional<Psid> expected, Time64 now) {
+  const auto& d = v.data;
+  if (d.content != Ieee1609Dot2Data::Content::kSignedData)
+    return VerifyResult::kNotSigned;
+  const auto& s = d.signed_data;
+  if (s.hash_id != HashAlgorithm::kSha256)
+    return VerifyResult::kUnsupportedHash;
+  if (!s.tbs.payload.data)
+    return VerifyResult::kNotSigned;
+  const auto& h = s.tbs.header;
+  if (expected && h.psid != *expected)
+    return VerifyResult::kWrongPsid;
+  const Psid psid = h.psid;
+  if (!h.generation_time)
+    return VerifyResult::kGenerationTimeMissing;
+  // The window on TAI, then on UTC without leap seconds (5 s behind since 2017).
+  const auto in_window = [&](Time64 t_now) {
+    const auto g = static_cast<std::int64_t>(*h.generation_time);
+    const auto n = static_cast<std::int64_t>(t_now);
+    return g >= n - config_.window_past.count() && g <= n + config_.window_future.count();
+  };
+  const Time64 leap = Time64{static_cast<std::uint64_t>(leap_seconds_since_2004(
+                          static_cast<std::int64_t>(now / 1000000) + kEpoch2004UnixSeconds))} *
+                      1000000;
+  if (in_window(now))
+    v.time_base = TimeBase::kTai;
+  else if (config_.accept_utc_time_base && now >= leap && in_window(now - leap))
+    v.time_base = TimeBase::kUtcNoLeapSeconds;
+  if (!v.time_base)
+    return VerifyResult::kGenerationTimeOutOfWindow;
+  if (psid == kPsidDenm && !h.generation_location)
+    return VerifyResult::kGenerationLocationMissing;
+  // Certificate validity is checked at the generation time, on TAI (1609.2 5.2.4.2.3).
+  const Time64 at = *v.time_base == TimeBase::kTai ? *h.generation_time : *h.generation_time + leap;
+
+  const Entry* signer = nullptr;
+  switch (s.signer.kind) {
+    case SignerIdentifier::Kind::kSelf:
+      return VerifyResult::kSelfSigned;
+    case SignerIdentifier::Kind::kDigest: {
+      v.signer = s.signer.digest;
+      auto it = entries_.find(s.signer.digest);
+      if (it == entries_.end() || it->second.issuer == nullptr ||
+          it->second.issuer->issuer == nullptr)
+        return VerifyResult::kUnknownSigner;  // roots and AAs do not sign CAMs or DENMs
+      signer = &it->second;
+      if (!within_validity(signer->cert, at) || !within_validity(signer->issuer->cert, at))
+        return VerifyResult::kCertificateNotValid;
+      break;
+    }
+    case SignerIdentifier::Kind::kCertificate: {
+      // TS 103 097 5.2: exactly one certificate, the AT.
+      const auto& at_cert = s.signer.certificates.front();
+      v.signer_certificate_included = true;
+      v.signer = certificate_id(at_cert);
+      const bool known = entries_.contains(*v.signer);
+      if (const auto r = ticket_entry(at_cert, psid, at, &signer); r != VerifyResult::kOk)
+        return r;
+      v.signer_learned = !known && entries_.contains(*v.signer);
+      if (!within_validity(signer->cert, at) || !within_validity(signer->issuer->cert, at))
+        return VerifyResult::kCertificateNotValid;
+      break;
+    }
+  }
+  if (const auto r = ticket_permits(signer->cert, psid); r != VerifyResult::kOk)
+    return r;
+  if (!issuer_permits(signer->issuer->cert, psid))
+    return VerifyResult::kIssuerNotPermitted;
+  const Bytes& tbs = s.tbs_encoding.empty() ? encode(s.tbs) : s.tbs_encoding;
+  if (!signer->key.verify(signed_digest(tbs, signer->hash), s.signature))
+    return VerifyResult::kSignatureInvalid;
+  return VerifyResult::kOk;
+}
+
+Verification Verifier::verify_for(std::span<const std::uint8_t> secured, std::optional<Psid> psid,
+                                  Time64 now) {
+  Verification v;
+  auto d = decode_data(secured);
+  if (!d) {
+    v.decode_error = d.error();
+    v.result = VerifyResult::kMalformed;
+  } else {
+    v.data = std::move(*d);
+    v.result = check(v, psid, now);
+  }
+  ++counts_[static_cast<std::size_t>(v.result)];
+  return v;
+}
+
+const Certificate* Verifier::find(const HashedId3& id) const {
+  for (const auto& [id8, e] : entries_)
+    if (id8[5] == id[0] && id8[6] == id[1] && id8[7] == id[2])
+      return &e.cert;
+  return nullptr;
+}
+
+}  // namespace tb::its::security

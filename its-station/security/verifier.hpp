@@ -1,0 +1,123 @@
+#pragma once
+/// @file Verification of signed CAMs and DENMs (IEEE 1609.2 5.2, TS 103 097 v1.3.1 clause 7):
+/// the packet's signature, the signer's certificate chain AT -> AA -> a trusted root, validity,
+/// permissions and the generation time. Every rejection is a named VerifyResult, counted.
+///
+/// Certificates are verified once: a certificate whose chain checked out is kept with its parsed
+/// public key under its HashedId8, so that a CAM with a digest signer costs one ECDSA verify.
+/// Time comes from the caller (Time64 TAI), never from a clock of its own.
+
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
+
+#include "its-station/security/crypto.hpp"
+#include "its-station/security/ieee1609dot2.hpp"
+#include "its-station/security/time.hpp"
+
+namespace tb::its::security {
+
+enum class VerifyResult : std::uint8_t {
+  kOk,
+  kMalformed,              ///< not a COER Ieee1609Dot2Data TS 103 097 allows
+  kNotSigned,              ///< unsecuredData (or extDataHash only): nothing to verify
+  kUnsupportedHash,        ///< hashId other than sha256
+  kWrongPsid,              ///< headerInfo.psid is not the service the packet is for
+  kGenerationTimeMissing,  ///< TS 103 097 7.1.1/7.1.2: CAM and DENM carry generationTime
+  kGenerationTimeOutOfWindow,
+  kGenerationLocationMissing,  ///< TS 103 097 7.1.2: DENM carries generationLocation
+  kSelfSigned,                 ///< signer self: no certificate vouches for the key
+  kUnknownSigner,              ///< signer digest of a certificate not seen yet
+  kUnknownIssuer,              ///< the AT's AA is not known
+  kUntrustedRoot,              ///< an AA whose issuer is not a trusted root
+  kCertificateSignature,       ///< a certificate in the chain whose signature fails
+  kCertificateNotValid,        ///< generation time outside the AT's (or its AA's) validity
+  kPsidNotPermitted,           ///< the AT's appPermissions lack the psid
+  kSspNotPermitted,            ///< the AT's SSP for the psid is not one the station accepts
+  kIssuerNotPermitted,         ///< the AA's certIssuePermissions lack the psid
+  kSignatureInvalid,           ///< the packet's signature does not verify
+  kCount
+};
+
+std::string_view to_string(VerifyResult r);
+
+struct VerifierConfig {
+  /// TS 103 097 leaves the window to the profile; CAM: -2 s .. +40 ms (issue 20).
+  std::chrono::microseconds window_past{2'000'000};
+  std::chrono::microseconds window_future{40'000};
+  /// Accept generation times on the UTC-without-leap-seconds base (Vanetza) as well as TAI.
+  bool accept_utc_time_base = true;
+};
+
+/// What verify() found. The decoded packet is there whatever the result (unless malformed), so
+/// that a permissive station can pass the payload up with the reason.
+struct Verification {
+  VerifyResult result = VerifyResult::kMalformed;
+  Ieee1609Dot2Data data;
+  asn1::CodecError decode_error{};
+  std::optional<HashedId8> signer;  ///< the AT's HashedId8 (digest or certificate signer)
+  bool signer_certificate_included = false;
+  bool signer_learned = false;  ///< the included AT was new to the verifier (and now is known)
+  std::optional<TimeBase> time_base;  ///< the base the generation time matched
+
+  /// The signed payload (empty when there is none).
+  std::span<const std::uint8_t> payload() const;
+};
+
+class Verifier {
+ public:
+  /// Throws CryptoError when a root is not self-signed or its signature fails.
+  Verifier(std::vector<Certificate> trusted_roots, VerifierConfig config = {});
+
+  /// Adds an AA certificate after checking it against the trusted roots at @p now.
+  VerifyResult add_authority(const Certificate& aa, Time64 now);
+
+  /// Verifies one Ieee1609Dot2Data for the service @p psid at TAI time @p now.
+  Verification verify(std::span<const std::uint8_t> secured, Psid psid, Time64 now) {
+    return verify_for(secured, psid, now);
+  }
+  /// Verifies for whichever psid the header names (the layer above checks that it fits the
+  /// BTP port the payload goes to).
+  Verification verify(std::span<const std::uint8_t> secured, Time64 now) {
+    return verify_for(secured, std::nullopt, now);
+  }
+
+  /// A known certificate (root, AA or verified AT) by its HashedId3 (P2PCD requests).
+  const Certificate* find(const HashedId3& id) const;
+  bool knows(const HashedId8& id) const { return entries_.contains(id); }
+
+  std::uint64_t count(VerifyResult r) const { return counts_[static_cast<std::size_t>(r)]; }
+  const std::array<std::uint64_t, static_cast<std::size_t>(VerifyResult::kCount)>& counts() const {
+    return counts_;
+  }
+  std::size_t known_certificates() const { return entries_.size(); }
+
+ private:
+  struct Id8Hash {
+    std::size_t operator()(const HashedId8& id) const;
+  };
+  struct Entry {
+    Certificate cert;
+    Octets32 hash{};  ///< SHA-256 of the canonical certificate
+    EcKey key;
+    const Entry* issuer = nullptr;  ///< null for a root
+  };
+
+  VerifyResult check_issued(const Certificate& c, const Entry& issuer, Time64 at) const;
+  /// The entry of the AT @p c (verified against its AA and cached when new).
+  VerifyResult ticket_entry(const Certificate& c, Psid psid, Time64 at, const Entry** out);
+  VerifyResult check(Verification& v, std::optional<Psid> psid, Time64 now);
+  Verification verify_for(std::span<const std::uint8_t> secured, std::optional<Psid> psid,
+                          Time64 now);
+
+  VerifierConfig config_;
+  std::unordered_map<HashedId8, Entry, Id8Hash> entries_;
+  std::array<std::uint64_t, static_cast<std::size_t>(VerifyResult::kCount)> counts_{};
+};
+
+}  // namespace tb::its::security
