@@ -330,6 +330,16 @@ ChannelModel read_channel(Node n) {
   return c;
 }
 
+/// `antenna`: the GNSS antenna's place on the vehicle; it must lie within the footprint.
+GnssAntenna read_antenna(Node n, const VehicleModel& m) {
+  n.expect_object("the GNSS antenna position");
+  GnssAntenna a;
+  a.forward_m = n.number_or("forward_m", 0.0, -0.5 * m.length_m, 0.5 * m.length_m);
+  a.left_m = n.number_or("left_m", 0.0, -0.5 * m.width_m, 0.5 * m.width_m);
+  n.finish();
+  return a;
+}
+
 VehicleModel read_model(Node n) {
   n.expect_object("the vehicle model");
   VehicleModel m;
@@ -381,6 +391,8 @@ VehicleModel read_model(Node n) {
   m.drag_coefficient = n.number_or("drag_coefficient", m.drag_coefficient, 0.0, 2.0);
   m.frontal_area_m2 = n.number_or("frontal_area_m2", m.frontal_area_m2, 0.1, 20.0);
   m.rolling_resistance = n.number_or("rolling_resistance", m.rolling_resistance, 0.0, 0.1);
+  if (auto a = n.optional("antenna"))
+    m.antenna = read_antenna(*a, m);
   n.finish();
   if (m.wheelbase_m >= m.length_m)
     n.fail("wheelbase_m must be shorter than length_m");

@@ -143,8 +143,11 @@ apps::mqtt::Kinematics own_kinematics(const facilities::PositionFix& fix,
   k.altitude_m = fix.altitude_m;
   k.heading_deg = fix.heading_deg;
   k.speed_mps = fix.speed_mps;
+  if (fix.backward)
+    k.reversing = *fix.backward;
   if (vehicle) {
-    k.reversing = vehicle->reversing.value_or(false);
+    if (!fix.backward)
+      k.reversing = vehicle->reversing.value_or(false);
     k.longitudinal_accel_mps2 = vehicle->longitudinal_acceleration_mps2;
   }
   k.length_m = length_m;

@@ -37,6 +37,7 @@
 #include "its-station/facilities/gpsd_position_provider.hpp"
 #include "its-station/facilities/gpsd_process.hpp"
 #include "its-station/facilities/ldm.hpp"
+#include "its-station/facilities/reference_position.hpp"
 #include "its-station/geonet/router.hpp"
 #include "its-station/link/packet_socket_link.hpp"
 
@@ -176,25 +177,7 @@ int run(const Options& o) {
   } else {
     std::tie(gps_cfg.host, gps_cfg.port) = split_host_port(o.gpsd, "--gpsd");
   }
-  fac::GpsdPositionProvider position(io, runtime, gps_cfg);
-
-  // Radio: the real interface (hwsim in OCB mode, or the veth stand-in of the same name).
-  auto link = tb::its::link::PacketSocketLink::open(io, o.radio);
-  if (!link)
-    throw Fatal{link.error().message() +
-                (link.error().kind == tb::its::link::OpenErrorKind::kNoSuchInterface
-                     ? " — is the station's radio set up (--radio)?"
-                     : "")};
-  spdlog::info("radio: {} ({}), MAC {}", o.radio,
-               (*link)->driver().empty() ? "driver unknown" : (*link)->driver(),
-               tb::its::link::to_string((*link)->address()));
-
-  tb::its::station::GnPositionAdapter gn_position(position);
-  tb::its::geonet::RouterConfig gn_cfg;
-  gn_cfg.station_type = static_cast<tb::its::geonet::StationType>(ca_cfg.station_type);
-  tb::its::geonet::Router router(runtime, **link, gn_position, gn_cfg);
-  tb::its::btp::Dispatcher btp(router);
-  tb::its::station::BtpMessageSender sender(btp);
+  fac::GpsdPositionProvider gnss(io, runtime, gps_cfg);
 
   // Vehicle data.
   auto can_bus = open_can(io, o);
@@ -213,6 +196,34 @@ int run(const Options& o) {
         std::make_unique<fac::CanVehicleDataProvider>(*can_bus, std::move(*decoder), runtime);
     vehicle_data->start();
   }
+
+  // Everything above the receiver works with the vehicle's orientation and the CAM reference
+  // point (front centre), not the antenna's course and position (reference_position.hpp).
+  fac::AntennaGeometry antenna;
+  if (vehicle) {
+    antenna.vehicle_length_m = vehicle->model.length_m;
+    antenna.antenna_forward_m = vehicle->model.antenna.forward_m;
+    antenna.antenna_left_m = vehicle->model.antenna.left_m;
+  }
+  fac::ReferencePositionProvider position(gnss, vehicle_data.get(), antenna);
+
+  // Radio: the real interface (hwsim in OCB mode, or the veth stand-in of the same name).
+  auto link = tb::its::link::PacketSocketLink::open(io, o.radio);
+  if (!link)
+    throw Fatal{link.error().message() +
+                (link.error().kind == tb::its::link::OpenErrorKind::kNoSuchInterface
+                     ? " — is the station's radio set up (--radio)?"
+                     : "")};
+  spdlog::info("radio: {} ({}), MAC {}", o.radio,
+               (*link)->driver().empty() ? "driver unknown" : (*link)->driver(),
+               tb::its::link::to_string((*link)->address()));
+
+  tb::its::station::GnPositionAdapter gn_position(position);
+  tb::its::geonet::RouterConfig gn_cfg;
+  gn_cfg.station_type = static_cast<tb::its::geonet::StationType>(ca_cfg.station_type);
+  tb::its::geonet::Router router(runtime, **link, gn_position, gn_cfg);
+  tb::its::btp::Dispatcher btp(router);
+  tb::its::station::BtpMessageSender sender(btp);
 
   // Facilities.
   fac::Ldm ldm(runtime);
@@ -420,7 +431,7 @@ int run(const Options& o) {
     spdlog::info("shutting down: {}", why);
     exit_code = code;
     ca.stop();
-    position.stop();
+    gnss.stop();
     signals.cancel();
     status_timer.cancel();
     gpsd_deadline.cancel();
@@ -444,7 +455,7 @@ int run(const Options& o) {
   gpsd_deadline.expires_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
       std::chrono::duration<double>(o.gpsd_wait_s)));
   gpsd_deadline.async_wait([&](const boost::system::error_code& ec) {
-    if (ec || position.connected())
+    if (ec || gnss.connected())
       return;
     spdlog::error("gpsd at {}:{} did not accept a connection within {} s{}", gps_cfg.host,
                   gps_cfg.port, o.gpsd_wait_s,
@@ -452,7 +463,7 @@ int run(const Options& o) {
     shutdown("no gpsd", 1);
   });
 
-  position.start();
+  gnss.start();
   ca.start();
   status_tick();
   spdlog::info("station {} (type {}) running, CAM policy {}", o.station_id,
