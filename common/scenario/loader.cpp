@@ -29,6 +29,8 @@ namespace {
 // Limits that keep a scenario physically meaningful; see docs/scenario.md.
 constexpr int kMaxVehicles = 5000;
 constexpr double kMaxSpeed = 70.0;  // m/s, 252 km/h
+/// Fastest reversing a lane_follow profile may ask for (a car's reverse gear tops out near).
+constexpr double kMaxReverseSpeed = 15.0;  // m/s
 
 // ---- JSON text → json, rejecting duplicate keys (nlohmann silently keeps the last) ----------
 
@@ -521,7 +523,8 @@ Driver read_driver(Node n) {
       p.fail("all points of a speed profile must use the same key, \"t\" or \"s\"");
     }
     sp.at = p.required(has_s ? "s" : "t").number(0.0, 1e7);
-    sp.speed = p.required("speed").number(0.0, kMaxSpeed);
+    // Negative: reversing along the lane (issue 22).
+    sp.speed = p.required("speed").number(-kMaxReverseSpeed, kMaxSpeed);
     p.finish();
     if (sp.at <= last)
       p.fail("speed profile points must be in increasing order");
