@@ -49,7 +49,8 @@ class OrientationFromCourse {
 
 /// Where the GNSS antenna sits on the vehicle, and the vehicle's length.
 struct AntennaGeometry {
-  double vehicle_length_m = 4.5;
+  /// 0 when the vehicle is not known (no scenario): the fix then stays where the antenna is.
+  double vehicle_length_m = 0.0;
   double antenna_forward_m = 0.0;  ///< of the bounding-box centre, along the orientation
   double antenna_left_m = 0.0;     ///< of the bounding-box centre, across
 };
