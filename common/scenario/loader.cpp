@@ -29,6 +29,8 @@ namespace {
 // Limits that keep a scenario physically meaningful; see docs/scenario.md.
 constexpr int kMaxVehicles = 5000;
 constexpr double kMaxSpeed = 70.0;  // m/s, 252 km/h
+/// Fastest reversing a lane_follow profile may ask for (a car's reverse gear tops out near).
+constexpr double kMaxReverseSpeed = 15.0;  // m/s
 
 // ---- JSON text → json, rejecting duplicate keys (nlohmann silently keeps the last) ----------
 
@@ -330,6 +332,16 @@ ChannelModel read_channel(Node n) {
   return c;
 }
 
+/// `antenna`: the GNSS antenna's place on the vehicle; it must lie within the footprint.
+GnssAntenna read_antenna(Node n, const VehicleModel& m) {
+  n.expect_object("the GNSS antenna position");
+  GnssAntenna a;
+  a.forward_m = n.number_or("forward_m", 0.0, -0.5 * m.length_m, 0.5 * m.length_m);
+  a.left_m = n.number_or("left_m", 0.0, -0.5 * m.width_m, 0.5 * m.width_m);
+  n.finish();
+  return a;
+}
+
 VehicleModel read_model(Node n) {
   n.expect_object("the vehicle model");
   VehicleModel m;
@@ -381,6 +393,8 @@ VehicleModel read_model(Node n) {
   m.drag_coefficient = n.number_or("drag_coefficient", m.drag_coefficient, 0.0, 2.0);
   m.frontal_area_m2 = n.number_or("frontal_area_m2", m.frontal_area_m2, 0.1, 20.0);
   m.rolling_resistance = n.number_or("rolling_resistance", m.rolling_resistance, 0.0, 0.1);
+  if (auto a = n.optional("antenna"))
+    m.antenna = read_antenna(*a, m);
   n.finish();
   if (m.wheelbase_m >= m.length_m)
     n.fail("wheelbase_m must be shorter than length_m");
@@ -425,6 +439,28 @@ Spawn read_spawn(Node n, const map::RoadMap& road_map) {
   n.finish();
   s.where = l;
   return s;
+}
+
+// Whether two vehicles' footprints (rectangles of length × width centred on their poses)
+// overlap: separating-axis test over the four edge directions. Cars abreast in adjacent lanes,
+// or nose to tail with a gap, do not; a centre-distance test refused the first.
+bool footprints_overlap(const map::Pose& a, const VehicleModel& ma, const map::Pose& b,
+                        const VehicleModel& mb) {
+  const double dx = b.p.x - a.p.x, dy = b.p.y - a.p.y;
+  const double ca = std::cos(a.yaw), sa = std::sin(a.yaw);
+  const double cb = std::cos(b.yaw), sb = std::sin(b.yaw);
+  // Each axis: unit vector (ux, uy); the half extent of a rectangle on it is the sum of its
+  // half length and half width projected.
+  const double axes[4][2] = {{ca, sa}, {-sa, ca}, {cb, sb}, {-sb, cb}};
+  for (const auto& u : axes) {
+    const double extent_a = 0.5 * ma.length_m * std::abs(ca * u[0] + sa * u[1]) +
+                            0.5 * ma.width_m * std::abs(-sa * u[0] + ca * u[1]);
+    const double extent_b = 0.5 * mb.length_m * std::abs(cb * u[0] + sb * u[1]) +
+                            0.5 * mb.width_m * std::abs(-sb * u[0] + cb * u[1]);
+    if (std::abs(dx * u[0] + dy * u[1]) >= extent_a + extent_b)
+      return false;
+  }
+  return true;
 }
 
 // Where a spawn puts the vehicle, to check that vehicles do not overlap.
@@ -487,7 +523,8 @@ Driver read_driver(Node n) {
       p.fail("all points of a speed profile must use the same key, \"t\" or \"s\"");
     }
     sp.at = p.required(has_s ? "s" : "t").number(0.0, 1e7);
-    sp.speed = p.required("speed").number(0.0, kMaxSpeed);
+    // Negative: reversing along the lane (issue 22).
+    sp.speed = p.required("speed").number(-kMaxReverseSpeed, kMaxSpeed);
     p.finish();
     if (sp.at <= last)
       p.fail("speed profile points must be in increasing order");
@@ -594,13 +631,12 @@ Scenario parse(std::string_view json_text, const std::string& file_name) {
     }
     const map::Pose pose = spawn_pose(v.spawn, road_map);
     for (std::size_t j = 0; j < poses.size(); ++j) {
-      const double gap = std::hypot(pose.p.x - poses[j].p.x, pose.p.y - poses[j].p.y);
-      const double min_gap = (v.model.length_m + s.vehicles[j].model.length_m) / 2.0;
-      if (gap < min_gap) {
+      if (footprints_overlap(pose, v.model, poses[j], s.vehicles[j].model)) {
+        const double gap = std::hypot(pose.p.x - poses[j].p.x, pose.p.y - poses[j].p.y);
         Node(vehicles[i].json()["spawn"], vehicles[i].path() + "/spawn", file_name)
-            .fail(fmt::format("vehicle \"{}\" would spawn {:.1f} m from \"{}\", inside it "
-                              "(at least {:.1f} m needed)",
-                              v.id, gap, s.vehicles[j].id, min_gap));
+            .fail(fmt::format("vehicle \"{}\" would spawn {:.1f} m from \"{}\", its footprint "
+                              "overlapping that one's",
+                              v.id, gap, s.vehicles[j].id));
       }
     }
     poses.push_back(pose);

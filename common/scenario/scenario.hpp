@@ -41,6 +41,14 @@ struct TorquePoint {
   double torque_nm = 0.0;
 };
 
+/// Where the GNSS antenna sits, relative to the centre of the vehicle's bounding box on the
+/// ground (horizontal only: the fix is moved to the ground reference point, EN 302 637-2 B.3).
+/// Default: a roof antenna at the centre.
+struct GnssAntenna {
+  double forward_m = 0.0;
+  double left_m = 0.0;
+};
+
 struct VehicleModel {
   double mass_kg = 1270.0;
   double length_m = 4.255;
@@ -73,6 +81,7 @@ struct VehicleModel {
   double drag_coefficient = 0.30;       ///< Cd
   double frontal_area_m2 = 2.19;
   double rolling_resistance = 0.011;  ///< coefficient
+  GnssAntenna antenna;
 };
 
 // ---------------------------------------------------------------------------------------------

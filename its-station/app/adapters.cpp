@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 #include <spdlog/spdlog.h>
 
@@ -145,9 +146,13 @@ apps::mqtt::Kinematics own_kinematics(const facilities::PositionFix& fix,
   k.altitude_m = fix.altitude_m;
   k.heading_deg = fix.heading_deg;
   k.speed_mps = fix.speed_mps;
+  if (fix.backward)
+    k.reversing = *fix.backward;
   if (vehicle) {
-    k.reversing = vehicle->reversing.value_or(false);
+    if (!fix.backward)
+      k.reversing = vehicle->reversing.value_or(false);
     k.longitudinal_accel_mps2 = vehicle->longitudinal_acceleration_mps2;
+    k.yaw_rate_dps = vehicle->yaw_rate_dps;
   }
   k.length_m = length_m;
   k.width_m = width_m;
@@ -171,6 +176,15 @@ apps::mqtt::Kinematics neighbour_kinematics(const facilities::Neighbour& n) {
   if (hf.longitudinalAcceleration.longitudinalAccelerationValue !=
       messages::kAccelerationValueUnavailable)
     k.longitudinal_accel_mps2 = hf.longitudinalAcceleration.longitudinalAccelerationValue / 10.0;
+  if (hf.yawRate.yawRateValue != messages::kYawRateValueUnavailable)
+    k.yaw_rate_dps = hf.yawRate.yawRateValue / 100.0;
+  // CDD CurvatureValue: 1/10000 m⁻¹ with ±1023 out of range / unavailable; protocolVersion 1
+  // 1/30000 m⁻¹ with 30001 unavailable.
+  const bool v1 = n.last_cam.header.protocolVersion == messages::kProtocolVersion1;
+  const int c = hf.curvature.curvatureValue;
+  if (v1 ? c != messages::kCurvatureValueUnavailableV1 && std::abs(c) < 30000
+         : std::abs(c) < messages::kCurvatureValueUnavailable)
+    k.curvature_per_m = c / (v1 ? 30000.0 : 10000.0);
   if (hf.vehicleLength.vehicleLengthValue < messages::kVehicleLengthValueOutOfRange)
     k.length_m = hf.vehicleLength.vehicleLengthValue / 10.0;
   if (hf.vehicleWidth < messages::kVehicleWidthOutOfRange)
@@ -213,6 +227,8 @@ apps::VehicleKinematics lcrw_kinematics(std::uint32_t station_id, const apps::mq
   v.speed_mps = k.speed_mps.value_or(0.0);
   v.reversing = k.reversing;
   v.longitudinal_accel_mps2 = k.longitudinal_accel_mps2;
+  v.yaw_rate_dps = k.yaw_rate_dps;
+  v.curvature_per_m = k.curvature_per_m;
   if (k.length_m)
     v.length_m = *k.length_m;
   if (k.width_m)

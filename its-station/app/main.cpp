@@ -37,6 +37,7 @@
 #include "its-station/facilities/gpsd_position_provider.hpp"
 #include "its-station/facilities/gpsd_process.hpp"
 #include "its-station/facilities/ldm.hpp"
+#include "its-station/facilities/reference_position.hpp"
 #include "its-station/geonet/router.hpp"
 #include "its-station/link/packet_socket_link.hpp"
 #include "its-station/security/pki_files.hpp"
@@ -185,7 +186,35 @@ int run(const Options& o) {
   } else {
     std::tie(gps_cfg.host, gps_cfg.port) = split_host_port(o.gpsd, "--gpsd");
   }
-  fac::GpsdPositionProvider position(io, runtime, gps_cfg);
+  fac::GpsdPositionProvider gnss(io, runtime, gps_cfg);
+
+  // Vehicle data.
+  auto can_bus = open_can(io, o);
+  // The decoder points into the database's messages: it must outlive the decoder.
+  std::optional<tb::can::Database> can_db;
+  std::unique_ptr<fac::CanVehicleDataProvider> vehicle_data;
+  if (can_bus) {
+    auto db = tb::can::Database::load(o.dbc);
+    if (!db)
+      throw Fatal{"CAN database: " + db.error().message()};
+    can_db = std::move(*db);
+    auto decoder = fac::CanVehicleDecoder::create(*can_db);
+    if (!decoder)
+      throw Fatal{fmt::format("CAN database {}: {}", o.dbc, decoder.error().detail)};
+    vehicle_data =
+        std::make_unique<fac::CanVehicleDataProvider>(*can_bus, std::move(*decoder), runtime);
+    vehicle_data->start();
+  }
+
+  // Everything above the receiver works with the vehicle's orientation and the CAM reference
+  // point (front centre), not the antenna's course and position (reference_position.hpp).
+  fac::AntennaGeometry antenna;
+  if (vehicle) {
+    antenna.vehicle_length_m = vehicle->model.length_m;
+    antenna.antenna_forward_m = vehicle->model.antenna.forward_m;
+    antenna.antenna_left_m = vehicle->model.antenna.left_m;
+  }
+  fac::ReferencePositionProvider position(gnss, vehicle_data.get(), antenna);
 
   // Radio: the real interface (hwsim in OCB mode, or the veth stand-in of the same name).
   auto link = tb::its::link::PacketSocketLink::open(io, o.radio);
@@ -206,24 +235,6 @@ int run(const Options& o) {
   router.set_security(security.get());
   tb::its::btp::Dispatcher btp(router);
   tb::its::station::BtpMessageSender sender(btp);
-
-  // Vehicle data.
-  auto can_bus = open_can(io, o);
-  // The decoder points into the database's messages: it must outlive the decoder.
-  std::optional<tb::can::Database> can_db;
-  std::unique_ptr<fac::CanVehicleDataProvider> vehicle_data;
-  if (can_bus) {
-    auto db = tb::can::Database::load(o.dbc);
-    if (!db)
-      throw Fatal{"CAN database: " + db.error().message()};
-    can_db = std::move(*db);
-    auto decoder = fac::CanVehicleDecoder::create(*can_db);
-    if (!decoder)
-      throw Fatal{fmt::format("CAN database {}: {}", o.dbc, decoder.error().detail)};
-    vehicle_data =
-        std::make_unique<fac::CanVehicleDataProvider>(*can_bus, std::move(*decoder), runtime);
-    vehicle_data->start();
-  }
 
   // Facilities.
   fac::Ldm ldm(runtime);
@@ -445,7 +456,7 @@ int run(const Options& o) {
     spdlog::info("shutting down: {}", why);
     exit_code = code;
     ca.stop();
-    position.stop();
+    gnss.stop();
     signals.cancel();
     status_timer.cancel();
     gpsd_deadline.cancel();
@@ -469,7 +480,7 @@ int run(const Options& o) {
   gpsd_deadline.expires_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
       std::chrono::duration<double>(o.gpsd_wait_s)));
   gpsd_deadline.async_wait([&](const boost::system::error_code& ec) {
-    if (ec || position.connected())
+    if (ec || gnss.connected())
       return;
     spdlog::error("gpsd at {}:{} did not accept a connection within {} s{}", gps_cfg.host,
                   gps_cfg.port, o.gpsd_wait_s,
@@ -477,7 +488,7 @@ int run(const Options& o) {
     shutdown("no gpsd", 1);
   });
 
-  position.start();
+  gnss.start();
   ca.start();
   status_tick();
   spdlog::info("station {} (type {}) running, CAM policy {}", o.station_id,

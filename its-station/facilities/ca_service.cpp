@@ -37,8 +37,13 @@ messages::Cam build_cam(const CaConfig& config, const PositionFix& fix, const Ve
     hf.vehicleWidth = static_cast<messages::VehicleWidth>(
         std::clamp<long>(std::lround(*config.vehicle_width_m * 10.0), 1, 61));
 
+  // DriveDirection is the motion relative to the heading (the orientation): the fix's verdict
+  // (ReferencePositionProvider), the reverse gear where the fix has none.
+  if (fix.backward)
+    hf.driveDirection =
+        *fix.backward ? messages::DriveDirection::backward : messages::DriveDirection::forward;
   if (vehicle) {
-    if (vehicle->reversing)
+    if (!fix.backward && vehicle->reversing)
       hf.driveDirection = *vehicle->reversing ? messages::DriveDirection::backward
                                               : messages::DriveDirection::forward;
     hf.longitudinalAcceleration.longitudinalAccelerationValue =

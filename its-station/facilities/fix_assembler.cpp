@@ -57,8 +57,10 @@ FixAssembler::Outcome FixAssembler::on_report(const GpsdReport& r, clock::Steady
     fix.altitude_m = r.altitude_hae_m;
   if (finite_positive(r.speed_mps))
     fix.speed_mps = r.speed_mps;
-  if (std::isfinite(r.track_deg))
-    fix.heading_deg = geodesy::wrap_360(r.track_deg);
+  if (std::isfinite(r.track_deg)) {
+    fix.course_deg = geodesy::wrap_360(r.track_deg);
+    fix.heading_deg = fix.course_deg;
+  }
 
   // Position ellipse, best source first: the receiver's own error ellipse (GST, 1-sigma),
   // then gpsd's per-axis 95 % estimates, then its 95 % horizontal radius.

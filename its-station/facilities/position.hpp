@@ -21,9 +21,18 @@ struct PositionFix {
   clock::SteadyTime received;  ///< when the station got it, for ages and latency traces
   double latitude_deg = 0.0;
   double longitude_deg = 0.0;
-  std::optional<double> altitude_m;   ///< height above the ellipsoid
-  std::optional<double> speed_mps;    ///< over ground, never negative
-  std::optional<double> heading_deg;  ///< course over ground, clockwise from north, [0, 360)
+  std::optional<double> altitude_m;  ///< height above the ellipsoid
+  std::optional<double> speed_mps;   ///< over ground, never negative
+  /// Course over ground as the receiver reports it (direction of motion), clockwise from north,
+  /// [0, 360).
+  std::optional<double> course_deg;
+  /// The vehicle's orientation (CDD Heading), clockwise from north, [0, 360). A bare receiver
+  /// cannot tell it from the course and sets it to the course (forward driving);
+  /// ReferencePositionProvider derives it from course and drive direction.
+  std::optional<double> heading_deg;
+  /// The vehicle moves against its orientation (CDD DriveDirection backward); empty: unknown
+  /// (a bare receiver's fix).
+  std::optional<bool> backward;
 
   /// 95 % horizontal position error ellipse.
   struct Ellipse {

@@ -23,6 +23,7 @@ Emulator::Emulator(const scenario::Scenario& scenario, const tb::can::Database& 
     gc.start_time = scenario.start_time;
     gc.errors = scenario.gnss;
     gc.seed = seed;
+    gc.antenna = v->model.antenna;
     can::FeederConfig cc;
     cc.dynamics_hz = scenario.rates.can_dynamics_hz;
     cc.body_hz = scenario.rates.can_body_hz;

@@ -42,8 +42,14 @@ std::optional<std::string_view> GpsAgent::on_state(const wire::VehicleState& s) 
   fix_.time = config_.start_time + std::chrono::duration_cast<std::chrono::system_clock::duration>(
                                        std::chrono::nanoseconds(t));
   fix_.valid = e.fix;
-  fix_.position = frame_.to_geodetic(
-      {s.position[0] + e.offset.east, s.position[1] + e.offset.north, s.position[2] + e.offset.up});
+  // The physics reports the bounding-box centre; the receiver sees its antenna.
+  const double cy = std::cos(s.yaw), sy = std::sin(s.yaw);
+  const double ax = s.position[0] + config_.antenna.forward_m * cy - config_.antenna.left_m * sy;
+  const double ay = s.position[1] + config_.antenna.forward_m * sy + config_.antenna.left_m * cy;
+  fix_.position =
+      frame_.to_geodetic({ax + e.offset.east, ay + e.offset.north, s.position[2] + e.offset.up});
+  // Course over ground is the direction of motion, as a receiver measures it from Doppler: out
+  // of the tail while reversing. The station turns it into the orientation (it knows the gear).
   const double vx = s.velocity[0], vy = s.velocity[1];
   fix_.speed_mps = std::hypot(vx, vy);
   if (fix_.speed_mps >= kCourseMinSpeed)

@@ -27,6 +27,8 @@ struct AgentConfig {
   std::chrono::system_clock::time_point start_time;  ///< UTC of sim time 0
   scenario::GnssErrors errors;
   std::uint64_t seed = 1;
+  /// Where the antenna sits on the vehicle: the fix is the antenna's position, as a receiver's.
+  scenario::GnssAntenna antenna;
 };
 
 class GpsAgent {

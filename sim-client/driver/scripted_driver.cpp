@@ -119,15 +119,18 @@ double LaneFollowDriver::resistance_accel(double speed) const {
   return (drag + rolling) / model_.mass_kg;
 }
 
-double LaneFollowDriver::steer_for(const wire::VehicleState& s, const map::Projection& pr) {
+double LaneFollowDriver::steer_for(const wire::VehicleState& s, const map::Projection& pr,
+                                   bool backward) {
   // Pure pursuit works from the rear axle; the state's position is the vehicle's centre.
   const double c = std::cos(s.yaw), sn = std::sin(s.yaw);
   const double rx = s.position[0] - c * model_.wheelbase_m / 2.0;
   const double ry = s.position[1] - sn * model_.wheelbase_m / 2.0;
   const double lookahead =
       std::clamp(kLookaheadTime * std::abs(s.speed), kLookaheadMin, kLookaheadMax);
-  const double dir = against_ ? -1.0 : 1.0;
-  double target_s = pr.s + dir * (lookahead + model_.wheelbase_m / 2.0);
+  // Along the lane in the direction of travel: reversing, the target lies behind the rear axle.
+  const double dir = (against_ ? -1.0 : 1.0) * (backward ? -1.0 : 1.0);
+  double target_s = pr.s + dir * (backward ? lookahead - model_.wheelbase_m / 2.0
+                                           : lookahead + model_.wheelbase_m / 2.0);
   // Past the end of an open lane, aim along its extension instead of at its clamped end.
   const double len = map::length(lane_->centre);
   double beyond = 0.0;
@@ -145,6 +148,14 @@ double LaneFollowDriver::steer_for(const wire::VehicleState& s, const map::Proje
   const double ty = tp.p.y + std::sin(tp.yaw) * beyond;
   const double dx = tx - rx, dy = ty - ry;
   const double ld = std::max(std::hypot(dx, dy), 1e-3);
+  if (backward) {
+    // The rear axle leads: the target's angle from the backward direction gives the arc the
+    // rear axle must run (positive = left of the direction of travel); backward, a road-wheel
+    // angle to the left swings the travel direction to the right, so the sign turns over.
+    const double alpha = std::atan2(sn * dx - c * dy, -c * dx - sn * dy);
+    const double delta = -std::atan2(2.0 * model_.wheelbase_m * std::sin(alpha), ld);
+    return std::clamp(-delta / max_steer_rad_, -1.0, 1.0);
+  }
   const double alpha = std::atan2(-sn * dx + c * dy, c * dx + sn * dy);
   // Road-wheel angle of the arc through the target (positive = left); controls steer right.
   const double delta = std::atan2(2.0 * model_.wheelbase_m * std::sin(alpha), ld);
@@ -156,7 +167,7 @@ wire::Controls LaneFollowDriver::update(const wire::VehicleState& s) {
   double dt = 0.0;
   if (!started_) {
     started_ = true;
-    reference_ = std::max(speed, 0.0);
+    reference_ = speed;
   } else {
     dt = std::max(static_cast<double>(s.sim_time_ns - last_ns_) * 1e-9, 0.0);
   }
@@ -171,11 +182,14 @@ wire::Controls LaneFollowDriver::update(const wire::VehicleState& s) {
   status_.profile_speed = target;
   if (!map::is_closed(lane_->centre)) {
     const double len = map::length(lane_->centre);
-    status_.remaining = against_ ? pr.s : len - pr.s;
+    // Negative profile speeds reverse (issue 22): the end that matters is then the lane's start.
+    const bool back = target < 0.0;
+    status_.remaining = (against_ != back) ? pr.s : len - pr.s;
     // The speed from which a stop ends kEndMargin before the end of the lane, planned below
     // max_decel so that the speed controller's lag does not eat the margin.
     const double room = std::max(status_.remaining - kEndMargin, 0.0);
-    target = std::min(target, std::sqrt(2.0 * kStopPlanning * spec_.max_decel * room));
+    const double limit = std::sqrt(2.0 * kStopPlanning * spec_.max_decel * room);
+    target = back ? std::max(target, -limit) : std::min(target, limit);
   }
 
   const double previous = reference_;
@@ -189,19 +203,30 @@ wire::Controls LaneFollowDriver::update(const wire::VehicleState& s) {
   const double error = reference_ - speed;
   integral_ = std::clamp(integral_ + error * dt, -kIntegralLimit, kIntegralLimit);
   const double accel = feed_forward + kSpeedP * error + kSpeedI * integral_;
-  const double need = accel + resistance_accel(speed);
+  // Reverse gear while the reference asks for backward motion. The controller works on the
+  // speed along the direction of travel; the gearbox engages reverse only near standstill, so
+  // a car still rolling the other way brakes and does not press the pedal.
+  const bool backward = reference_ < 0.0 || (reference_ == 0.0 && target < 0.0);
+  const double dir = backward ? -1.0 : 1.0;
+  const double need = dir * accel + resistance_accel(std::abs(speed));
 
   wire::Controls out;
-  out.steer = static_cast<float>(steer_for(s, pr));
-  if (target <= 0.0 && reference_ <= 0.0 && std::abs(speed) < kStandstill) {
+  out.reverse = backward;
+  out.steer = static_cast<float>(steer_for(s, pr, backward && speed < kStandstill));
+  if (target * dir <= 0.0 && reference_ * dir <= 0.0 && std::abs(speed) < kStandstill) {
     integral_ = 0.0;
     out.brake = static_cast<float>(kHoldBrake);
+    return out;
+  }
+  const double brake_accel = model_.brake_torque_nm / (model_.wheel_radius_m * model_.mass_kg);
+  if (speed * dir < -kStandstill) {
+    // Still rolling against the wanted direction: brake it to a stop first.
+    out.brake = static_cast<float>(std::clamp(std::abs(accel) / brake_accel, kHoldBrake, 1.0));
     return out;
   }
   if (need >= 0.0) {
     out.throttle = static_cast<float>(std::clamp(need / drive_accel_max(speed), 0.0, 1.0));
   } else {
-    const double brake_accel = model_.brake_torque_nm / (model_.wheel_radius_m * model_.mass_kg);
     out.brake = static_cast<float>(std::clamp(-need / brake_accel, 0.0, 1.0));
   }
   return out;

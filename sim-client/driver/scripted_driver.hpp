@@ -63,7 +63,8 @@ class LaneFollowDriver final : public ScriptedDriver {
   static double profile_speed(const std::vector<scenario::SpeedPoint>& profile, double at);
 
  private:
-  double steer_for(const wire::VehicleState& s, const map::Projection& pr);
+  /// @p backward: the car moves tail first (the rear axle leads along the lane).
+  double steer_for(const wire::VehicleState& s, const map::Projection& pr, bool backward);
   double drive_accel_max(double speed) const;
   double resistance_accel(double speed) const;
 

@@ -10,6 +10,11 @@ CASE is one of:
   forward          scenarios/lcrw-forward.json: red is warned about black (case forward)
   different-lanes  scenarios/lcrw-different-lanes.json: both stations receive each other's CAMs
                    and no warning is ever raised
+  curve            scenarios/lcrw-curve.json (issue 22): on a 150 m ring red is warned about
+                   black while the gap along the road is still >= 22 m (10 m/s closing), and
+                   exactly once: one raise, one clear
+  reversing        scenarios/lcrw-reversing.json (issue 22): red, reversing, is warned about the
+                   parked black behind it before TTC 2 s
   latency          scenarios/lcrw-three-vehicles.json for 30 s with tracing and the warned
                    driver's HMI open in headless Chromium (?trace=1): scripts/report must find
                    records for every stage, and state → CAM on the air p99 ≤ 250 ms (the
@@ -39,6 +44,8 @@ CASES = {
     "forward": ("lcrw-forward.json", 30),
     "different-lanes": ("lcrw-different-lanes.json", 30),
     "latency": ("lcrw-three-vehicles.json", 30),
+    "curve": ("lcrw-curve.json", 25),
+    "reversing": ("lcrw-reversing.json", 25),
 }
 
 
@@ -180,6 +187,24 @@ def run_case(args):
             failures.append(f"warning raised with TTC {raised[0].get('ttc_s')}, not < 3 s")
         if args.case == "frontal" and not any(w.get("event") == "cleared" for _, w in warnings):
             failures.append("the frontal warning was never cleared after red stopped")
+    elif args.case == "curve":
+        about = [w for _, w in warnings
+                 if w.get("station_id") == 1001 and w.get("other_station_id") == 1002]
+        raised = [w for w in about if w.get("event") == "raised"]
+        cleared = [w for w in about if w.get("event") == "cleared"]
+        if len(raised) != 1 or len(cleared) != 1:
+            failures.append(f"{len(raised)} raise(s) and {len(cleared)} clear(s) at 1001 about "
+                            "1002, not one each")
+        if raised and not (raised[0].get("distance_m") or 0) >= 22.0:
+            failures.append(f"first warning at a gap of {raised[0].get('distance_m')} m along the "
+                            "road, not >= 22 m")
+    elif args.case == "reversing":
+        raised = [w for _, w in warnings if w.get("event") == "raised" and
+                  w.get("station_id") == 1001 and w.get("other_station_id") == 1002]
+        if not raised:
+            failures.append("no warning raised at the reversing station 1001 about 1002")
+        elif not (raised[0].get("ttc_s") is not None and 2.0 <= raised[0]["ttc_s"] < 3.0):
+            failures.append(f"warning raised with TTC {raised[0].get('ttc_s')}, not in [2, 3) s")
     elif args.case == "different-lanes":
         if "its/1001/in/cam/1002" not in cams or "its/1002/in/cam/1001" not in cams:
             failures.append(f"stations did not receive each other's CAMs ({sorted(cams)})")

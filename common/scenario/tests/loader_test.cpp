@@ -50,7 +50,9 @@ const BadCase kBadCases[] = {
      "field \"radius\" is not allowed here: only for map type \"ring\""},
     {"timeline-out-of-order.json", "/vehicles/0/driver/steps/1", "steps must be in time order"},
     {"overlapping-spawn.json", "/vehicles/1/spawn",
-     "vehicle \"b\" would spawn 2.0 m from \"a\", inside it"},
+     "vehicle \"b\" would spawn 2.0 m from \"a\", its footprint overlapping that one's"},
+    {"antenna-off-the-car.json", "/vehicles/0/model/antenna/forward_m",
+     "value 3 is out of range [-2.1275, 2.1275]"},
     {"bad-start-time.json", "/start_time", "\"2025-02-30T10:00:00Z\" is not a valid date"},
     {"start-time-not-utc.json", "/start_time", "the time must be UTC and end in Z"},
     {"no-vehicles.json", "/vehicles", "expected 1 to 5000 elements, found 0"},
@@ -229,6 +231,49 @@ TEST(ScenarioLoader, ReadsEveryKindOfSection) {
 }
 
 // The validator program exits with 2 and prints the loader's message.
+// Footprints, not centre distances (issue 22): cars abreast in adjacent lanes are fine, a car
+// turned across the lane next to another is not, nose to tail 0.1 m apart is fine.
+TEST(ScenarioLoader, SpawnOverlapComparesFootprints) {
+  const auto two = [](const std::string& a, const std::string& b) {
+    return parse(R"({"name": "t", "map": {"type": "straight", "lanes": 2, "length": 500},
+      "origin": {"lat": 41.1, "lon": 29.0}, "vehicles": [
+      {"id": "a", "station_id": 1, "spawn": )" +
+                     a + R"(}, {"id": "b", "station_id": 2, "spawn": )" + b + "}]}",
+                 "t.json");
+  };
+  const auto expect_overlap = [](const auto& f, const std::string& a, const std::string& b) {
+    try {
+      f(a, b);
+      ADD_FAILURE() << "accepted overlapping spawns " << a << " and " << b;
+    } catch (const ScenarioError& e) {
+      EXPECT_NE(std::string(e.what()).find("footprint overlapping"), std::string::npos) << e.what();
+    }
+  };
+  EXPECT_EQ(two(R"({"lane": 0, "s": 50})", R"({"lane": 1, "s": 50})").vehicles.size(), 2u);
+  EXPECT_EQ(two(R"({"x": 100, "y": 0, "heading_deg": 90})",
+                R"({"x": 104.355, "y": 0, "heading_deg": 90})")
+                .vehicles.size(),
+            2u);
+  // 2 m abreast, the second turned by 90°: its 4.255 m length reaches across the first.
+  expect_overlap(two, R"({"x": 100, "y": 0, "heading_deg": 90})",
+                 R"({"x": 100, "y": 2.5, "heading_deg": 0})");
+  expect_overlap(two, R"({"x": 100, "y": 0, "heading_deg": 90})",
+                 R"({"x": 104.0, "y": 0, "heading_deg": 90})");
+}
+
+TEST(ScenarioLoader, AntennaDefaultsToTheCentre) {
+  const Scenario s = parse(R"({"name": "t", "map": {"type": "straight", "lanes": 2, "length": 500},
+      "origin": {"lat": 41.1, "lon": 29.0}, "vehicles": [
+      {"id": "a", "station_id": 1, "spawn": {"lane": 0, "s": 50}},
+      {"id": "b", "station_id": 2, "spawn": {"lane": 0, "s": 80},
+       "model": {"antenna": {"forward_m": -0.8, "left_m": 0.3}}}]})",
+                           "t.json");
+  EXPECT_EQ(s.vehicles[0].model.antenna.forward_m, 0.0);
+  EXPECT_EQ(s.vehicles[0].model.antenna.left_m, 0.0);
+  EXPECT_EQ(s.vehicles[1].model.antenna.forward_m, -0.8);
+  EXPECT_EQ(s.vehicles[1].model.antenna.left_m, 0.3);
+}
+
 TEST(ScenarioCheck, ExitsWithTwoAndNamesTheProblem) {
   const char* bin = std::getenv("TESTBED_BIN");
   ASSERT_NE(bin, nullptr) << "TESTBED_BIN is set by ctest";

@@ -198,3 +198,43 @@ TEST(Adapters, SendResultsFromDataConfirm) {
 
 }  // namespace
 }  // namespace tb::its::station
+
+namespace tb::its::station {
+namespace {
+
+// LCRW's path prediction takes the neighbour's yaw rate and curvature from its CAM (issue 22):
+// YawRate in 0.01 °/s, Curvature in 1/10000 m⁻¹ (protocolVersion 2) or 1/30000 m⁻¹ (version 1).
+TEST(Adapters, NeighbourYawRateAndCurvatureFromTheCam) {
+  facilities::Neighbour n;
+  n.history.emplace_back();
+  auto& hf = n.last_cam.cam.camParameters.highFrequencyContainer;
+  hf.yawRate.yawRateValue = 764;     // 7.64 °/s
+  hf.curvature.curvatureValue = 67;  // 0.0067 m⁻¹, radius 149 m
+  auto k = neighbour_kinematics(n);
+  ASSERT_TRUE(k.yaw_rate_dps);
+  EXPECT_DOUBLE_EQ(*k.yaw_rate_dps, 7.64);
+  ASSERT_TRUE(k.curvature_per_m);
+  EXPECT_DOUBLE_EQ(*k.curvature_per_m, 0.0067);
+  n.last_cam.header.protocolVersion = messages::kProtocolVersion1;
+  hf.curvature.curvatureValue = 200;  // 200 / 30000 m⁻¹, radius 150 m
+  k = neighbour_kinematics(n);
+  EXPECT_DOUBLE_EQ(*k.curvature_per_m, 200.0 / 30000.0);
+  hf.curvature.curvatureValue = messages::kCurvatureValueUnavailableV1;
+  hf.yawRate.yawRateValue = messages::kYawRateValueUnavailable;
+  k = neighbour_kinematics(n);
+  EXPECT_FALSE(k.curvature_per_m);
+  EXPECT_FALSE(k.yaw_rate_dps);
+  n.last_cam.header.protocolVersion = messages::kProtocolVersion;
+  hf.curvature.curvatureValue = messages::kCurvatureValueUnavailable;
+  EXPECT_FALSE(neighbour_kinematics(n).curvature_per_m);
+  // Into LCRW's kinematics unchanged.
+  hf.yawRate.yawRateValue = -382;
+  hf.curvature.curvatureValue = -67;
+  const geodesy::LocalFrame frame({41.1, 29.0, 0.0});
+  const auto v = lcrw_kinematics(7, neighbour_kinematics(n), clock::WallTime{}, frame);
+  EXPECT_DOUBLE_EQ(*v.yaw_rate_dps, -3.82);
+  EXPECT_DOUBLE_EQ(*v.curvature_per_m, -0.0067);
+}
+
+}  // namespace
+}  // namespace tb::its::station

@@ -165,7 +165,66 @@ double time_to_close(double gap_m, double lead_speed, double lead_accel, double 
   return kInf;
 }
 
-VehicleKinematics extrapolate(const VehicleKinematics& v, clock::WallTime now, bool use_accel) {
+PredictedPath::PredictedPath(double x, double y, double heading_deg, double curvature_per_m)
+    : x0_(x), y0_(y), h0_(deg2rad(heading_deg)), k_(curvature_per_m) {}
+
+PredictedPath::Point PredictedPath::at(double s) const {
+  // Forward is (sin h, cos h) in (east, north), left of it (-cos h, sin h).
+  const double fx = std::sin(h0_), fy = std::cos(h0_);
+  const double lx = -fy, ly = fx;
+  double along = s, across = 0.0;  // along the initial orientation, to its left
+  if (k_ != 0.0) {
+    along = std::sin(k_ * s) / k_;
+    across = (1.0 - std::cos(k_ * s)) / k_;
+  }
+  return {x0_ + along * fx + across * lx, y0_ + along * fy + across * ly};
+}
+
+double PredictedPath::heading_at_deg(double s) const {
+  // Heading grows clockwise, a left bend (k > 0) turns the tangent counter-clockwise.
+  return geodesy::wrap_360((h0_ - k_ * s) * 180.0 / kPi);
+}
+
+PredictedPath::Projection PredictedPath::project(double x, double y) const {
+  const double fx = std::sin(h0_), fy = std::cos(h0_);
+  const double rx = fy, ry = -fx;  // right of the orientation
+  const double dx = x - x0_, dy = y - y0_;
+  if (k_ == 0.0) {
+    return {dx * fx + dy * fy, dx * rx + dy * ry};
+  }
+  // The centre lies 1/k to the left (to the right for k < 0, where 1/k is negative).
+  const double cx = x0_ - rx / k_, cy = y0_ - ry / k_;
+  const double ax = x0_ - cx, ay = y0_ - cy;  // centre -> start
+  const double wx = x - cx, wy = y - cy;      // centre -> point
+  const double radius = 1.0 / std::abs(k_);
+  const double dist = std::hypot(wx, wy);
+  // Angle swept from the start to the point, counter-clockwise positive; the path runs
+  // counter-clockwise round the centre for k > 0, clockwise for k < 0, so s = angle / k.
+  const double angle = std::atan2(ax * wy - ay * wx, ax * wx + ay * wy);
+  // Outside the circle is right of a left bend and left of a right bend.
+  return {angle / k_, (k_ > 0.0 ? 1.0 : -1.0) * (dist - radius)};
+}
+
+double path_curvature(const VehicleKinematics& v, const LcrwConfig& cfg) {
+  if (!cfg.use_curvature) {
+    return 0.0;
+  }
+  double k = 0.0;
+  const double u = v.reversing ? -v.speed_mps : v.speed_mps;  // along the orientation
+  if (v.yaw_rate_dps && std::abs(u) >= cfg.min_speed_for_curvature_mps) {
+    k = deg2rad(*v.yaw_rate_dps) / u;
+  } else if (v.curvature_per_m) {
+    k = *v.curvature_per_m;
+  }
+  if (!std::isfinite(k)) {
+    return 0.0;
+  }
+  const double k_max = 1.0 / std::max(cfg.min_path_radius_m, 0.1);
+  return std::clamp(k, -k_max, k_max);
+}
+
+VehicleKinematics extrapolate(const VehicleKinematics& v, clock::WallTime now, bool use_accel,
+                              double curvature_per_m) {
   const double dt = seconds_between(v.time, now);
   if (dt <= 0.0) {
     return v;
@@ -176,9 +235,11 @@ VehicleKinematics extrapolate(const VehicleKinematics& v, clock::WallTime now, b
   const double s = m.distance_at(dt);
   const double u1 = m.speed_at(dt);
   VehicleKinematics out = v;
-  const double h = deg2rad(v.heading_deg);
-  out.x += s * std::sin(h);
-  out.y += s * std::cos(h);
+  const PredictedPath path(v.x, v.y, v.heading_deg, curvature_per_m);
+  const PredictedPath::Point p = path.at(s);
+  out.x = p.x;
+  out.y = p.y;
+  out.heading_deg = path.heading_at_deg(s);
   out.speed_mps = std::abs(u1);
   out.reversing = u1 < 0.0 || (u1 == 0.0 && v.reversing);
   if (m.accel_at(dt) == 0.0 && out.longitudinal_accel_mps2) {
@@ -189,19 +250,25 @@ VehicleKinematics extrapolate(const VehicleKinematics& v, clock::WallTime now, b
 }
 
 PairAssessment assess(const VehicleKinematics& own_in, const VehicleKinematics& other_in,
-                      clock::WallTime now, const LcrwConfig& cfg) {
-  const VehicleKinematics own = extrapolate(own_in, now, cfg.use_acceleration);
-  const VehicleKinematics other = extrapolate(other_in, now, cfg.use_acceleration);
+                      clock::WallTime now, const LcrwConfig& cfg, bool was_in_path) {
+  const VehicleKinematics own =
+      extrapolate(own_in, now, cfg.use_acceleration, path_curvature(own_in, cfg));
+  const double k_other = path_curvature(other_in, cfg);
+  const VehicleKinematics other = extrapolate(other_in, now, cfg.use_acceleration, k_other);
   PairAssessment r;
 
-  const double h = deg2rad(own.heading_deg);
-  const double ex = std::sin(h), ey = std::cos(h);   // along the own heading
-  const double rx = std::cos(h), ry = -std::sin(h);  // to the right of it
-  const double dx = other.x - own.x, dy = other.y - own.y;
-  r.longitudinal_offset_m = dx * ex + dy * ey;
-  r.lateral_offset_m = dx * rx + dy * ry;
+  // Where the neighbour is relative to the own predicted path, and how it moves relative to
+  // the path's tangent at that place (on a bend the tangent there, not the own heading, is the
+  // direction of the road).
+  const double k_own = path_curvature(own, cfg);
+  r.own_curvature_per_m = k_own;
+  const PredictedPath own_path(own.x, own.y, own.heading_deg, k_own);
+  const PredictedPath::Projection where = own_path.project(other.x, other.y);
+  r.longitudinal_offset_m = where.s;
+  r.lateral_offset_m = where.lateral;
 
-  const double dh = geodesy::heading_difference_deg(other.heading_deg, own.heading_deg);
+  const double dh =
+      geodesy::heading_difference_deg(other.heading_deg, own_path.heading_at_deg(where.s));
   if (std::abs(dh) <= cfg.max_heading_difference_deg) {
     r.collision_case = CollisionCase::kForward;
   } else if (std::abs(dh) >= 180.0 - cfg.max_heading_difference_deg) {
@@ -211,17 +278,15 @@ PairAssessment assess(const VehicleKinematics& own_in, const VehicleKinematics& 
   const double own_dir = own.reversing ? -1.0 : 1.0;
   r.ahead = r.longitudinal_offset_m * own_dir > 0.0;
 
-  // Everything along the own heading axis, signed.
+  // Everything along the own path, signed along the own orientation.
   const double u_own = own_dir * own.speed_mps;
   const double a_own = cfg.use_acceleration ? own.longitudinal_accel_mps2.value_or(0.0) : 0.0;
   const double cos_dh = std::cos(deg2rad(dh));
-  const double sin_dh = std::sin(deg2rad(dh));
   const double u_other_own = (other.reversing ? -1.0 : 1.0) * other.speed_mps;
   const double a_other_own =
       cfg.use_acceleration ? other.longitudinal_accel_mps2.value_or(0.0) : 0.0;
   const double u_other = u_other_own * cos_dh;
   const double a_other = a_other_own * cos_dh;
-  const double lateral_speed = u_other_own * sin_dh;
 
   r.gap_m = std::abs(r.longitudinal_offset_m) - 0.5 * (own.length_m + other.length_m);
   const bool other_in_front = r.longitudinal_offset_m >= 0.0;
@@ -235,6 +300,7 @@ PairAssessment assess(const VehicleKinematics& own_in, const VehicleKinematics& 
 
   // Overlapping along the path means side by side (or already in contact): no longitudinal
   // collision lies ahead of them.
+  r.lateral_at_contact_m = r.lateral_offset_m;
   if (!r.collision_case || r.gap_m <= 0.0) {
     r.ttc_s = kInf;
     return r;
@@ -244,13 +310,23 @@ PairAssessment assess(const VehicleKinematics& own_in, const VehicleKinematics& 
 
   // The vehicles can touch only if their bodies overlap across the path; the margin covers
   // positioning error, the lane width caps it so that the next lane is never in path. The
-  // offset must hold now and where the vehicles meet, so that heading noise over a long gap does
-  // not pull an oncoming car in the next lane into the path.
-  const double limit =
+  // offset must hold now and where the vehicles meet (the neighbour moved along its own
+  // predicted path to that instant), so that heading noise over a long gap does not pull an
+  // oncoming car in the next lane into the path. A neighbour already in path keeps a wider
+  // limit (hysteresis), so that noise at the edge does not flicker the warning.
+  double limit =
       std::min(0.5 * (own.width_m + other.width_m) + cfg.lateral_margin_m, cfg.lane_width_m);
-  const double lateral_at_contact =
-      std::isfinite(r.ttc_s) ? r.lateral_offset_m + lateral_speed * r.ttc_s : r.lateral_offset_m;
-  r.in_path = std::abs(r.lateral_offset_m) <= limit && std::abs(lateral_at_contact) <= limit;
+  if (was_in_path) {
+    limit = std::min(limit + cfg.lateral_hysteresis_m, cfg.lane_width_m);
+  }
+  if (std::isfinite(r.ttc_s)) {
+    const auto contact = std::chrono::duration_cast<clock::WallTime::duration>(
+        std::chrono::duration<double>(r.ttc_s));
+    const VehicleKinematics other_then =
+        extrapolate(other, now + contact, cfg.use_acceleration, k_other);
+    r.lateral_at_contact_m = own_path.project(other_then.x, other_then.y).lateral;
+  }
+  r.in_path = std::abs(r.lateral_offset_m) <= limit && std::abs(r.lateral_at_contact_m) <= limit;
   return r;
 }
 
@@ -281,7 +357,7 @@ std::vector<LcrwWarning> Lcrw::evaluate(const VehicleKinematics& own,
       continue;  // lost: cleared below with the absent ones
     }
     seen.insert(n.station_id);
-    const PairAssessment a = assess(own, n, now, cfg_);
+    const PairAssessment a = assess(own, n, now, cfg_, active_.contains(n.station_id));
     assessed_[n.station_id] = a;
     const bool relevant = a.in_path && (a.ahead || cfg_.include_vehicles_behind);
     const bool moving_apart = a.closing_speed_mps < 0.0;

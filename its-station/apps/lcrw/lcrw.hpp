@@ -5,8 +5,11 @@
 /// CAMs (the LDM), in SI units in the local metric frame, and returns warning events. It reads
 /// the time from an injected Clock and does no I/O, so tests drive it with a ManualClock.
 ///
-/// The path model is a straight line along the own heading (the thesis's roads are straight; a
-/// curved-path predictor would replace in_path() and the 1-D projection, not the TTC solver).
+/// Path model (README.md, "LCRW path prediction"): each vehicle follows a circular arc given by
+/// what its CAM carries — the curvature from yaw rate and speed (CDD YawRate, Curvature), the
+/// speed and longitudinal acceleration along it. A neighbour is projected onto the own predicted
+/// arc: the distance along the arc is the gap, the distance off it the lateral offset; its own
+/// arc predicts where it will be at the contact instant. A zero curvature is the straight line.
 
 #include <cstdint>
 #include <map>
@@ -36,6 +39,12 @@ struct VehicleKinematics {
   /// Longitudinal acceleration along the heading, m/s² (CDD LongitudinalAcceleration; positive
   /// = speeding up when driving forward). Empty when unavailable: constant-speed TTC then.
   std::optional<double> longitudinal_accel_mps2;
+  /// Yaw rate, deg/s, positive counter-clockwise (CDD YawRate). Empty when unavailable.
+  std::optional<double> yaw_rate_dps;
+  /// Curvature of the path, 1/m, positive when the path bends to the left of the orientation
+  /// (CDD Curvature, ω / v with v signed along the orientation). Used where the yaw rate is
+  /// unavailable or the speed too low to divide by.
+  std::optional<double> curvature_per_m;
   double length_m = 4.5;
   double width_m = 1.8;
   /// When this state was valid (CAM generation time / GNSS fix time).
@@ -109,15 +118,59 @@ struct LcrwConfig {
   bool include_vehicles_behind = false;
   /// Use the CAM's longitudinal acceleration for a constant-acceleration TTC.
   bool use_acceleration = true;
+  /// Predict curved paths from yaw rate / curvature; false: straight lines along the headings.
+  bool use_curvature = true;
+  /// Below this speed the curvature is not ω / v (noise over a small number) but the CAM's
+  /// Curvature, or straight.
+  double min_speed_for_curvature_mps = 1.0;
+  /// Tighter paths than this radius are clamped to it (a passenger car's turning circle is
+  /// about 5.5 m; tighter values are sensor noise).
+  double min_path_radius_m = 5.0;
+  /// A neighbour that is in path (warning active) leaves it only when its lateral offset
+  /// exceeds the in-path limit by this much (hysteresis against "left path" flicker).
+  double lateral_hysteresis_m = 0.5;
 };
+
+/// The predicted path of a vehicle: a circular arc (or a line) through its position, tangent to
+/// its orientation. Arc lengths s are signed along the orientation (negative behind).
+class PredictedPath {
+ public:
+  /// @p curvature_per_m positive bends left of the orientation @p heading_deg.
+  PredictedPath(double x, double y, double heading_deg, double curvature_per_m);
+
+  struct Point {
+    double x = 0.0;
+    double y = 0.0;
+  };
+  /// Where a point lies relative to the path: s along it to the nearest point (on the half
+  /// circle ahead or behind), offset across it, positive to the right.
+  struct Projection {
+    double s = 0.0;
+    double lateral = 0.0;
+  };
+  Point at(double s) const;
+  /// Orientation of the tangent at @p s, ETSI degrees.
+  double heading_at_deg(double s) const;
+  Projection project(double x, double y) const;
+  double curvature() const { return k_; }
+
+ private:
+  double x0_, y0_, h0_, k_;
+};
+
+/// The curvature LCRW predicts @p v's path with (VehicleKinematics::yaw_rate_dps over the speed,
+/// else curvature_per_m, else 0), clamped to cfg.min_path_radius_m.
+double path_curvature(const VehicleKinematics& v, const LcrwConfig& cfg);
 
 /// What LCRW computes for one neighbour, exposed for tests and logs.
 struct PairAssessment {
   bool in_path = false;
   bool ahead = false;  ///< in the own direction of travel
   std::optional<CollisionCase> collision_case;
-  double longitudinal_offset_m = 0.0;  ///< neighbour centre along the own heading
-  double lateral_offset_m = 0.0;       ///< neighbour centre across, positive = right
+  double longitudinal_offset_m = 0.0;  ///< neighbour centre along the own predicted path
+  double lateral_offset_m = 0.0;       ///< neighbour centre off that path, positive = right
+  double lateral_at_contact_m = 0.0;   ///< the same where the vehicles meet (its own path)
+  double own_curvature_per_m = 0.0;    ///< the own path's curvature used
   double gap_m = 0.0;                  ///< bumper to bumper along the path
   double closing_speed_mps = 0.0;      ///< positive = approaching
   double closing_accel_mps2 = 0.0;
@@ -131,12 +184,15 @@ double time_to_close(double gap_m, double lead_speed, double lead_accel, double 
                      double follow_accel, double horizon_s);
 
 /// Geometry and TTC of one neighbour relative to the own vehicle, both extrapolated to @p now.
+/// @p was_in_path: the neighbour is under an active warning (lateral hysteresis applies).
 PairAssessment assess(const VehicleKinematics& own, const VehicleKinematics& other,
-                      clock::WallTime now, const LcrwConfig& cfg);
+                      clock::WallTime now, const LcrwConfig& cfg, bool was_in_path = false);
 
-/// Moves a state forward to @p now along its heading with its speed and acceleration (dead
-/// reckoning of a CAM that is a few hundred ms old); never extrapolates a stop into reversing.
-VehicleKinematics extrapolate(const VehicleKinematics& v, clock::WallTime now, bool use_accel);
+/// Moves a state forward to @p now along its predicted path (an arc of @p curvature_per_m, see
+/// path_curvature) with its speed and acceleration (dead reckoning of a CAM that is a few
+/// hundred ms old), turning the heading with the arc; never extrapolates a stop into reversing.
+VehicleKinematics extrapolate(const VehicleKinematics& v, clock::WallTime now, bool use_accel,
+                              double curvature_per_m = 0.0);
 
 /// The LCRW application state machine (TS 101 539-3 annex B): idle per neighbour until the risk
 /// appears, active while it lasts, back to idle with a clear event.

@@ -51,6 +51,10 @@ struct Kinematics {
   std::optional<double> speed_mps;
   bool reversing = false;
   std::optional<double> longitudinal_accel_mps2;
+  /// CDD YawRate (positive counter-clockwise) and Curvature (positive left of the orientation);
+  /// for LCRW's path prediction, not published.
+  std::optional<double> yaw_rate_dps;
+  std::optional<double> curvature_per_m;
   std::optional<double> length_m;
   std::optional<double> width_m;
 };

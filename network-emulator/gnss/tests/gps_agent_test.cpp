@@ -92,6 +92,29 @@ TEST(GpsAgent, CourseIsClockwiseFromNorth) {
   EXPECT_NEAR(std::stod(parse_datagram(*agent.on_state(st))[0].fields[7]), 135.0, 0.01);
 }
 
+TEST(GpsAgent, ReversingReportsTheCourseOfMotionNotTheOrientation) {
+  GpsAgent agent(config(), frame());
+  auto st = state(0);
+  st.yaw = static_cast<float>(std::numbers::pi / 2);  // nose north
+  st.velocity = {0.0f, -3.0f, 0.0f};                  // rolling south, tail first
+  const auto s = parse_datagram(*agent.on_state(st));
+  EXPECT_NEAR(std::stod(s[0].fields[7]), 180.0, 0.01);
+}
+
+TEST(GpsAgent, ReportsTheAntennaPositionOnTheVehicle) {
+  auto c = config();
+  c.antenna.forward_m = -1.0;  // 1 m behind the centre, 0.5 m to the left
+  c.antenna.left_m = 0.5;
+  GpsAgent agent(c, frame());
+  auto st = state(0, 100.0, -50.0);
+  st.yaw = 0.0f;  // nose east: behind is west (-x), left is north (+y)
+  const auto rmc = parse_datagram(*agent.on_state(st))[0].fields;
+  const double lat = nmea_degrees(rmc[2], rmc[3], 2), lon = nmea_degrees(rmc[4], rmc[5], 3);
+  const auto back = frame().to_enu({lat, lon, frame().to_geodetic({100.0, -50.0, 1.5}).altitude_m});
+  EXPECT_NEAR(back.east, 99.0, 0.01);
+  EXPECT_NEAR(back.north, -49.5, 0.01);
+}
+
 TEST(GpsAgent, NoiseHasTheConfiguredSpreadAndIsReproducible) {
   GpsAgent a(config(false), frame()), b(config(false), frame());
   double sum_e = 0, sum_e2 = 0, sum_u2 = 0;

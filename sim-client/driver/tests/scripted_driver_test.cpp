@@ -24,16 +24,30 @@ class Plant {
     const double rate = 0.6 * dt;  // rad/s of road-wheel angle
     delta_ += std::clamp(wanted - delta_, -rate, rate);
     const double mass = 1500.0;
-    const double drive = c.throttle * std::min(5000.0, 70000.0 * 0.9 / std::max(v_, 1.0));
+    // A gearbox that engages reverse (or forward) only below 0.5 m/s, like the server's.
+    if (c.reverse != reverse_ && std::abs(v_) < 0.5)
+      reverse_ = c.reverse;
+    const double gear = reverse_ ? -1.0 : 1.0;
+    const double drive =
+        gear * c.throttle * std::min(5000.0, 70000.0 * 0.9 / std::max(std::abs(v_), 1.0));
     const double brake = c.brake * 9000.0;
-    const double resist = 0.5 * 1.2 * 0.33 * 2.3 * v_ * v_ + (v_ > 0.01 ? 0.013 * mass * 9.81 : 0);
+    const double sign = v_ > 0.0 ? 1.0 : (v_ < 0.0 ? -1.0 : 0.0);
+    const double resist =
+        sign * (0.5 * 1.2 * 0.33 * 2.3 * v_ * v_ + (std::abs(v_) > 0.01 ? 0.013 * mass * 9.81 : 0));
     double a = (drive - resist) / mass;
-    if (v_ > 0.0 || a > 0.0)
-      a -= brake / mass;
+    const double v_free = v_ + a * dt;
+    // Brakes oppose the motion and hold a standing car.
+    const double dv_brake = brake / mass * dt;
+    double v_next = v_free;
+    if (v_free > dv_brake)
+      v_next = v_free - dv_brake;
+    else if (v_free < -dv_brake)
+      v_next = v_free + dv_brake;
     else
-      a = 0.0;
+      v_next = 0.0;
+    a = (v_next - v_) / dt;
     accel_ = a;
-    v_ = std::max(v_ + a * dt, 0.0);
+    v_ = v_next;
     // Rear-axle reference point.
     const double rx = x_ - std::cos(yaw_) * kWheelbase / 2,
                  ry = y_ - std::sin(yaw_) * kWheelbase / 2;
@@ -61,6 +75,7 @@ class Plant {
   double x_, y_, yaw_, v_;
   double delta_ = 0.0;
   double accel_ = 0.0;
+  bool reverse_ = false;
   std::int64_t t_ns_ = 0;
 };
 
@@ -171,6 +186,31 @@ TEST(LaneFollowDriver, DrivesAgainstTheLaneDirection) {
   EXPECT_NEAR(car.state().position[0], 600.0 - 300.0, 10.0);
   EXPECT_NEAR(car.state().position[1], at.p.y, 0.1);
   EXPECT_NEAR(car.speed(), 10.0, 0.5);
+}
+
+TEST(LaneFollowDriver, ReversesAlongTheLaneAtANegativeTargetSpeed) {
+  // Forward at 5 m/s for 6 s, then -3 m/s (issue 22): the car stops, engages reverse and backs
+  // along its lane, staying in it, at 3 m/s.
+  const map::RoadMap road(straight_road());
+  const scenario::VehicleModel model;
+  LaneFollowDriver driver(profile({{0.0, 5.0}, {6.0, 5.0}, {6.1, -3.0}}, false), model, road,
+                          {0, 0, false});
+  const map::Pose start = road.lane_pose(0, 0, 100.0);
+  Plant car(start.p.x, start.p.y, start.yaw, 0.0);
+  double max_lateral = 0.0, min_speed = 0.0;
+  bool reversed = false;
+  for (int i = 0; i < 100 * 30; ++i) {  // 30 s at 100 Hz
+    const wire::Controls c = driver.update(car.state());
+    reversed = reversed || c.reverse;
+    car.step(c, 0.01);
+    max_lateral = std::max(max_lateral, std::abs(driver.status().lateral));
+    min_speed = std::min(min_speed, car.speed());
+  }
+  EXPECT_TRUE(reversed);
+  EXPECT_NEAR(car.speed(), -3.0, 0.3);
+  EXPECT_GT(min_speed, -3.0 * 1.3);  // no overshoot beyond 30 %
+  EXPECT_LT(max_lateral, lane_margin(model, 3.5));
+  EXPECT_NEAR(driver.status().lateral, 0.0, 0.2);
 }
 
 TEST(LaneFollowDriver, ProfileInterpolatesAndHoldsEnds) {
