@@ -10,3 +10,4 @@ if(TESTBED_BENCHMARKS)
   find_package(benchmark REQUIRED)
 endif()
 find_package(PkgConfig REQUIRED)
+find_package(pugixml REQUIRED)  # common/map: OpenDRIVE importer
