@@ -105,6 +105,12 @@ void LaneLocator::add_road(int index) {
       p.road = index;
       p.s0 = a + span * k / n;
       p.s1 = k + 1 == n ? cuts[c + 1] : a + span * (k + 1) / n;
+      const double mid = (p.s0 + p.s1) / 2;
+      p.geometry = r.geometries.front().get();
+      for (const auto& g : r.geometries) {
+        if (g->s0() <= mid)
+          p.geometry = g.get();
+      }
       const RefPoint start = r.reference(p.s0);
       p.x0 = start.x;
       p.y0 = start.y;
@@ -132,7 +138,7 @@ void LaneLocator::add_road(int index) {
 void LaneLocator::build_grid() {
   if (pieces_.empty())
     return;
-  // Boxes: the reference points of the piece widened by its reach.
+  // Boxes around each piece's lanes, then a CSR grid of the boxes.
   struct Box {
     double x0, y0, x1, y1;
   };
@@ -142,18 +148,25 @@ void LaneLocator::build_grid() {
   double gx1 = std::numeric_limits<double>::lowest(), gy1 = gx1;
   for (const Piece& p : pieces_) {
     const Road& r = net_.roads[static_cast<std::size_t>(p.road)];
+    // The lane area of the piece: the reference line offset by +-reach at its ends and middle
+    // (the pieces are short, so the sagitta between them is in the margin of reach).
     Box b{p.x0, p.y0, p.x0, p.y0};
-    for (double s : {(p.s0 + p.s1) / 2, p.s1}) {
+    for (double s : {p.s0, (p.s0 + p.s1) / 2, p.s1}) {
       const RefPoint q = r.reference(s);
-      b.x0 = std::min(b.x0, q.x);
-      b.y0 = std::min(b.y0, q.y);
-      b.x1 = std::max(b.x1, q.x);
-      b.y1 = std::max(b.y1, q.y);
+      for (double side : {-1.0, 1.0}) {
+        const double x = q.x - side * p.reach * std::sin(q.hdg);
+        const double y = q.y + side * p.reach * std::cos(q.hdg);
+        b.x0 = std::min(b.x0, x);
+        b.y0 = std::min(b.y0, y);
+        b.x1 = std::max(b.x1, x);
+        b.y1 = std::max(b.y1, y);
+      }
     }
-    b.x0 -= p.reach;
-    b.y0 -= p.reach;
-    b.x1 += p.reach;
-    b.y1 += p.reach;
+    constexpr double kMargin = 0.25;
+    b.x0 -= kMargin;
+    b.y0 -= kMargin;
+    b.x1 += kMargin;
+    b.y1 += kMargin;
     gx0 = std::min(gx0, b.x0);
     gy0 = std::min(gy0, b.y0);
     gx1 = std::max(gx1, b.x1);
@@ -197,10 +210,10 @@ bool LaneLocator::project(const Piece& p, double x, double y, double& s, double&
   if (along < -p.slack || along > len + p.slack || std::fabs(across) > p.reach + p.slack) {
     return false;
   }
-  const Road& r = net_.roads[static_cast<std::size_t>(p.road)];
+  const Geometry& g = *p.geometry;
   s = std::clamp(p.s0 + along, p.s0, p.s1);
   for (int i = 0; i < 8; ++i) {
-    const RefPoint q = r.reference(s);
+    const RefPoint q = g.at(s - g.s0());
     const double ch = std::cos(q.hdg);
     const double sh = std::sin(q.hdg);
     const double ex = x - q.x;
@@ -209,7 +222,7 @@ bool LaneLocator::project(const Piece& p, double x, double y, double& s, double&
     t = -ex * sh + ey * ch;
     // Newton on the foot point: on a curve the distance along the offset line is scaled by
     // (1 - k t) relative to the reference line.
-    const double scale = std::max(0.1, 1.0 - r.curvature(s) * t);
+    const double scale = std::max(0.1, 1.0 - g.curvature(s - g.s0()) * t);
     const double next = s + ds / scale;
     if (std::fabs(ds) < 1e-9)
       break;
@@ -217,7 +230,7 @@ bool LaneLocator::project(const Piece& p, double x, double y, double& s, double&
       return false;
     s = std::clamp(next, p.s0, p.s1);
   }
-  const RefPoint q = r.reference(s);
+  const RefPoint q = g.at(s - g.s0());
   const double ch = std::cos(q.hdg);
   const double sh = std::sin(q.hdg);
   const double ds = (x - q.x) * ch + (y - q.y) * sh;
@@ -250,7 +263,8 @@ std::vector<LanePosition> LaneLocator::locate_all(double x, double y) const {
     const int lane = lane_of(r, section, s, t);
     if (lane == 0)
       continue;
-    found.push_back({{p.road, lane}, section, s, t, r.surface(s, t).z});
+    const double z = r.elevation.value(s) + t * std::tan(r.superelevation.value(s));
+    found.push_back({{p.road, lane}, section, s, t, z});
   }
   return found;
 }

@@ -63,6 +63,7 @@ class LaneLocator {
  private:
   struct Piece {
     int road;
+    const Geometry* geometry;  ///< pieces never span two geometries
     double s0, s1;
     double x0, y0, c0, s0n;  ///< start point, cos/sin of the start heading
     double reach;            ///< largest |t| of any lane border on the piece, plus margin
