@@ -130,7 +130,10 @@ std::unique_ptr<Geometry> make_spiral(double s0, RefPoint start, double length, 
 }
 
 ParamPoly3::ParamPoly3(double s0, RefPoint start, double length, Coefficients c, bool normalized)
-    : Geometry(s0, start, length), k_(c), p_per_s_(normalized ? 1.0 / length : 1.0) {}
+    : Geometry(s0, start, length),
+      k_(c),
+      normalized_(normalized),
+      p_per_s_(normalized ? 1.0 / length : 1.0) {}
 
 RefPoint ParamPoly3::at(double ds) const {
   const double p = ds * p_per_s_;

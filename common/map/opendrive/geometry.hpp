@@ -67,6 +67,8 @@ class Spiral final : public Geometry {
   Spiral(double s0, RefPoint start, double length, double k_start, double k_end);
   RefPoint at(double ds) const override;
   double curvature(double ds) const override { return k0_ + c_ * ds; }
+  double curvature_start() const { return k0_; }
+  double curvature_end() const { return k0_ + c_ * length(); }
 
  private:
   double k0_;
@@ -96,9 +98,12 @@ class ParamPoly3 final : public Geometry {
   ParamPoly3(double s0, RefPoint start, double length, Coefficients c, bool normalized);
   RefPoint at(double ds) const override;
   double curvature(double ds) const override;
+  const Coefficients& coefficients() const { return k_; }
+  bool normalized() const { return normalized_; }
 
  private:
   Coefficients k_;
+  bool normalized_;
   double p_per_s_;
 };
 
@@ -109,6 +114,10 @@ class Poly3 final : public Geometry {
   Poly3(double s0, RefPoint start, double length, double a, double b, double c, double d);
   RefPoint at(double ds) const override;
   double curvature(double ds) const override;
+  double a() const { return a_; }
+  double b() const { return b_; }
+  double c() const { return c_; }
+  double d() const { return d_; }
 
  private:
   double u_of(double ds) const;
