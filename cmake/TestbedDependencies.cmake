@@ -11,3 +11,4 @@ if(TESTBED_BENCHMARKS)
 endif()
 find_package(PkgConfig REQUIRED)
 find_package(pugixml REQUIRED)  # common/map: OpenDRIVE importer
+find_package(PROJ REQUIRED)  # common/map: geoReference -> WGS84
