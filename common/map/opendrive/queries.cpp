@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <string>
 
 namespace tb::map::odr {
@@ -49,6 +50,35 @@ SurfacePose lane_pose(const RoadNetwork& net, int road, int lane, double s, doub
     const double dt = (lane_centre_t(r, lane, b) - lane_centre_t(r, lane, a)) / (b - a);
     const double stretch = std::max(0.1, 1.0 - r.curvature(s) * (t + offset));
     p.heading += std::atan2(dt, stretch);
+  }
+  return p;
+}
+
+SurfacePose spawn_pose(const RoadNetwork& net, const LaneSpawn& spawn) {
+  const int road = net.road_index(spawn.road);
+  const std::string path = "road[@id='" + spawn.road + "']";
+  if (road < 0)
+    throw MapError(net.source, path, "road does not exist");
+  const Road& r = net.roads[static_cast<std::size_t>(road)];
+  if (!(spawn.s >= 0.0 && spawn.s <= r.length)) {
+    throw MapError(net.source, path,
+                   "s " + std::to_string(spawn.s) + " past the road's end (length " +
+                       std::to_string(r.length) + ")");
+  }
+  const Lane& lane = lane_at(net, road, spawn.lane, spawn.s);
+  const LaneBorders b = r.borders(r.section_index(spawn.s), spawn.s);
+  const double width = std::fabs(b.outer(spawn.lane) - b.inner(spawn.lane));
+  if (spawn.lane == 0 || !lane.drivable || width < 1.0) {
+    throw MapError(net.source, path,
+                   "lane " + std::to_string(spawn.lane) + " (" + lane.type + ", " +
+                       std::to_string(width) + " m wide) is not drivable at s " +
+                       std::to_string(spawn.s));
+  }
+  SurfacePose p = lane_pose(net, road, spawn.lane, spawn.s, spawn.offset);
+  if (!r.forward(spawn.lane)) {
+    p.heading = std::remainder(p.heading + std::numbers::pi, 2 * std::numbers::pi);
+    p.pitch = -p.pitch;
+    p.roll = -p.roll;
   }
   return p;
 }

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "common/map/opendrive/road_network.hpp"
@@ -38,6 +39,21 @@ double lane_centre_t(const Road& road, int lane, double s);
 /// including the centre line's lateral drift (lanes that widen or shift). @throws MapError as
 /// lane_at().
 SurfacePose lane_pose(const RoadNetwork& net, int road, int lane, double s, double offset = 0.0);
+
+/// A vehicle placed on a lane: OpenDRIVE road id (string), lane id, s, lateral offset from
+/// the lane's centre (m, + to the left of the road's s direction).
+struct LaneSpawn {
+  std::string road;
+  int lane = 0;
+  double s = 0.0;
+  double offset = 0.0;
+};
+
+/// The pose of a vehicle spawned at @p spawn, facing its lane's direction of travel (yaw, pitch
+/// and roll turned round on lanes that run against s). @throws MapError (path
+/// `road[@id='..']`) for a road that does not exist, s outside [0, length], a lane that does
+/// not exist at s, or one that is not drivable there (its type, or no width).
+SurfacePose spawn_pose(const RoadNetwork& net, const LaneSpawn& spawn);
 
 /// Which lane holds @p t at (section, s); 0 when t is outside every lane of the section.
 int lane_of(const Road& road, std::size_t section, double s, double t);

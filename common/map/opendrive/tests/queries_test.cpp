@@ -210,3 +210,55 @@ TEST(LaneGraph, RouteThroughTheJunctionAndLaneChanges) {
 
 }  // namespace
 }  // namespace tb::map::odr
+
+namespace tb::map::odr {
+namespace {
+
+std::string spawn_error(const RoadNetwork& net, const LaneSpawn& s) {
+  try {
+    (void)spawn_pose(net, s);
+  } catch (const MapError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(SpawnPose, FacesTheLanesDirectionOfTravel) {
+  const RoadNetwork net =
+      load_opendrive((shared_maps() / "simple_4way_intersection.xodr").string());
+  const SurfacePose right = spawn_pose(net, {"0", -1, 30, 0});
+  EXPECT_NEAR(right.x, 30, 1e-9);
+  EXPECT_NEAR(right.y, -1.5, 1e-9);
+  EXPECT_NEAR(right.heading, 0, 1e-9);
+  const SurfacePose left = spawn_pose(net, {"0", 1, 30, 0});
+  EXPECT_NEAR(left.y, 1.5, 1e-9);
+  EXPECT_NEAR(std::fabs(left.heading), M_PI, 1e-9);
+}
+
+TEST(SpawnPose, NamedErrors) {
+  const RoadNetwork net =
+      load_opendrive((shared_maps() / "simple_4way_intersection.xodr").string());
+  EXPECT_NE(spawn_error(net, {"12", -1, 30, 0}).find("road[@id='12']: road does not exist"),
+            std::string::npos);
+  EXPECT_NE(
+      spawn_error(net, {"0", -1, 130, 0}).find("road[@id='0']: s 130.000000 past the road's end"),
+      std::string::npos);
+  EXPECT_NE(spawn_error(net, {"0", -2, 30, 0}).find("road[@id='0']: lane -2 does not exist"),
+            std::string::npos);
+  const RoadNetwork tw = parse_opendrive(
+      R"(<OpenDRIVE><road id="r" length="100" junction="-1">
+      <planView><geometry s="0" x="0" y="0" hdg="0" length="100"><line/></geometry></planView>
+      <lanes><laneSection s="0"><right>
+        <lane id="-1" type="driving"><width sOffset="0" a="0" b="0.05"/></lane>
+        <lane id="-2" type="sidewalk"><width sOffset="0" a="2"/></lane>
+      </right></laneSection></lanes></road></OpenDRIVE>)",
+      "w.xodr");
+  EXPECT_NE(spawn_error(tw, {"r", -1, 10, 0})
+                .find("lane -1 (driving, 0.500000 m wide) is not drivable at s 10"),
+            std::string::npos);
+  EXPECT_NO_THROW(spawn_pose(tw, {"r", -1, 60, 0}));
+  EXPECT_NE(spawn_error(tw, {"r", -2, 60, 0}).find("lane -2 (sidewalk"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace tb::map::odr
