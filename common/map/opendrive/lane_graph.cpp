@@ -156,7 +156,10 @@ std::optional<Route> LaneGraph::route(LaneRef from, double from_s, LaneRef to, d
   dist[start] = remaining(sn, from_s);
   open.push({dist[start], start});
   while (!open.empty()) {
-    const auto [d, i] = open.top();
+    // Plain copies, not a structured binding: the lambda below captures them (C++20 allows
+    // capturing bindings, clang 14 does not).
+    const double d = open.top().first;
+    const std::size_t i = open.top().second;
     open.pop();
     if (d > dist[i])
       continue;
