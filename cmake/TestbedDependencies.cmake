@@ -11,3 +11,5 @@ if(TESTBED_BENCHMARKS)
   find_package(benchmark REQUIRED)
 endif()
 find_package(PkgConfig REQUIRED)
+find_package(pugixml REQUIRED)  # common/map: OpenDRIVE importer
+find_package(PROJ REQUIRED)  # common/map: geoReference -> WGS84

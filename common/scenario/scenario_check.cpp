@@ -1,36 +1,119 @@
 // scenario-check: validates scenario files and prints a summary; exit code 2 names the first
 // problem (file, JSON path, reason), as every program of the testbed does on a bad scenario.
+// With --describe / --where / --export-xodr it prints or writes the scenario's road network
+// (an .xodr file may be given instead of a scenario for --describe and --where).
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <fstream>
 #include <variant>
 
+#include "common/map/builtin_network.hpp"
+#include "common/map/describe.hpp"
+#include "common/map/opendrive/reader.hpp"
+#include "common/map/opendrive/writer.hpp"
 #include "common/scenario/loader.hpp"
+
+namespace {
+
+bool is_xodr(const std::string& f) {
+  return f.size() > 5 && f.compare(f.size() - 5, 5, ".xodr") == 0;
+}
+
+/// The road network of a scenario or .xodr file, and where its geographic origin comes from.
+struct LoadedNetwork {
+  tb::map::odr::RoadNetwork net;
+  tb::map::OriginSource origin;
+};
+
+LoadedNetwork load_network(const std::string& f) {
+  LoadedNetwork out;
+  if (is_xodr(f)) {
+    out.net = tb::map::odr::load_opendrive(f);
+  } else {
+    const auto s = tb::scenario::load_file(f);
+    out.net = tb::map::generate_network(s.map);
+    out.net.source = f + " (built-in map)";
+    out.origin.origin = s.origin;
+  }
+  if (!out.net.header.geo_reference.empty()) {
+    out.origin.source = "geoReference";
+  } else if (out.origin.origin) {
+    out.origin.source = "scenario origin";
+  } else {
+    out.origin.source = "none";
+  }
+  return out;
+}
+
+int summary(const std::string& f, bool quiet) {
+  const auto s = tb::scenario::load_file(f);
+  if (!quiet) {
+    std::printf("%s: ok: \"%s\", %zu vehicle(s)\n", f.c_str(), s.name.c_str(), s.vehicles.size());
+    for (const auto& v : s.vehicles) {
+      const char* driver = std::holds_alternative<tb::scenario::HumanDriver>(v.driver) ? "human"
+                           : std::holds_alternative<tb::scenario::TimelineDriver>(v.driver)
+                               ? "timeline"
+                               : "lane_follow";
+      std::printf("  %-12s station %-10u driver %s\n", v.id.c_str(), v.station_id, driver);
+    }
+  }
+  return 0;
+}
+
+int export_xodr(const std::string& f, const std::string& out) {
+  const auto loaded = load_network(f);
+  std::ofstream o(out, std::ios::binary);
+  o << tb::map::odr::write_opendrive(loaded.net);
+  o.close();
+  if (!o) {
+    std::fprintf(stderr, "error: %s: cannot write\n", out.c_str());
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"Validate testbed scenario files"};
   std::vector<std::string> files;
   bool quiet = false;
-  app.add_option("files", files, "scenario files (JSON)")->required();
+  bool describe = false;
+  std::vector<double> where;
+  std::string export_to;
+  app.add_option("files", files, "scenario files (JSON), or .xodr for --describe/--where")
+      ->required();
   app.add_flag("-q,--quiet", quiet, "print only errors");
+  app.add_flag("--describe", describe, "print each file's road network as JSON");
+  app.add_option("--where", where, "print the lane under the point X Y (m, map frame) as JSON")
+      ->expected(2);
+  app.add_option("--export-xodr", export_to, "write the (one) scenario's map as an OpenDRIVE file");
   CLI11_PARSE(app, argc, argv);
+  if (!export_to.empty() && files.size() != 1) {
+    std::fprintf(stderr, "error: --export-xodr takes exactly one scenario file\n");
+    return tb::scenario::kExitBadScenario;
+  }
 
   int rc = 0;
   for (const auto& f : files) {
     try {
-      const auto s = tb::scenario::load_file(f);
-      if (!quiet) {
-        std::printf("%s: ok: \"%s\", %zu vehicle(s)\n", f.c_str(), s.name.c_str(),
-                    s.vehicles.size());
-        for (const auto& v : s.vehicles) {
-          const char* driver = std::holds_alternative<tb::scenario::HumanDriver>(v.driver) ? "human"
-                               : std::holds_alternative<tb::scenario::TimelineDriver>(v.driver)
-                                   ? "timeline"
-                                   : "lane_follow";
-          std::printf("  %-12s station %-10u driver %s\n", v.id.c_str(), v.station_id, driver);
+      if (!export_to.empty()) {
+        rc = std::max(rc, export_xodr(f, export_to));
+      } else if (describe || !where.empty()) {
+        const auto loaded = load_network(f);
+        if (describe)
+          std::printf("%s\n", tb::map::describe(loaded.net, loaded.origin).dump(2).c_str());
+        if (!where.empty()) {
+          std::printf("%s\n", tb::map::where(loaded.net, where[0], where[1]).dump().c_str());
         }
+      } else {
+        summary(f, quiet);
       }
     } catch (const tb::scenario::ScenarioError& e) {
+      std::fprintf(stderr, "error: %s\n", e.what());
+      rc = tb::scenario::kExitBadScenario;
+    } catch (const tb::map::odr::MapError& e) {
       std::fprintf(stderr, "error: %s\n", e.what());
       rc = tb::scenario::kExitBadScenario;
     }

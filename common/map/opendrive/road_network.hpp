@@ -1,0 +1,206 @@
+#pragma once
+/// @file The road network model read from ASAM OpenDRIVE 1.4-1.7: roads with their planView,
+/// profiles and lane sections, and junctions. Plain data plus the evaluation every consumer
+/// needs (reference line, lane borders); queries that need an index live in lane_locator.hpp
+/// and lane_graph.hpp. Road and junction ids are strings, as the standard allows.
+
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "common/map/opendrive/geometry.hpp"
+
+namespace tb::map::odr {
+
+/// A bad input file: which file, where in it (an XPath-like element path such as
+/// `road[@id='5']/planView/geometry[2]`) and why.
+class MapError : public std::runtime_error {
+ public:
+  MapError(std::string file, std::string path, const std::string& reason);
+  const std::string& file() const { return file_; }
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string file_;
+  std::string path_;
+};
+
+/// a + b ds + c ds^2 + d ds^3 from `s` on (the record form of elevation, superelevation,
+/// laneOffset, lane width and border).
+struct CubicRecord {
+  double s = 0.0;
+  double a = 0.0, b = 0.0, c = 0.0, d = 0.0;
+};
+
+/// Piecewise cubic over s: each record holds from its s to the next record's s.
+class CubicProfile {
+ public:
+  CubicProfile() = default;
+  explicit CubicProfile(std::vector<CubicRecord> records) : records_(std::move(records)) {}
+  bool empty() const { return records_.empty(); }
+  const std::vector<CubicRecord>& records() const { return records_; }
+  double value(double s) const;       ///< 0 where no record holds
+  double derivative(double s) const;  ///< d value / ds
+
+ private:
+  const CubicRecord* at(double s) const;
+  std::vector<CubicRecord> records_;
+};
+
+enum class ContactPoint { kNone, kStart, kEnd };
+
+struct RoadMark {
+  double s_offset = 0.0;
+  std::string type = "none";  ///< solid, broken, solid solid, botts dots, ...
+  std::string color = "standard";
+  double width = 0.12;       ///< m; 0.12 where the file gives none
+  double line_length = 3.0;  ///< broken marks: painted length (m), 3 m unless <type><line>
+  double space = 9.0;        ///< broken marks: gap (m), 9 m unless <type><line>
+};
+
+struct SpeedLimit {
+  double s = 0.0;    ///< lane: offset from the section start; road: s on the road
+  double max = 0.0;  ///< m/s; +inf for "no limit"
+};
+
+struct Lane {
+  int id = 0;
+  std::string type = "none";
+  bool drivable = false;  ///< a vehicle may drive it (driving, entry, exit, ramps, bus, ...)
+  bool level = false;
+  CubicProfile width;   ///< s of each record relative to the section start (sOffset)
+  CubicProfile border;  ///< alternative to width: outer border t from the centre lane
+  std::optional<int> predecessor;
+  std::optional<int> successor;
+  bool has_link = false;  ///< the file gave a <link> element with predecessor or successor
+  std::vector<RoadMark> marks;
+  std::vector<SpeedLimit> speeds;
+};
+
+struct LaneSection {
+  double s = 0.0;
+  double s_end = 0.0;
+  bool single_side = false;
+  std::vector<Lane> left;   ///< ids 1, 2, ... in this order (outwards)
+  Lane center;              ///< id 0
+  std::vector<Lane> right;  ///< ids -1, -2, ... in this order (outwards)
+  const Lane* lane(int id) const;
+};
+
+struct RoadLink {
+  bool to_junction = false;
+  std::string id;
+  ContactPoint contact = ContactPoint::kNone;
+  int index = -1;  ///< resolved index into roads or junctions
+};
+
+struct RoadType {
+  double s = 0.0;
+  std::string type;
+  std::optional<double> max_speed;  ///< m/s
+};
+
+/// Lateral borders of every lane at one s: t of the outer border, centre lane at `center`.
+struct LaneBorders {
+  double center = 0.0;        ///< t of the centre lane (laneOffset)
+  std::vector<double> left;   ///< left[i]: outer border of lane i+1
+  std::vector<double> right;  ///< right[i]: outer border of lane -(i+1)
+  /// Inner and outer t of lane @p id (outer > inner on the left, < on the right).
+  double inner(int id) const;
+  double outer(int id) const;
+};
+
+/// A point of the road surface with its orientation.
+struct SurfacePose {
+  double x = 0.0, y = 0.0, z = 0.0;
+  double heading = 0.0;  ///< rad, ccw from x (east), of the road's s direction
+  double pitch = 0.0;    ///< rad, positive uphill along s
+  double roll = 0.0;     ///< rad, superelevation: positive raises the left (+t) side
+};
+
+struct Road {
+  std::string id;
+  std::string name;
+  double length = 0.0;
+  std::string junction = "-1";
+  int junction_index = -1;
+  bool left_hand_traffic = false;  ///< rule="LHT": left lanes run along s
+  std::optional<RoadLink> predecessor;
+  std::optional<RoadLink> successor;
+  std::vector<std::unique_ptr<Geometry>> geometries;
+  CubicProfile elevation;
+  CubicProfile superelevation;
+  CubicProfile lane_offset;
+  std::vector<LaneSection> sections;
+  std::vector<RoadType> types;
+
+  RefPoint reference(double s) const;
+  double curvature(double s) const;
+  std::size_t section_index(double s) const;
+  LaneBorders borders(std::size_t section, double s) const;
+  /// The surface at road coordinates (s, t).
+  SurfacePose surface(double s, double t) const;
+  /// Whether lane @p id runs in the direction of growing s.
+  bool forward(int lane_id) const { return left_hand_traffic ? lane_id > 0 : lane_id < 0; }
+  /// Speed limit of the road type at s (m/s), if the file gives one.
+  std::optional<double> speed_limit(double s) const;
+};
+
+struct LaneLink {
+  int from = 0;
+  int to = 0;
+};
+
+struct Connection {
+  std::string id;
+  std::string incoming;
+  std::string connecting;  ///< connectingRoad, or linkedRoad in a direct junction
+  ContactPoint contact = ContactPoint::kNone;
+  int incoming_index = -1;
+  int connecting_index = -1;
+  std::vector<LaneLink> lane_links;
+};
+
+struct Junction {
+  std::string id;
+  std::string name;
+  std::string type = "default";  ///< default, direct (1.7), virtual
+  std::vector<Connection> connections;
+};
+
+struct Header {
+  int rev_major = 1;
+  int rev_minor = 0;
+  std::string name;
+  std::string date;
+  std::string vendor;
+  double north = 0, south = 0, east = 0, west = 0;
+  std::string geo_reference;  ///< the PROJ string, trimmed; empty when the file has none
+  bool has_offset = false;    ///< 1.6 <offset>: inertial = file + offset (kept, not applied)
+  double offset_x = 0, offset_y = 0, offset_z = 0, offset_hdg = 0;
+};
+
+struct RoadNetwork {
+  std::string source;  ///< the file it came from, for messages
+  Header header;
+  std::vector<Road> roads;
+  std::vector<Junction> junctions;
+  std::size_t signals = 0;            ///< <signal>/<signalReference> skipped
+  std::size_t objects = 0;            ///< <object>/<objectReference>/<tunnel>/<bridge> skipped
+  std::vector<std::string> warnings;  ///< things read but not modelled, each named once
+
+  /// Index of the road / junction with that id; -1 when there is none.
+  int road_index(const std::string& id) const;
+  int junction_index(const std::string& id) const;
+  /// Which end of a connection's incoming road touches junction @p junction: the end whose
+  /// road link names the junction, else the end the connecting road's own link names.
+  ContactPoint incoming_end(const Connection& c, std::size_t junction) const;
+};
+
+/// Lane types a vehicle drives on (OpenDRIVE 1.7 clause 9.5.3).
+bool is_drivable(const std::string& lane_type);
+
+}  // namespace tb::map::odr

@@ -1,0 +1,148 @@
+// Figures of issue 17: load + mesh of a large map (>= 2 MB, >= 250 roads), lane query from (x, y).
+// The large map is stitched from the shared esmini maps: each file copied side by side on a
+// 5 km grid with its ids prefixed, until both sizes are reached.
+
+#include <benchmark/benchmark.h>
+
+#include <pugixml.hpp>
+
+#include <filesystem>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "common/map/opendrive/mesh.hpp"
+#include "common/map/opendrive/reader.hpp"
+
+namespace {
+
+using namespace tb::map::odr;
+namespace fs = std::filesystem;
+
+std::string stitched_map() {
+  static const std::string text = [] {
+    std::vector<fs::path> files;
+    for (const auto& e :
+         fs::directory_iterator(fs::path(TB_SOURCE_DIR) / ".." / "shared" / "data" / "opendrive")) {
+      if (e.path().extension() == ".xodr")
+        files.push_back(e.path());
+    }
+    std::sort(files.begin(), files.end());
+    pugi::xml_document out;
+    pugi::xml_node root = out.append_child("OpenDRIVE");
+    pugi::xml_node header = root.append_child("header");
+    header.append_attribute("revMajor") = 1;
+    header.append_attribute("revMinor") = 6;
+    std::size_t roads = 0;
+    std::string result;
+    for (int copy = 0; roads < 250 || result.size() < 2'000'000; ++copy) {
+      for (std::size_t f = 0; f < files.size(); ++f) {
+        pugi::xml_document in;
+        in.load_file(files[f].c_str());
+        const std::string p = std::to_string(copy) + "_" + std::to_string(f) + "_";
+        const double dx = 5000.0 * static_cast<double>(f);
+        const double dy = 5000.0 * copy;
+        for (pugi::xml_node n : in.child("OpenDRIVE").children()) {
+          const std::string name = n.name();
+          if (name != "road" && name != "junction")
+            continue;
+          pugi::xml_node c = root.append_copy(n);
+          c.attribute("id").set_value((p + c.attribute("id").value()).c_str());
+          if (name == "road") {
+            ++roads;
+            if (std::string(c.attribute("junction").value()) != "-1") {
+              c.attribute("junction").set_value((p + c.attribute("junction").value()).c_str());
+            }
+            for (const char* l : {"predecessor", "successor"}) {
+              if (pugi::xml_node e = c.child("link").child(l)) {
+                e.attribute("elementId").set_value((p + e.attribute("elementId").value()).c_str());
+              }
+            }
+            for (pugi::xml_node g : c.child("planView").children("geometry")) {
+              g.attribute("x").set_value(g.attribute("x").as_double() + dx);
+              g.attribute("y").set_value(g.attribute("y").as_double() + dy);
+            }
+          } else {
+            for (pugi::xml_node con : c.children("connection")) {
+              for (const char* a : {"incomingRoad", "connectingRoad", "linkedRoad"}) {
+                if (pugi::xml_attribute at = con.attribute(a))
+                  at.set_value((p + at.value()).c_str());
+              }
+            }
+          }
+        }
+      }
+      std::ostringstream s;
+      out.save(s, "  ");
+      result = s.str();
+    }
+    return result;
+  }();
+  return text;
+}
+
+void BM_LoadAndMesh(benchmark::State& state) {
+  const std::string text = stitched_map();
+  std::size_t triangles = 0;
+  std::size_t roads = 0;
+  for (auto _ : state) {
+    const RoadNetwork net = parse_opendrive(text, "stitched");
+    const RoadMesh mesh = road_mesh(net, 0.02);
+    triangles = mesh.triangles();
+    roads = net.roads.size();
+    benchmark::DoNotOptimize(mesh.vertices.data());
+  }
+  state.counters["bytes"] = static_cast<double>(text.size());
+  state.counters["roads"] = static_cast<double>(roads);
+  state.counters["triangles"] = static_cast<double>(triangles);
+}
+BENCHMARK(BM_LoadAndMesh)
+    ->Unit(benchmark::kMillisecond)
+    ->Repetitions(5)
+    ->ReportAggregatesOnly(true);
+
+void BM_BuildLaneIndex(benchmark::State& state) {
+  const RoadNetwork net = parse_opendrive(stitched_map(), "stitched");
+  for (auto _ : state) {
+    LaneLocator loc(net);
+    benchmark::DoNotOptimize(loc.pieces());
+  }
+}
+BENCHMARK(BM_BuildLaneIndex)
+    ->Unit(benchmark::kMillisecond)
+    ->Repetitions(5)
+    ->ReportAggregatesOnly(true);
+
+void BM_LocateLane(benchmark::State& state) {
+  static const RoadNetwork net = parse_opendrive(stitched_map(), "stitched");
+  static const LaneLocator loc(net);
+  // Points on random lanes at random s and offsets, fixed seed.
+  std::vector<std::pair<double, double>> points;
+  std::mt19937 rng(17);
+  while (points.size() < 4096) {
+    const int r = static_cast<int>(rng() % net.roads.size());
+    const Road& road = net.roads[static_cast<std::size_t>(r)];
+    const double s = std::uniform_real_distribution<double>(0, road.length)(rng);
+    const LaneSection& ls = road.sections[road.section_index(s)];
+    const bool left = !ls.left.empty() && (ls.right.empty() || rng() % 2 == 0);
+    const auto& side = left ? ls.left : ls.right;
+    const Lane& lane = side[rng() % side.size()];
+    const SurfacePose p = lane_pose(net, r, lane.id, s, 0.0);
+    points.emplace_back(p.x, p.y);
+  }
+  std::size_t i = 0;
+  std::size_t hits = 0;
+  for (auto _ : state) {
+    const auto& [x, y] = points[i++ & 4095];
+    const auto at = loc.locate(x, y);
+    hits += at.has_value();
+    benchmark::DoNotOptimize(at);
+  }
+  state.counters["hit_rate"] = static_cast<double>(hits) / static_cast<double>(state.iterations());
+}
+BENCHMARK(BM_LocateLane)->Unit(benchmark::kNanosecond)->Repetitions(10)->ReportAggregatesOnly(true);
+
+}  // namespace
+
+BENCHMARK_MAIN();

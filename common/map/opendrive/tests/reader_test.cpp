@@ -1,0 +1,324 @@
+// The importer on the shared esmini maps and on every bad-input case the issue lists.
+
+#include "common/map/opendrive/reader.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace tb::map::odr {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path shared_maps() {
+  const char* root = std::getenv("TESTBED_ROOT");
+  return fs::path(root != nullptr ? root : ".") / ".." / "shared" / "data" / "opendrive";
+}
+
+std::vector<fs::path> all_shared_maps() {
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(shared_maps())) {
+    if (e.path().extension() == ".xodr")
+      files.push_back(e.path());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+TEST(SharedMaps, EveryFileLoads) {
+  const auto files = all_shared_maps();
+  ASSERT_EQ(files.size(), 13u) << "the README lists 13 maps under " << shared_maps();
+  for (const auto& f : files) {
+    SCOPED_TRACE(f.string());
+    const RoadNetwork net = load_opendrive(f.string());
+    EXPECT_FALSE(net.roads.empty());
+    for (const Road& r : net.roads) {
+      EXPECT_FALSE(r.geometries.empty());
+      EXPECT_FALSE(r.sections.empty());
+    }
+  }
+}
+
+TEST(SharedMaps, ConsecutiveGeometriesMeetWithinAMillimetre) {
+  for (const auto& f : all_shared_maps()) {
+    const RoadNetwork net = load_opendrive(f.string());
+    for (const Road& r : net.roads) {
+      for (std::size_t i = 0; i + 1 < r.geometries.size(); ++i) {
+        const Geometry& g = *r.geometries[i];
+        const Geometry& next = *r.geometries[i + 1];
+        const RefPoint end = g.at(next.s0() - g.s0());
+        EXPECT_LT(std::hypot(end.x - next.start().x, end.y - next.start().y), 1e-3)
+            << f.filename() << " road " << r.id << " geometry " << i + 1;
+        EXPECT_LT(std::fabs(std::remainder(end.hdg - next.start().hdg, 2 * M_PI)), 1e-3)
+            << f.filename() << " road " << r.id << " geometry " << i + 1;
+      }
+    }
+  }
+}
+
+TEST(SharedMaps, LaneBordersAreContinuousAcrossLaneSections) {
+  int checked = 0;
+  for (const auto& f : all_shared_maps()) {
+    const RoadNetwork net = load_opendrive(f.string());
+    for (const Road& r : net.roads) {
+      for (std::size_t k = 0; k + 1 < r.sections.size(); ++k) {
+        const double s = r.sections[k + 1].s;
+        const LaneBorders before = r.borders(k, s);
+        const LaneBorders after = r.borders(k + 1, s);
+        EXPECT_NEAR(before.center, after.center, 1e-3);
+        for (const auto* side : {&r.sections[k].left, &r.sections[k].right}) {
+          for (const Lane& lane : *side) {
+            if (!lane.successor || r.sections[k + 1].lane(*lane.successor) == nullptr)
+              continue;
+            if (lane.width.value(s - r.sections[k].s) < 1e-3)
+              continue;  // ends here
+            const int next = *lane.successor;
+            EXPECT_NEAR(before.outer(lane.id), after.outer(next), 1e-3)
+                << f.filename() << " road " << r.id << " section " << k + 1 << " lane " << lane.id;
+            EXPECT_NEAR(before.inner(lane.id), after.inner(next), 1e-3)
+                << f.filename() << " road " << r.id << " section " << k + 1 << " lane " << lane.id;
+            ++checked;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(checked, 10);
+}
+
+TEST(SharedMaps, FourWayIntersectionModel) {
+  const RoadNetwork net =
+      load_opendrive((shared_maps() / "simple_4way_intersection.xodr").string());
+  EXPECT_EQ(net.header.rev_major, 1);
+  EXPECT_EQ(net.header.rev_minor, 5);
+  ASSERT_EQ(net.junctions.size(), 1u);
+  EXPECT_EQ(net.junctions[0].connections.size(), 12u);
+  const Road& r0 = net.roads[static_cast<std::size_t>(net.road_index("0"))];
+  ASSERT_TRUE(r0.successor);
+  EXPECT_TRUE(r0.successor->to_junction);
+  EXPECT_EQ(r0.successor->index, 0);
+  EXPECT_NEAR(*r0.speed_limit(50), 10.0, 1e-12);
+  const Road& c = net.roads[static_cast<std::size_t>(net.road_index("100"))];
+  EXPECT_EQ(c.junction_index, 0);
+  EXPECT_EQ(c.sections[0].right[0].marks[0].type, "solid");
+  EXPECT_NEAR(c.sections[0].right[0].marks[0].width, 0.2, 1e-12);
+  // The connecting road ends where road 1 starts.
+  const Road& r1 = net.roads[static_cast<std::size_t>(net.road_index("1"))];
+  const RefPoint end = c.reference(c.length);
+  const RefPoint start = r1.reference(0);
+  EXPECT_LT(std::hypot(end.x - start.x, end.y - start.y), 1e-3);
+}
+
+TEST(SharedMaps, ElevationAndSuperelevationAreRead) {
+  const RoadNetwork net =
+      load_opendrive((shared_maps() / "straight_500_superelevation_elevation_curve.xodr").string());
+  bool elevated = false, banked = false;
+  for (const Road& r : net.roads) {
+    for (double s = 0; s < r.length; s += 5) {
+      elevated |= std::fabs(r.elevation.value(s)) > 0.5;
+      banked |= std::fabs(r.superelevation.value(s)) > 0.01;
+      const SurfacePose p = r.surface(s, 3.0);
+      EXPECT_NEAR(p.z, r.elevation.value(s) + 3.0 * std::tan(r.superelevation.value(s)), 1e-9);
+    }
+  }
+  EXPECT_TRUE(elevated);
+  EXPECT_TRUE(banked);
+}
+
+TEST(SharedMaps, LeftHandTrafficAndParamPoly3) {
+  const RoadNetwork net = load_opendrive((shared_maps() / "e6mini-lht.xodr").string());
+  bool lht = false;
+  for (const Road& r : net.roads)
+    lht |= r.left_hand_traffic;
+  EXPECT_TRUE(lht);
+  bool param = false;
+  for (const Road& r : net.roads) {
+    for (const auto& g : r.geometries)
+      param |= dynamic_cast<const ParamPoly3*>(g.get()) != nullptr;
+  }
+  EXPECT_TRUE(param);
+}
+
+TEST(SharedMaps, ObjectsAreSkippedAndCounted) {
+  const RoadNetwork net = load_opendrive((shared_maps() / "crest-curve.xodr").string());
+  EXPECT_EQ(net.objects, 9u);
+}
+
+TEST(SharedMaps, LaneLinksWrittenFromTheConnectingRoadAreReadSwapped) {
+  // highway_merge's connection 2 gives from = the connecting road's lane, to = the incoming
+  // road's: read the other way round, with one warning naming it.
+  const RoadNetwork net = load_opendrive((shared_maps() / "highway_merge.xodr").string());
+  const Connection& c = net.junctions[0].connections[2];
+  ASSERT_EQ(c.lane_links.size(), 1u);
+  EXPECT_EQ(c.lane_links[0].from, -3);
+  EXPECT_EQ(c.lane_links[0].to, -1);
+  ASSERT_EQ(net.warnings.size(), 1u);
+  EXPECT_NE(net.warnings[0].find("junction[@id='1']/connection[@id='2']"), std::string::npos);
+}
+
+// ---- bad input: each case names the file, the element and the reason ----------------------
+
+std::string road_xml(const std::string& id, const std::string& body_override = "",
+                     const std::string& link = "", const std::string& lanes = "") {
+  const std::string plan =
+      body_override.empty()
+          ? R"(<planView><geometry s="0" x="0" y="0" hdg="0" length="100"><line/></geometry></planView>)"
+          : body_override;
+  const std::string lane_xml =
+      lanes.empty()
+          ? R"(<lanes><laneSection s="0"><center><lane id="0" type="none"/></center><right><lane id="-1" type="driving"><width sOffset="0" a="3.5" b="0" c="0" d="0"/></lane></right></laneSection></lanes>)"
+          : lanes;
+  return "<road id=\"" + id + "\" length=\"100\" junction=\"-1\">" + link + plan + lane_xml +
+         "</road>";
+}
+
+std::string doc(const std::string& body) {
+  return "<?xml version=\"1.0\"?><OpenDRIVE><header revMajor=\"1\" revMinor=\"6\"/>" + body +
+         "</OpenDRIVE>";
+}
+
+void expect_error(const std::string& xml, const std::string& path, const std::string& reason) {
+  try {
+    parse_opendrive(xml, "bad.xodr");
+    ADD_FAILURE() << "no error for: " << reason;
+  } catch (const MapError& e) {
+    EXPECT_EQ(e.file(), "bad.xodr");
+    EXPECT_EQ(e.path(), path) << e.what();
+    EXPECT_NE(std::string(e.what()).find(reason), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).rfind("bad.xodr: ", 0), 0u) << e.what();
+  }
+}
+
+TEST(BadInput, MalformedXml) {
+  expect_error("<OpenDRIVE><road id=\"1\"></OpenDRIVE>", "", "malformed XML");
+  expect_error("", "", "malformed XML");
+  expect_error("<Foo/>", "", "no <OpenDRIVE> root element");
+}
+
+TEST(BadInput, MissingPlanView) {
+  expect_error(doc(R"(<road id="5" length="10"><lanes/></road>)"), "road[@id='5']",
+               "no <planView>");
+  expect_error(doc(road_xml("5", "<planView/>")), "road[@id='5']/planView",
+               "planView has no <geometry>");
+}
+
+TEST(BadInput, GeometryOfZeroOrNegativeLength) {
+  const std::string two =
+      R"(<planView><geometry s="0" x="0" y="0" hdg="0" length="50"><line/></geometry><geometry s="50" x="50" y="0" hdg="0" length="LEN"><line/></geometry></planView>)";
+  for (const std::string len : {"0", "-3", "nan"}) {
+    std::string pv = two;
+    pv.replace(pv.find("LEN"), 3, len);
+    expect_error(doc(road_xml("5", pv)), "road[@id='5']/planView/geometry[2]",
+                 len == "nan" ? "not a finite number" : "length must be > 0");
+  }
+}
+
+TEST(BadInput, UnknownGeometryElement) {
+  expect_error(
+      doc(road_xml(
+          "a b",
+          R"(<planView><geometry s="0" x="0" y="0" hdg="0" length="5"><bezier/></geometry></planView>)")),
+      "road[@id='a b']/planView/geometry[1]", "unknown geometry element <bezier>");
+}
+
+TEST(BadInput, LaneWithoutWidth) {
+  expect_error(
+      doc(road_xml(
+          "7", "", "",
+          R"(<lanes><laneSection s="0"><right><lane id="-1" type="driving"/></right></laneSection></lanes>)")),
+      "road[@id='7']/lanes/laneSection[1]/right/lane[@id='-1']", "lane has no <width> or <border>");
+}
+
+TEST(BadInput, LinkToMissingRoadOrJunction) {
+  expect_error(
+      doc(road_xml(
+          "1", "",
+          R"(<link><successor elementType="road" elementId="9" contactPoint="start"/></link>)")),
+      "road[@id='1']/link/successor", "road '9' does not exist");
+  expect_error(
+      doc(road_xml("1", "", R"(<link><predecessor elementType="junction" elementId="J"/></link>)")),
+      "road[@id='1']/link/predecessor", "junction 'J' does not exist");
+  expect_error(
+      doc(road_xml("1") +
+          R"(<junction id="3"><connection id="0" incomingRoad="1" connectingRoad="44" contactPoint="start"/></junction>)"),
+      "junction[@id='3']/connection[@id='0']", "connectingRoad '44' does not exist");
+}
+
+TEST(BadInput, ConnectionToMissingLane) {
+  const std::string roads =
+      road_xml("1", "", R"(<link><successor elementType="junction" elementId="3"/></link>)") +
+      road_xml("2");
+  expect_error(
+      doc(roads +
+          R"(<junction id="3"><connection id="0" incomingRoad="1" connectingRoad="2" contactPoint="start"><laneLink from="-1" to="-2"/></connection></junction>)"),
+      "junction[@id='3']/connection[@id='0']/laneLink[1]",
+      "lane -2 does not exist on road '2' at its start");
+  expect_error(
+      doc(roads +
+          R"(<junction id="3"><connection id="0" incomingRoad="1" connectingRoad="2" contactPoint="start"><laneLink from="4" to="-1"/></connection></junction>)"),
+      "junction[@id='3']/connection[@id='0']/laneLink[1]",
+      "lane 4 does not exist on incoming road '1' at its end");
+}
+
+TEST(BadInput, LaneLinkToMissingLane) {
+  const std::string lanes =
+      R"(<lanes><laneSection s="0"><right><lane id="-1" type="driving"><link><successor id="-3"/></link><width sOffset="0" a="3"/></lane></right></laneSection>)"
+      R"(<laneSection s="50"><right><lane id="-1" type="driving"><width sOffset="0" a="3"/></lane></right></laneSection></lanes>)";
+  expect_error(doc(road_xml("1", "", "", lanes)),
+               "road[@id='1']/lanes/laneSection[1]/right/lane[@id='-1']/link/successor",
+               "lane -3 does not exist in the next lane section of road '1'");
+}
+
+TEST(BadInput, DuplicateIdsAndBadNumbers) {
+  expect_error(doc(road_xml("1") + road_xml("1")), "road[@id='1']", "duplicate road id '1'");
+  expect_error(
+      doc(road_xml(
+          "1",
+          R"(<planView><geometry s="0" x="1e999" y="0" hdg="0" length="5"><line/></geometry></planView>)")),
+      "road[@id='1']/planView/geometry[1]", "attribute 'x' is not a finite number: '1e999'");
+  expect_error(
+      doc(road_xml(
+          "1",
+          R"(<planView><geometry s="0" y="0" hdg="0" length="5"><line/></geometry></planView>)")),
+      "road[@id='1']/planView/geometry[1]", "attribute 'x' missing");
+}
+
+TEST(Reader, StringIdsSpeedUnitsAndSkippedElements) {
+  const std::string road =
+      R"(<road id="main street" length="100" junction="-1"><type s="0" type="town"><speed max="50" unit="km/h"/></type>)"
+      R"(<planView><geometry s="0" x="0" y="0" hdg="0" length="100"><paramPoly3 aU="0" bU="100" cU="0" dU="0" aV="0" bV="0" cV="0" dV="0"/></geometry></planView>)"
+      R"(<lateralProfile><superelevation s="0" a="0.05"/><crossfall side="both" s="0" a="0.02"/></lateralProfile>)"
+      R"(<lanes><laneOffset s="0" a="1.5"/><laneSection s="0"><left><lane id="1" type="sidewalk"><border sOffset="0" a="2"/></lane></left><right><lane id="-1" type="driving"><width sOffset="0" a="3.5"/><roadMark sOffset="0" type="broken" color="white" width="0.15"/><speed sOffset="0" max="30" unit="mph"/></lane></right></laneSection></lanes>)"
+      R"(<objects><object id="o1"/><object id="o2"/></objects><signals><signal id="s1"/><signalReference id="s2"/></signals></road>)";
+  const RoadNetwork net = parse_opendrive(doc(road) + "", "ok.xodr");
+  ASSERT_EQ(net.roads.size(), 1u);
+  const Road& r = net.roads[0];
+  EXPECT_EQ(r.id, "main street");
+  EXPECT_NEAR(*r.speed_limit(10), 50 / 3.6, 1e-12);
+  EXPECT_EQ(net.objects, 2u);
+  EXPECT_EQ(net.signals, 2u);
+  ASSERT_EQ(net.warnings.size(), 1u);
+  EXPECT_NE(net.warnings[0].find("crossfall"), std::string::npos);
+  const Lane& right = r.sections[0].right[0];
+  EXPECT_TRUE(right.drivable);
+  EXPECT_FALSE(r.sections[0].left[0].drivable);
+  EXPECT_NEAR(right.speeds[0].max, 30 * 0.44704, 1e-12);
+  EXPECT_EQ(right.marks[0].type, "broken");
+  EXPECT_NEAR(right.marks[0].line_length, 3.0, 1e-12);
+  EXPECT_NEAR(right.marks[0].space, 9.0, 1e-12);
+  const LaneBorders b = r.borders(0, 20);
+  EXPECT_NEAR(b.center, 1.5, 1e-12);            // laneOffset shifts the lanes...
+  EXPECT_NEAR(b.outer(-1), -2.0, 1e-12);        // ...by width
+  EXPECT_NEAR(b.outer(1), 3.5, 1e-12);          // ...and by border, from the centre lane
+  EXPECT_NEAR(r.reference(20).y, 0.0, 1e-12);   // ...never the reference line
+  EXPECT_NEAR(r.reference(20).x, 20.0, 1e-12);  // normalized pRange, no pRange given
+  EXPECT_NEAR(r.surface(20, 2).roll, 0.05, 1e-12);
+}
+
+}  // namespace
+}  // namespace tb::map::odr

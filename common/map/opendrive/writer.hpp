@@ -1,0 +1,13 @@
+#pragma once
+/// @file Writes a RoadNetwork as OpenDRIVE 1.7 text that other tools open (esmini, CARLA,
+/// RoadRunner): everything the model holds, nothing it dropped (signals and objects).
+
+#include <string>
+
+#include "common/map/opendrive/road_network.hpp"
+
+namespace tb::map::odr {
+
+std::string write_opendrive(const RoadNetwork& net);
+
+}  // namespace tb::map::odr
