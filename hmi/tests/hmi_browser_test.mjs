@@ -16,7 +16,8 @@ import { chromium } from 'playwright-core';
 
 const here = dirname(fileURLToPath(import.meta.url));
 const root = process.env.TESTBED_ROOT ?? resolve(here, '..', '..');
-const dist = join(root, 'hmi', 'dist');
+// HMI_DIST: another build of the page (ctest hmi.browser.debian: hmi/build.sh --debian).
+const dist = process.env.HMI_DIST ? resolve(process.env.HMI_DIST) : join(root, 'hmi', 'dist');
 const artifacts = join(root, 'tests', 'artifacts', 'hmi');
 const CHROMIUM = process.env.CHROMIUM ?? '/usr/bin/chromium';
 

@@ -216,7 +216,8 @@ def run_case(args):
             failures.append("no run folder")
         else:
             trace = runs[-1] / "trace"
-            r = subprocess.run([sys.executable, str(ROOT / "scripts/report"), str(trace),
+            # Its own interpreter (Debian's, with matplotlib), not this test's.
+            r = subprocess.run([str(ROOT / "scripts/report"), str(trace),
                                 "--out", str(runs[-1] / "histograms"),
                                 "--require", "all",
                                 "--max-p99", "state_to_cam=250"], capture_output=True, text=True)
