@@ -1,6 +1,7 @@
 #pragma once
-/// @file Vehicle state datagram, sim-client → network-emulator (and the per-vehicle record of
-/// sim-server's state stream). Binary, versioned, fixed size; layout in docs/wire.md.
+/// @file Vehicle states on the wire: the per-vehicle record (sim-server's state stream) and the
+/// batch datagram, sim-client → network-emulator, that carries the records of one physics tick.
+/// Binary, versioned, fixed-size records; layout in docs/wire.md.
 ///
 /// Frames: positions in the scenario's local ENU frame (x east, y north, z up), yaw counter-
 /// clockwise from east; angular quantities in radians, positive counter-clockwise seen from
@@ -12,6 +13,7 @@
 #include <cstdint>
 #include <span>
 #include <string_view>
+#include <vector>
 
 #include "common/util/expected.hpp"
 
@@ -64,8 +66,32 @@ struct VehicleState {
   bool operator==(const VehicleState&) const = default;
 };
 
+/// Version of the single record (magic, version, reserved, then the body).
 inline constexpr std::uint8_t kVehicleStateVersion = 1;
 inline constexpr std::size_t kVehicleStateSize = 160;
+/// A record without its 4-byte head: what a batch datagram carries per state.
+inline constexpr std::size_t kVehicleStateBodySize = kVehicleStateSize - 4;
+
+/// Batch datagram (UDP, sim-client → network-emulator → radio-medium): magic `VS`, version 2,
+/// count, then count record bodies. Version 1 was one record per datagram; a receiver refuses
+/// it (DecodeError::kSingleStateVersion) rather than misread it.
+inline constexpr std::uint8_t kStateBatchVersion = 2;
+inline constexpr std::size_t kStateBatchHeadSize = 4;
+/// Up to the u8 count; the sender's datagram size limit usually binds first.
+inline constexpr std::size_t kMaxStatesPerBatch = 255;
+/// Default datagram size limit: the UDP payload of a 1500-byte Ethernet MTU, so that a batch
+/// crossing a real network (Docker bridge, veth) is never fragmented. 9 states.
+inline constexpr std::size_t kDefaultBatchDatagramSize = 1472;
+constexpr std::size_t batch_datagram_size(std::size_t states) {
+  return kStateBatchHeadSize + states * kVehicleStateBodySize;
+}
+/// How many states fit in a datagram of at most @p max_bytes (at least 1).
+constexpr std::size_t states_per_batch(std::size_t max_bytes) {
+  const std::size_t n = max_bytes < batch_datagram_size(1)
+                            ? 1
+                            : (max_bytes - kStateBatchHeadSize) / kVehicleStateBodySize;
+  return n > kMaxStatesPerBatch ? kMaxStatesPerBatch : n;
+}
 
 enum class DecodeError {
   kWrongSize,
@@ -73,7 +99,10 @@ enum class DecodeError {
   kUnsupportedVersion,
   kNotFinite,
   kOutOfRange,
+  kSingleStateVersion,  ///< a version-1 single-state datagram where a batch was expected
+  kBadCount,            ///< a batch whose count is 0 or disagrees with its size
 };
+inline constexpr std::size_t kDecodeErrorCount = 7;
 std::string_view to_string(DecodeError e);
 
 /// Writes exactly kVehicleStateSize bytes into @p out.
@@ -82,5 +111,16 @@ std::array<std::uint8_t, kVehicleStateSize> encode(const VehicleState& s);
 /// Never reads outside @p bytes; rejects wrong sizes, versions, non-finite numbers and control
 /// values outside their ranges.
 Expected<VehicleState, DecodeError> decode(std::span<const std::uint8_t> bytes);
+
+/// Writes the batch datagram of @p states (1..kMaxStatesPerBatch) into @p out, which must hold
+/// batch_datagram_size(states.size()) bytes; returns the bytes written (0 if not).
+std::size_t encode_batch(std::span<const VehicleState> states, std::span<std::uint8_t> out);
+std::vector<std::uint8_t> encode_batch(std::span<const VehicleState> states);
+/// Decodes a batch datagram into @p out (cleared first; its capacity is reused, so a receiver
+/// allocates nothing per datagram). Never reads outside @p bytes. The datagram is one unit: a
+/// bad head, count or record refuses all of it (and leaves @p out empty), with the record
+/// checks of decode(). A version-1 datagram is kSingleStateVersion.
+Expected<std::size_t, DecodeError> decode_batch(std::span<const std::uint8_t> bytes,
+                                                std::vector<VehicleState>& out);
 
 }  // namespace tb::wire

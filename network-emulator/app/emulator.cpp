@@ -44,10 +44,10 @@ Emulator::Emulator(const scenario::Scenario& scenario, const tb::can::Database& 
 
 bool Emulator::handle_datagram(std::span<const std::uint8_t> bytes) {
   ++counters_.datagrams;
-  auto state = wire::decode(bytes);
-  if (!state) {
+  const auto count = wire::decode_batch(bytes, batch_);
+  if (!count) {
     ++counters_.malformed;
-    const auto kind = static_cast<std::size_t>(state.error());
+    const auto kind = static_cast<std::size_t>(count.error());
     if (kind < counters_.malformed_by_error.size()) {
       ++counters_.malformed_by_error[kind];
       if (!logged_malformed_[kind]) {
@@ -55,12 +55,18 @@ bool Emulator::handle_datagram(std::span<const std::uint8_t> bytes) {
         spdlog::warn(
             "dropping malformed vehicle-state datagrams ({} bytes): {} (logged once; "
             "see the status line for counts)",
-            bytes.size(), wire::to_string(state.error()));
+            bytes.size(), wire::to_string(count.error()));
       }
     }
     return false;
   }
-  const auto it = stations_.find(state->station_id);
+  for (const wire::VehicleState& state : batch_)
+    handle_state(state);
+  return true;
+}
+
+void Emulator::handle_state(const wire::VehicleState& state) {
+  const auto it = stations_.find(state.station_id);
   if (it == stations_.end()) {
     ++counters_.unknown_station;
     if (!logged_unknown_) {
@@ -68,19 +74,18 @@ bool Emulator::handle_datagram(std::span<const std::uint8_t> bytes) {
       spdlog::warn(
           "dropping states of station {}, which is not a station of this emulator "
           "(logged once; see the status line for counts)",
-          state->station_id);
+          state.station_id);
     }
-    return true;
+    return;
   }
   ++counters_.states;
   Station& s = *it->second;
   if (tracer_.enabled())  // no record fields built per state when tracing is off
-    tracer_.record("emu.state", {{"station", s.id}, {"tick", state->tick}});
-  if (const auto nmea = s.gps.on_state(*state))
-    send_nmea(s, *state, *nmea);
-  if (const auto frames = s.can.on_state(*state); !frames.empty())
-    send_can(s, *state, frames);
-  return true;
+    tracer_.record("emu.state", {{"station", s.id}, {"tick", state.tick}});
+  if (const auto nmea = s.gps.on_state(state))
+    send_nmea(s, state, *nmea);
+  if (const auto frames = s.can.on_state(state); !frames.empty())
+    send_can(s, state, frames);
 }
 
 void Emulator::send_nmea(Station& s, const wire::VehicleState& state, std::string_view nmea) {

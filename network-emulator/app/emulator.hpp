@@ -44,11 +44,11 @@ struct StationIo {
 using StationIoFactory = std::function<StationIo(const StationEndpoints&)>;
 
 struct Counters {
-  std::uint64_t datagrams = 0;                        ///< received
-  std::uint64_t states = 0;                           ///< decoded, for a configured station
-  std::uint64_t malformed = 0;                        ///< did not decode
-  std::array<std::uint64_t, 5> malformed_by_error{};  ///< indexed by wire::DecodeError
-  std::uint64_t unknown_station = 0;                  ///< decoded, but for no configured station
+  std::uint64_t datagrams = 0;  ///< received
+  std::uint64_t states = 0;     ///< decoded, for a configured station
+  std::uint64_t malformed = 0;  ///< datagrams that did not decode (all their states dropped)
+  std::array<std::uint64_t, wire::kDecodeErrorCount> malformed_by_error{};  ///< by DecodeError
+  std::uint64_t unknown_station = 0;  ///< states decoded, but for no configured station
   std::uint64_t nmea_sent = 0, nmea_failed = 0, nmea_skipped = 0;
   std::uint64_t can_frames_sent = 0, can_failed = 0, can_skipped = 0;
 };
@@ -64,8 +64,9 @@ class Emulator {
   Emulator(const Emulator&) = delete;
   Emulator& operator=(const Emulator&) = delete;
 
-  /// Handles one received datagram. Returns whether it was a valid tb::wire::VehicleState
-  /// (of any station), which the program passes on to --forward receivers.
+  /// Handles one received batch datagram (docs/wire.md): each of its states in order. Returns
+  /// whether it was valid (states of any station), which the program passes on to --forward
+  /// receivers.
   bool handle_datagram(std::span<const std::uint8_t> bytes);
 
   const Counters& counters() const { return counters_; }
@@ -86,6 +87,7 @@ class Emulator {
     PeerHealth can_health;
   };
 
+  void handle_state(const wire::VehicleState& state);
   void send_nmea(Station& s, const wire::VehicleState& state, std::string_view nmea);
   void send_can(Station& s, const wire::VehicleState& state,
                 std::span<const tb::can::CanFrame> frames);
@@ -97,7 +99,8 @@ class Emulator {
   geodesy::LocalFrame frame_;
   std::unordered_map<std::uint32_t, std::unique_ptr<Station>> stations_;
   Counters counters_;
-  std::array<bool, 5> logged_malformed_{};
+  std::vector<wire::VehicleState> batch_;  ///< the datagram being handled; capacity reused
+  std::array<bool, wire::kDecodeErrorCount> logged_malformed_{};
   bool logged_unknown_ = false;
 };
 

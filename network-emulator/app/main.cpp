@@ -172,8 +172,9 @@ class StateReceiver {
   std::vector<emu::BatchSender::Sink> forward_sinks_;
   std::array<mmsghdr, kBatch> msgs_{};
   std::array<iovec, kBatch> iov_{};
-  /// Larger than a state datagram, so that a longer one is seen as too long, not as a state.
-  std::array<std::array<std::uint8_t, 512>, kBatch> buffers_{};
+  /// Larger than the largest batch a sender makes (wire::kDefaultBatchDatagramSize), so that a
+  /// longer datagram arrives cut and fails the batch's count check instead of being misread.
+  std::array<std::array<std::uint8_t, 2048>, kBatch> buffers_{};
 };
 
 }  // namespace

@@ -170,15 +170,19 @@ class PositionListener {
 
  private:
   void handle(std::size_t n) {
-    auto s = tb::wire::decode(std::span<const std::uint8_t>(buf_.data(), n));
-    if (!s) {
+    // Batch datagrams (docs/wire.md), as the sim-clients send them and the emulator forwards.
+    auto count = tb::wire::decode_batch(std::span<const std::uint8_t>(buf_.data(), n), states_);
+    if (!count) {
       if (bad_++ == 0)
-        spdlog::warn("radio-medium: bad vehicle state from {}: {} ({} bytes; counted, said once)",
-                     from_.address().to_string(), tb::wire::to_string(s.error()), n);
+        spdlog::warn(
+            "radio-medium: bad vehicle-state datagram from {}: {} ({} bytes; counted, said once)",
+            from_.address().to_string(), tb::wire::to_string(count.error()), n);
       return;
     }
-    table_.update(*s);
+    for (const auto& s : states_)
+      table_.update(s);
   }
+  std::vector<tb::wire::VehicleState> states_;
   asio::ip::udp::socket socket_;
   asio::ip::udp::endpoint from_;
   std::array<std::uint8_t, 2048> buf_{};

@@ -1,5 +1,6 @@
 #include "sim-client/net/forwarder.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <stdexcept>
 
@@ -55,27 +56,40 @@ bool UdpSink::send(std::span<const std::uint8_t> datagram) {
   return !ec;
 }
 
-void StateForwarder::forward(wire::VehicleState state) {
-  state.send_wall_ns = clock::to_unix_ns(clock_.wall_now());
-  const auto bytes = wire::encode(state);
-  if (!sink_.send(bytes)) {
-    // Logged at the first failure and then every 1000th, so a missing emulator does not flood.
-    if (failed_ % 1000 == 0)
-      spdlog::warn("cannot send vehicle state to the emulator ({} failed so far)", failed_ + 1);
-    ++failed_;
-    return;
+void StateForwarder::forward_tick(std::span<const wire::VehicleState> states,
+                                  std::size_t max_datagram) {
+  const std::size_t per = wire::states_per_batch(max_datagram);
+  for (std::size_t first = 0; first < states.size(); first += per) {
+    const auto part = states.subspan(first, std::min(per, states.size() - first));
+    const std::int64_t now = clock::to_unix_ns(clock_.wall_now());
+    chunk_.assign(part.begin(), part.end());
+    for (auto& s : chunk_)
+      s.send_wall_ns = now;
+    buffer_.resize(wire::batch_datagram_size(chunk_.size()));
+    buffer_.resize(wire::encode_batch(chunk_, buffer_));
+    if (!sink_.send(buffer_)) {
+      // Logged at the first failure and then every 1000th, so a missing emulator does not flood.
+      if (failed_datagrams_++ % 1000 == 0)
+        spdlog::warn("cannot send vehicle states to the emulator ({} states failed so far)",
+                     failed_ + chunk_.size());
+      failed_ += chunk_.size();
+      continue;
+    }
+    ++datagrams_;
+    sent_ += chunk_.size();
+    for (const auto& state : chunk_) {
+      // x, y, v, yaw let the report tell the steps that changed the state (a moving car) from
+      // those that did not (a standing one), docs/tracing.md.
+      tracer_.record_at(state.send_wall_ns, "client.forward",
+                        {{"station", state.station_id},
+                         {"tick", static_cast<unsigned long long>(state.tick)},
+                         {"step_ns", static_cast<long long>(state.step_wall_ns)},
+                         {"x", state.position[0]},
+                         {"y", state.position[1]},
+                         {"v", static_cast<double>(state.speed)},
+                         {"yaw", static_cast<double>(state.yaw)}});
+    }
   }
-  ++sent_;
-  // x, y, v, yaw let the report tell the steps that changed the state (a moving car) from
-  // those that did not (a standing one), docs/tracing.md.
-  tracer_.record_at(state.send_wall_ns, "client.forward",
-                    {{"station", state.station_id},
-                     {"tick", static_cast<unsigned long long>(state.tick)},
-                     {"step_ns", static_cast<long long>(state.step_wall_ns)},
-                     {"x", state.position[0]},
-                     {"y", state.position[1]},
-                     {"v", static_cast<double>(state.speed)},
-                     {"yaw", static_cast<double>(state.yaw)}});
 }
 
 }  // namespace tb::client

@@ -253,12 +253,19 @@ void SimSession::on_attach_result(const sim::AttachResult& r) {
 void SimSession::on_state(const sim::StateFrame& f) {
   ++frames_;
   latest_ = f;
+  if (forwarder_ != nullptr) {
+    // The tick's states leave together, before the controls, in as few datagrams as fit.
+    tick_states_.clear();
+    for (const auto& [i, d] : driven_)
+      if (d.attached && i < f.vehicles.size())
+        tick_states_.push_back(f.vehicles[i]);
+    if (!tick_states_.empty())
+      forwarder_->forward_tick(tick_states_);
+  }
   for (auto& [i, d] : driven_) {
     if (!d.attached || i >= f.vehicles.size())
       continue;
     const wire::VehicleState& s = f.vehicles[i];
-    if (forwarder_ != nullptr)
-      forwarder_->forward(s);
     sim::ControlsMsg c;
     c.vehicle = i;
     if (d.script) {

@@ -101,6 +101,7 @@ class SimSession {
   SessionOptions options_;
   Send send_;
   StateForwarder* forwarder_;
+  std::vector<wire::VehicleState> tick_states_;  ///< the driven vehicles' states of one frame
   trace::Tracer& tracer_;
   Phase phase_ = Phase::kDisconnected;
   wire::sim::FrameParser parser_{wire::sim::Sender::kServer};

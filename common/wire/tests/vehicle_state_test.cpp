@@ -1,7 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "common/wire/vehicle_state.hpp"
 
@@ -83,6 +85,115 @@ TEST(VehicleState, RejectsNonFiniteAndOutOfRangeValues) {
   s = sample();
   s.controls.steer = -1.01f;
   EXPECT_EQ(decode(encode(s)).error(), DecodeError::kOutOfRange);
+}
+
+std::vector<VehicleState> tick_of(std::size_t n) {
+  std::vector<VehicleState> v;
+  for (std::size_t i = 0; i < n; ++i) {
+    VehicleState s = sample();
+    s.station_id = 1000 + static_cast<std::uint32_t>(i);
+    // Each state keeps its own times (a client may stamp them apart).
+    s.step_wall_ns += static_cast<std::int64_t>(i) * 7;
+    s.send_wall_ns += static_cast<std::int64_t>(i) * 11;
+    s.position[0] += static_cast<double>(i);
+    v.push_back(s);
+  }
+  return v;
+}
+
+TEST(StateBatch, RoundTripsEveryStateAndField) {
+  std::vector<VehicleState> got;
+  for (std::size_t n : {std::size_t{1}, std::size_t{2}, std::size_t{9}, kMaxStatesPerBatch}) {
+    const auto states = tick_of(n);
+    const auto bytes = encode_batch(states);
+    ASSERT_EQ(bytes.size(), batch_datagram_size(n));
+    const auto count = decode_batch(bytes, got);
+    ASSERT_TRUE(count) << to_string(count.error());
+    EXPECT_EQ(*count, n);
+    EXPECT_EQ(got, states);
+  }
+}
+
+TEST(StateBatch, LayoutIsHeadThenRecordBodies) {
+  const auto states = tick_of(3);
+  const auto bytes = encode_batch(states);
+  EXPECT_EQ(bytes[0], 'V');
+  EXPECT_EQ(bytes[1], 'S');
+  EXPECT_EQ(bytes[2], kStateBatchVersion);
+  EXPECT_EQ(bytes[3], 3);
+  // Each body is the single record without its 4-byte head.
+  for (std::size_t i = 0; i < 3; ++i) {
+    const auto record = encode(states[i]);
+    const std::vector<std::uint8_t> body(record.begin() + 4, record.end());
+    const std::vector<std::uint8_t> in_batch(
+        bytes.begin() + static_cast<std::ptrdiff_t>(4 + i * kVehicleStateBodySize),
+        bytes.begin() + static_cast<std::ptrdiff_t>(4 + (i + 1) * kVehicleStateBodySize));
+    EXPECT_EQ(in_batch, body) << i;
+  }
+}
+
+TEST(StateBatch, DefaultDatagramLimitHoldsNineStates) {
+  EXPECT_EQ(states_per_batch(kDefaultBatchDatagramSize), 9u);
+  EXPECT_LE(batch_datagram_size(9), kDefaultBatchDatagramSize);
+  EXPECT_EQ(states_per_batch(10), 1u);  // a limit below one state still sends one
+  EXPECT_EQ(states_per_batch(65507), kMaxStatesPerBatch);
+}
+
+TEST(StateBatch, RefusesTheOldSingleStateDatagramByVersion) {
+  std::vector<VehicleState> got = tick_of(2);
+  const auto old = encode(sample());
+  const auto d = decode_batch(old, got);
+  ASSERT_FALSE(d);
+  EXPECT_EQ(d.error(), DecodeError::kSingleStateVersion);
+  EXPECT_TRUE(got.empty());
+  EXPECT_NE(to_string(d.error()).find("version 1"), std::string_view::npos);
+  // And the other way: a single-record reader does not misread a batch.
+  const auto batch = encode_batch(tick_of(1));
+  EXPECT_FALSE(decode(batch));
+}
+
+TEST(StateBatch, RefusesBadHeadsCountsAndRecordsAsAWhole) {
+  std::vector<VehicleState> got;
+  auto bytes = encode_batch(tick_of(4));
+  for (std::size_t n = 0; n < bytes.size(); ++n) {  // every truncation
+    const auto d = decode_batch(std::span<const std::uint8_t>(bytes.data(), n), got);
+    ASSERT_FALSE(d) << n;
+    EXPECT_TRUE(got.empty());
+  }
+  auto longer = bytes;
+  longer.push_back(0);
+  EXPECT_EQ(decode_batch(longer, got).error(), DecodeError::kBadCount);
+  auto zero = bytes;
+  zero[3] = 0;
+  EXPECT_EQ(decode_batch(zero, got).error(), DecodeError::kBadCount);
+  auto more = bytes;
+  more[3] = 5;
+  EXPECT_EQ(decode_batch(more, got).error(), DecodeError::kBadCount);
+  auto magic = bytes;
+  magic[1] = 'X';
+  EXPECT_EQ(decode_batch(magic, got).error(), DecodeError::kBadMagic);
+  auto version = bytes;
+  version[2] = 3;
+  EXPECT_EQ(decode_batch(version, got).error(), DecodeError::kUnsupportedVersion);
+  // A non-finite value in the last record refuses the whole datagram.
+  auto states = tick_of(4);
+  states[3].speed = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(decode_batch(encode_batch(states), got).error(), DecodeError::kNotFinite);
+  EXPECT_TRUE(got.empty());
+  states[3].speed = 1.0f;
+  states[2].controls.throttle = 1.5f;
+  EXPECT_EQ(decode_batch(encode_batch(states), got).error(), DecodeError::kOutOfRange);
+}
+
+TEST(StateBatch, EncodeRefusesEmptyTooManyAndSmallBuffers) {
+  std::array<std::uint8_t, 2000> out{};
+  EXPECT_EQ(encode_batch({}, out), 0u);
+  const auto many = tick_of(kMaxStatesPerBatch + 1);
+  std::vector<std::uint8_t> big(batch_datagram_size(many.size()));
+  EXPECT_EQ(encode_batch(many, big), 0u);
+  const auto two = tick_of(2);
+  EXPECT_EQ(encode_batch(two, std::span<std::uint8_t>(out.data(), batch_datagram_size(2) - 1)), 0u);
+  EXPECT_EQ(encode_batch(two, out), batch_datagram_size(2));
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstring>
 #include <deque>
+#include <map>
 #include <set>
 #include <thread>
 
@@ -328,6 +329,64 @@ TEST(BatchedCanBus, ReportsTheParkedErrorBeforeQueueingAnything) {
   EXPECT_TRUE(b.empty());
 }
 
+/// DESIGN.md: the CAN frames one state makes travel in one cannelloni datagram, and the
+/// states of one tick arrive in one batch datagram; nothing waits for a later state.
+TEST(BatchedEmulator, EachStateSendsAllItsCanFramesInOneCannelloniDatagram) {
+  const auto scen = scenario::parse(testing::kTwoStations, "two.json");
+  const auto dbc = *tb::can::Database::load(TESTBED_VEHICLE_DBC);
+  FakeKernel k;
+  BatchSender b(k);
+  clock::ManualClock clock;
+  trace::Tracer no_trace;
+  Emulator emu(
+      scen, dbc, default_stations(scen),
+      [&](const StationEndpoints& e) {
+        return StationIo{std::make_unique<BatchedDatagramSink>(b, v4("127.0.0.1", e.gnss_port)),
+                         std::make_unique<BatchedCanBus>(b, v4("127.0.0.1", e.can_port))};
+      },
+      clock, no_trace);
+  for (const std::int64_t ms : {0, 10}) {
+    std::vector<wire::VehicleState> tick;
+    for (const std::uint32_t id : {1001u, 1002u}) {
+      wire::VehicleState s;
+      s.station_id = id;
+      s.tick = static_cast<std::uint64_t>(ms / 10);
+      s.sim_time_ns = ms * 1'000'000;
+      s.position = {10.0, -1.75, 0.0};
+      tick.push_back(s);
+    }
+    ASSERT_TRUE(emu.handle_datagram(wire::encode_batch(tick)));
+    b.flush();
+    // Per station one cannelloni datagram holding every frame due: at 0 ms the five dynamics
+    // messages and Lights (100 ms), at 10 ms the five dynamics messages.
+    std::map<std::uint16_t, std::vector<tb::can::CanFrame>> by_port;
+    std::size_t can_datagrams = 0;
+    for (const auto& d : k.delivered) {
+      const auto port = ntohs(reinterpret_cast<const sockaddr_in&>(d.to.addr).sin_port);
+      if (port < 20000)
+        continue;  // NMEA
+      ++can_datagrams;
+      const auto p = tb::can::decode_cannelloni(
+          {reinterpret_cast<const std::uint8_t*>(d.payload.data()), d.payload.size()});
+      ASSERT_TRUE(p);
+      by_port[port] = p->frames;
+    }
+    EXPECT_EQ(can_datagrams, 2u) << ms;
+    for (const std::uint16_t port : {20000, 20001}) {
+      std::set<std::uint32_t> ids;
+      for (const auto& f : by_port[port])
+        ids.insert(f.id());
+      const std::set<std::uint32_t> want =
+          ms == 0 ? std::set<std::uint32_t>{0x100, 0x101, 0x120, 0x130, 0x140, 0x200}
+                  : std::set<std::uint32_t>{0x100, 0x101, 0x120, 0x130, 0x140};
+      EXPECT_EQ(ids, want) << "port " << port << " at " << ms << " ms";
+    }
+    k.delivered.clear();
+  }
+  EXPECT_EQ(emu.counters().states, 4u);
+  EXPECT_EQ(emu.counters().can_frames_sent, 22u);
+}
+
 /// The emulator on batched sinks: a station whose receivers are gone is paused through the
 /// error queue, the other gets everything, and the station resumes when its receivers return.
 TEST(BatchedEmulator, AStationThatIsGoneIsPausedAndResumesThroughTheErrorQueue) {
@@ -355,7 +414,7 @@ TEST(BatchedEmulator, AStationThatIsGoneIsPausedAndResumesThroughTheErrorQueue) 
         s.tick = static_cast<std::uint64_t>(ms / 10);
         s.sim_time_ns = ms * 1'000'000;
         s.position = {10.0, -1.75, 0.0};
-        emu.handle_datagram(wire::encode(s));
+        emu.handle_datagram(wire::encode_batch({&s, 1}));
       }
       b.flush();  // as the program does after each receive batch
       clock.advance(std::chrono::milliseconds(10));

@@ -57,6 +57,7 @@ void BM_StateUpdate(benchmark::State& st) {
   s.speed = 10.0f;
   std::int64_t tick = 0;
   int i = 0;
+  std::array<std::uint8_t, wire::batch_datagram_size(1)> datagram{};
   for (auto _ : st) {
     if (i == 0)
       ++tick;
@@ -64,8 +65,9 @@ void BM_StateUpdate(benchmark::State& st) {
     s.tick = static_cast<std::uint64_t>(tick);
     s.sim_time_ns = tick * 10'000'000;
     s.position = {static_cast<double>(i) * 10.0, static_cast<double>(tick) * 0.1, 0.0};
-    const auto d = wire::encode(s);
-    emu.handle_datagram(d);
+    // One state per datagram: the dearest case per state (a batch shares its head).
+    const std::size_t size = wire::encode_batch({&s, 1}, datagram);
+    emu.handle_datagram(std::span<const std::uint8_t>(datagram.data(), size));
     i = (i + 1) % n;
   }
   st.counters["nmea/state"] =

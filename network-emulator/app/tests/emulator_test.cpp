@@ -65,8 +65,7 @@ class EmulatorTest : public ::testing::Test {
         clock_, tracer);
   }
 
-  static std::array<std::uint8_t, wire::kVehicleStateSize> state(std::uint32_t station,
-                                                                 std::int64_t sim_ms) {
+  static wire::VehicleState vehicle(std::uint32_t station, std::int64_t sim_ms) {
     wire::VehicleState s;
     s.station_id = station;
     s.tick = static_cast<std::uint64_t>(sim_ms / 10);
@@ -74,7 +73,12 @@ class EmulatorTest : public ::testing::Test {
     s.position = {10.0, -1.75, 0.0};
     s.velocity = {10.0f, 0.0f, 0.0f};
     s.speed = 10.0f;
-    return wire::encode(s);
+    return s;
+  }
+  /// A batch datagram of one state.
+  static std::vector<std::uint8_t> state(std::uint32_t station, std::int64_t sim_ms) {
+    const auto s = vehicle(station, sim_ms);
+    return wire::encode_batch({&s, 1});
   }
 
   scenario::Scenario scenario_;
@@ -120,6 +124,33 @@ TEST_F(EmulatorTest, CountsAndDropsBadDatagramsAndUnknownStations) {
   const std::string line = emu.status_line();
   EXPECT_NE(line.find("malformed 3"), std::string::npos) << line;
   EXPECT_NE(line.find("unknown station 1"), std::string::npos) << line;
+}
+
+TEST_F(EmulatorTest, ABatchFeedsEveryStationOfItInOrder) {
+  Emulator emu = make(no_trace_);
+  for (std::int64_t ms = 0; ms < 1000; ms += 10) {
+    const wire::VehicleState tick[] = {vehicle(1001, ms), vehicle(1002, ms), vehicle(4242, ms)};
+    EXPECT_TRUE(emu.handle_datagram(wire::encode_batch(tick)));
+  }
+  EXPECT_EQ(out_[1001].nmea.size(), 10u);
+  EXPECT_EQ(out_[1002].nmea.size(), 10u);
+  EXPECT_EQ(out_[1001].frames.size(), 100u * 5 + 10);
+  EXPECT_EQ(out_[1002].frames.size(), 100u * 5 + 10);
+  EXPECT_EQ(emu.counters().datagrams, 100u);
+  EXPECT_EQ(emu.counters().states, 200u);
+  EXPECT_EQ(emu.counters().unknown_station, 100u);
+}
+
+TEST_F(EmulatorTest, RefusesTheOldSingleStateDatagramByItsVersion) {
+  Emulator emu = make(no_trace_);
+  EXPECT_FALSE(emu.handle_datagram(wire::encode(vehicle(1001, 0))));
+  const Counters& c = emu.counters();
+  EXPECT_EQ(c.malformed, 1u);
+  EXPECT_EQ(c.malformed_by_error[static_cast<std::size_t>(wire::DecodeError::kSingleStateVersion)],
+            1u);
+  EXPECT_EQ(c.states, 0u);
+  EXPECT_TRUE(out_[1001].nmea.empty());
+  EXPECT_TRUE(out_[1001].frames.empty());
 }
 
 TEST_F(EmulatorTest, AStationThatIsGoneIsPausedWithoutStallingOthers) {

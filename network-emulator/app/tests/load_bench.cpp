@@ -6,7 +6,10 @@
 //
 //   network-emulator-load --emulator build/bin/network-emulator [--emulator OTHER]...
 //                         [--stations 1000] [--rate 100] [--seconds 10] [--runs 1]
-//                         [--namespaces K] [--emulator-arg ARG]...
+//                         [--namespaces K] [--batch N] [--emulator-arg ARG]...
+//
+// States go out as a sim-client sends them: the states of one tick in batch datagrams of up to
+// --batch states (default 9, as many as wire::kDefaultBatchDatagramSize holds; docs/wire.md).
 //
 // --namespaces K (root) spreads the stations over K network namespaces, each with its own
 // receivers on 127.0.0.1:10110 (NMEA) and :20000 (CAN): the deployment of the native launcher
@@ -255,7 +258,7 @@ std::string load_average() {
 /// One run of @p emulator; nullopt when it did not come up.
 std::optional<RunResult> run_once(const std::string& emulator,
                                   const std::vector<std::string>& extra_args, int stations,
-                                  int rate, double seconds, int namespaces) {
+                                  int rate, double seconds, int namespaces, int batch) {
   Receivers receivers(namespaces);
   if (!receivers.ok())
     return std::nullopt;
@@ -343,6 +346,16 @@ std::optional<RunResult> run_once(const std::string& emulator,
   to.sin_family = AF_INET;
   to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
   to.sin_port = htons(static_cast<std::uint16_t>(listen_port));
+  std::vector<tb::wire::VehicleState> pending;
+  std::vector<std::uint8_t> datagram;
+  auto flush = [&] {
+    if (pending.empty())
+      return;
+    datagram.resize(tb::wire::batch_datagram_size(pending.size()));
+    tb::wire::encode_batch(pending, datagram);
+    ::sendto(tx, datagram.data(), datagram.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to);
+    pending.clear();
+  };
   auto send_state = [&](std::uint32_t id, std::uint64_t tick) {
     tb::wire::VehicleState s;
     s.station_id = id;
@@ -351,8 +364,9 @@ std::optional<RunResult> run_once(const std::string& emulator,
     s.position = {static_cast<double>(id - 1000), -1.75 + static_cast<double>(tick) * 0.1, 0.0};
     s.velocity = {0.0f, 10.0f, 0.0f};
     s.speed = 10.0f;
-    const auto d = tb::wire::encode(s);
-    ::sendto(tx, d.data(), d.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to);
+    pending.push_back(s);
+    if (pending.size() >= static_cast<std::size_t>(batch))
+      flush();
   };
 
   RunResult r;
@@ -368,6 +382,7 @@ std::optional<RunResult> run_once(const std::string& emulator,
       if (i % 100 == 99)
         receivers.drain_all(r.nmea, r.can);
     }
+    flush();  // the tick's last, partly filled datagram: no state waits for the next tick
     next += period;
     std::this_thread::sleep_until(next);
   }
@@ -425,6 +440,7 @@ int main(int argc, char** argv) {
   CLI::App app{"network-emulator load test"};
   std::vector<std::string> emulators;
   int stations = 1000, rate = 100, runs = 1, namespaces = 0;
+  int batch = static_cast<int>(tb::wire::states_per_batch(tb::wire::kDefaultBatchDatagramSize));
   std::vector<std::string> extra_args;
   double seconds = 10;
   app.add_option("--emulator", emulators, "path of network-emulator (repeatable: take turns)")
@@ -441,6 +457,9 @@ int main(int argc, char** argv) {
                  "spread the stations over this many network namespaces (root; 0: none)")
       ->check(CLI::Range(0, 60000))
       ->capture_default_str();
+  app.add_option("--batch", batch, "states per datagram (1: one datagram per state)")
+      ->check(CLI::Range(1, batch))
+      ->capture_default_str();
   // Written --emulator-arg=--flag=value, so that the value is not taken for an option here.
   app.add_option("--emulator-arg", extra_args, "passed on to every emulator (repeatable)");
   CLI11_PARSE(app, argc, argv);
@@ -454,7 +473,7 @@ int main(int argc, char** argv) {
       // A port taken between the probe and the emulator's bind: try again with another.
       std::optional<RunResult> r;
       for (int attempt = 0; attempt < 3 && !r; ++attempt)
-        r = run_once(emulators[e], extra_args, stations, rate, seconds, namespaces);
+        r = run_once(emulators[e], extra_args, stations, rate, seconds, namespaces, batch);
       if (!r)
         return 1;
       results[e].push_back(*r);

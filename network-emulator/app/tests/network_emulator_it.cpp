@@ -137,7 +137,7 @@ class NetworkEmulatorIt : public ::testing::Test {
   fs::path dir_;
 };
 
-std::array<std::uint8_t, wire::kVehicleStateSize> state(std::uint32_t station, std::int64_t ms) {
+wire::VehicleState vehicle(std::uint32_t station, std::int64_t ms) {
   wire::VehicleState s;
   s.station_id = station;
   s.tick = static_cast<std::uint64_t>(ms / 10);
@@ -145,7 +145,15 @@ std::array<std::uint8_t, wire::kVehicleStateSize> state(std::uint32_t station, s
   s.position = {10.0 + 0.1 * static_cast<double>(ms) / 10.0, -1.75, 0.0};
   s.velocity = {10.0f, 0.0f, 0.0f};
   s.speed = 10.0f;
-  return wire::encode(s);
+  return s;
+}
+
+/// A batch datagram of the stations' states at @p ms.
+std::vector<std::uint8_t> batch(std::initializer_list<std::uint32_t> stations, std::int64_t ms) {
+  std::vector<wire::VehicleState> states;
+  for (const auto id : stations)
+    states.push_back(vehicle(id, ms));
+  return wire::encode_batch(states);
 }
 
 TEST_F(NetworkEmulatorIt, FeedsStationsAndSurvivesOneWithoutReceiver) {
@@ -168,7 +176,7 @@ TEST_F(NetworkEmulatorIt, FeedsStationsAndSurvivesOneWithoutReceiver) {
   // Until the program listens, states are lost; send the first one until NMEA comes back.
   std::optional<std::string> first;
   for (int i = 0; i < 250 && !first; ++i) {
-    const auto s = state(1001, 0);
+    const auto s = batch({1001}, 0);
     sender.send_to(listen_port, s.data(), s.size());
     first = gnss_a.receive();
   }
@@ -177,17 +185,24 @@ TEST_F(NetworkEmulatorIt, FeedsStationsAndSurvivesOneWithoutReceiver) {
 
   const std::uint8_t junk[] = {0xDE, 0xAD};
   sender.send_to(listen_port, junk, sizeof junk);
-  const auto unknown = state(999, 0);
+  const auto unknown = batch({999}, 0);
   sender.send_to(listen_port, unknown.data(), unknown.size());
+  // The old format, one state per datagram (version 1), is refused by its version.
+  const auto old = wire::encode(vehicle(1001, 5));
+  sender.send_to(listen_port, old.data(), old.size());
 
   std::vector<std::string> nmea;
   std::map<std::uint32_t, int> frames_a, frames_b;
-  int forwarded = 0, forwarded_bad = 0;
+  std::size_t forwarded = 0, forwarded_bad = 0;
+  std::vector<wire::VehicleState> states;
   auto drain = [&] {
-    while (auto d = radio.receive())
-      (wire::decode({reinterpret_cast<const std::uint8_t*>(d->data()), d->size()})
-           ? forwarded
-           : forwarded_bad)++;
+    while (auto d = radio.receive()) {
+      if (const auto n = wire::decode_batch(
+              {reinterpret_cast<const std::uint8_t*>(d->data()), d->size()}, states))
+        forwarded += *n;
+      else
+        ++forwarded_bad;
+    }
     while (auto d = gnss_a.receive())
       nmea.push_back(*d);
     for (auto* sock : {&can_a, &can_b})
@@ -200,10 +215,8 @@ TEST_F(NetworkEmulatorIt, FeedsStationsAndSurvivesOneWithoutReceiver) {
       }
   };
   for (std::int64_t ms = 10; ms < 1500; ms += 10) {
-    for (std::uint32_t id : {1001u, 1002u}) {
-      const auto s = state(id, ms);
-      sender.send_to(listen_port, s.data(), s.size());
-    }
+    const auto s = batch({1001, 1002}, ms);  // one tick's states in one datagram
+    sender.send_to(listen_port, s.data(), s.size());
     if (ms % 100 == 0) {
       std::this_thread::sleep_for(5ms);  // let the emulator and the kernel keep up
       drain();
@@ -219,8 +232,8 @@ TEST_F(NetworkEmulatorIt, FeedsStationsAndSurvivesOneWithoutReceiver) {
   // Station 1002's gpsd is gone, but its CAN reader is there and got everything.
   EXPECT_EQ(frames_b[256], 149);
   // --forward passed on the valid states (also station 999's), not the junk.
-  EXPECT_GE(forwarded, 2 * 149 + 1);
-  EXPECT_EQ(forwarded_bad, 0);
+  EXPECT_GE(forwarded, 2u * 149 + 1);
+  EXPECT_EQ(forwarded_bad, 0u);
 
   EXPECT_EQ(emu.wait_exit(true), 0) << read_file(log);
   const std::string text = read_file(log);
@@ -231,7 +244,9 @@ TEST_F(NetworkEmulatorIt, FeedsStationsAndSurvivesOneWithoutReceiver) {
       << text;
   EXPECT_NE(text.find("dropping malformed vehicle-state datagrams"), std::string::npos) << text;
   EXPECT_NE(text.find("dropping states of station 999"), std::string::npos) << text;
-  EXPECT_NE(text.find("malformed 1, unknown station 1"), std::string::npos) << text;
+  EXPECT_NE(text.find("malformed 2, unknown station 1"), std::string::npos) << text;
+  EXPECT_NE(text.find("version 1 (a single-state datagram of the old format"), std::string::npos)
+      << text;
 }
 
 TEST_F(NetworkEmulatorIt, BadScenarioExitsWithTwoAndNamesTheField) {

@@ -364,7 +364,7 @@ TEST_F(VethMediumIT, RangeModelReachesStationsInRangeAndNoneBeyond) {
   s.station_id = 13;
   s.sim_time_ns = 1'000'000'000;
   s.position = {110.0, 0.0, 0.0};
-  const auto bytes = wire::encode(s);
+  const auto bytes = wire::encode_batch({&s, 1});
   const int udp = ::socket(AF_INET, SOCK_DGRAM, 0);
   sockaddr_in to{};
   to.sin_family = AF_INET;

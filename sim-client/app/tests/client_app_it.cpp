@@ -136,18 +136,21 @@ TEST(ClientApp, KeyboardEventsChangeTheControlsTheServerSees) {
   const auto sent = server.sent(1001);
   rx.non_blocking(true);
   int checked = 0;
-  std::array<std::uint8_t, 512> buf{};
+  std::array<std::uint8_t, 2048> buf{};
   boost::system::error_code ec;
+  std::vector<wire::VehicleState> states;
   for (std::size_t n = rx.receive(asio::buffer(buf), 0, ec); !ec;
        n = rx.receive(asio::buffer(buf), 0, ec)) {
-    auto st = wire::decode(std::span<const std::uint8_t>(buf.data(), n));
-    ASSERT_TRUE(st.has_value());
-    ASSERT_EQ(st->station_id, 1001u);
-    const auto it = sent.find(st->tick);
+    const auto count = wire::decode_batch(std::span<const std::uint8_t>(buf.data(), n), states);
+    ASSERT_TRUE(count.has_value()) << wire::to_string(count.error());
+    ASSERT_EQ(states.size(), 1u);  // one driven car: one state per tick
+    auto& st = states[0];
+    ASSERT_EQ(st.station_id, 1001u);
+    const auto it = sent.find(st.tick);
     ASSERT_NE(it, sent.end());
-    EXPECT_GE(st->send_wall_ns, it->second.step_wall_ns);
-    st->send_wall_ns = it->second.send_wall_ns;
-    EXPECT_EQ(*st, it->second);
+    EXPECT_GE(st.send_wall_ns, it->second.step_wall_ns);
+    st.send_wall_ns = it->second.send_wall_ns;
+    EXPECT_EQ(st, it->second);
     ++checked;
   }
   EXPECT_GT(checked, 10);

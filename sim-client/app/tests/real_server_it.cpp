@@ -133,7 +133,8 @@ TEST(RealSimServer, LaneFollowerHoldsTargetSpeedInLaneAndKeysDriveTheCar) {
   double max_lateral = 0.0;
   bool pressed = false;
   float me_throttle = 0.0f, me_speed = 0.0f;
-  std::array<std::uint8_t, 512> buf{};
+  std::array<std::uint8_t, 2048> buf{};
+  std::vector<wire::VehicleState> states;
   const auto deadline = std::chrono::steady_clock::now() + 40s;
   double lf_time = 0.0;
   while (lf_time < 12.0 && std::chrono::steady_clock::now() < deadline && !app.stopped()) {
@@ -149,21 +150,27 @@ TEST(RealSimServer, LaneFollowerHoldsTargetSpeedInLaneAndKeysDriveTheCar) {
     boost::system::error_code ec;
     for (std::size_t n = rx.receive(asio::buffer(buf), 0, ec); !ec;
          n = rx.receive(asio::buffer(buf), 0, ec)) {
-      const auto st = wire::decode(std::span<const std::uint8_t>(buf.data(), n));
-      ASSERT_TRUE(st.has_value()) << to_string(st.error());
-      ++forwarded;
-      if (st->station_id == 2001) {
-        me_throttle = st->controls.throttle;  // what the server applied
-        me_speed = st->speed;
-        continue;
-      }
-      ASSERT_EQ(st->station_id, 2002u);
-      lf_time = st->sim_time_ns * 1e-9;
-      const auto pr = map::project(road.lane(0, 0).centre, {st->position[0], st->position[1]});
-      max_lateral = std::max(max_lateral, std::abs(pr.lateral));
-      if (lf_time > 6.0) {
-        ASSERT_NEAR(st->speed, 12.0, 0.5) << "at sim time " << lf_time << " s";
-        ++checked;
+      const auto count = wire::decode_batch(std::span<const std::uint8_t>(buf.data(), n), states);
+      ASSERT_TRUE(count.has_value()) << to_string(count.error());
+      // The driven cars' states of a tick share one datagram (one car until both attached).
+      ASSERT_GE(states.size(), 1u);
+      ASSERT_LE(states.size(), 2u);
+      for (const auto& state : states) {
+        const wire::VehicleState* st = &state;
+        ++forwarded;
+        if (st->station_id == 2001) {
+          me_throttle = st->controls.throttle;  // what the server applied
+          me_speed = st->speed;
+          continue;
+        }
+        ASSERT_EQ(st->station_id, 2002u);
+        lf_time = st->sim_time_ns * 1e-9;
+        const auto pr = map::project(road.lane(0, 0).centre, {st->position[0], st->position[1]});
+        max_lateral = std::max(max_lateral, std::abs(pr.lateral));
+        if (lf_time > 6.0) {
+          ASSERT_NEAR(st->speed, 12.0, 0.5) << "at sim time " << lf_time << " s";
+          ++checked;
+        }
       }
     }
   }

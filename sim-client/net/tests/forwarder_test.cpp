@@ -45,6 +45,13 @@ wire::VehicleState sample(std::uint32_t station, std::uint64_t tick) {
   return s;
 }
 
+std::vector<wire::VehicleState> decoded(const std::vector<std::uint8_t>& datagram) {
+  std::vector<wire::VehicleState> out;
+  const auto n = wire::decode_batch(datagram, out);
+  EXPECT_TRUE(n.has_value()) << wire::to_string(n.error());
+  return out;
+}
+
 TEST(StateForwarder, StampsSendTimeAndDatagramsDecodeToTheStates) {
   clock::ManualClock clk;
   clk.advance(std::chrono::milliseconds(1234));
@@ -56,16 +63,52 @@ TEST(StateForwarder, StampsSendTimeAndDatagramsDecodeToTheStates) {
   clk.advance(std::chrono::microseconds(5));
   fwd.forward(b);
   ASSERT_EQ(sink.sent.size(), 2u);
-  const auto da = wire::decode(sink.sent[0]);
-  const auto db = wire::decode(sink.sent[1]);
-  ASSERT_TRUE(da.has_value());
-  ASSERT_TRUE(db.has_value());
+  const auto da = decoded(sink.sent[0]);
+  const auto db = decoded(sink.sent[1]);
+  ASSERT_EQ(da.size(), 1u);
+  ASSERT_EQ(db.size(), 1u);
   auto expect_a = a;
   expect_a.send_wall_ns = clock::to_unix_ns(clk.wall_now()) - 5000;
-  EXPECT_EQ(*da, expect_a);
-  EXPECT_EQ(db->send_wall_ns, clock::to_unix_ns(clk.wall_now()));
-  EXPECT_EQ(db->station_id, 1002u);
+  EXPECT_EQ(da[0], expect_a);
+  EXPECT_EQ(db[0].send_wall_ns, clock::to_unix_ns(clk.wall_now()));
+  EXPECT_EQ(db[0].station_id, 1002u);
   EXPECT_EQ(fwd.sent(), 2u);
+}
+
+TEST(StateForwarder, ATicksStatesGoInAsFewDatagramsAsFitInOrder) {
+  clock::ManualClock clk;
+  CaptureSink sink;
+  trace::Tracer off;
+  StateForwarder fwd(clk, sink, off);
+  std::vector<wire::VehicleState> tick;
+  for (std::uint32_t i = 0; i < 20; ++i)
+    tick.push_back(sample(2001 + i, 99));
+  fwd.forward_tick(tick);
+  // 9 states fit in 1472 bytes: 9 + 9 + 2, the last one not held back for a later tick.
+  ASSERT_EQ(sink.sent.size(), 3u);
+  std::vector<wire::VehicleState> all;
+  for (const auto& d : sink.sent) {
+    EXPECT_LE(d.size(), wire::kDefaultBatchDatagramSize);
+    for (auto& s : decoded(d))
+      all.push_back(s);
+  }
+  EXPECT_EQ(decoded(sink.sent[0]).size(), 9u);
+  EXPECT_EQ(decoded(sink.sent[2]).size(), 2u);
+  ASSERT_EQ(all.size(), tick.size());
+  for (std::size_t i = 0; i < tick.size(); ++i) {
+    auto want = tick[i];
+    want.send_wall_ns = clock::to_unix_ns(clk.wall_now());
+    EXPECT_EQ(all[i], want) << i;
+  }
+  EXPECT_EQ(fwd.sent(), 20u);
+  EXPECT_EQ(fwd.datagrams(), 3u);
+  // A smaller datagram limit makes more, smaller datagrams; one state always fits.
+  sink.sent.clear();
+  fwd.forward_tick(tick, wire::batch_datagram_size(4));
+  EXPECT_EQ(sink.sent.size(), 5u);
+  sink.sent.clear();
+  fwd.forward_tick(tick, 1);
+  EXPECT_EQ(sink.sent.size(), 20u);
 }
 
 TEST(StateForwarder, CountsFailuresAndTracesForwards) {
@@ -115,12 +158,15 @@ TEST(UdpSink, DatagramsReachAReceiverAndDecode) {
       sent.back().send_wall_ns = before;  // checked separately below
     }
   }
+  std::vector<wire::VehicleState> states;
   for (const auto& want : sent) {
-    std::array<std::uint8_t, 512> buf{};
+    std::array<std::uint8_t, 2048> buf{};
     const std::size_t n = rx.receive(asio::buffer(buf));
-    ASSERT_EQ(n, wire::kVehicleStateSize);
-    auto got = wire::decode(std::span<const std::uint8_t>(buf.data(), n));
-    ASSERT_TRUE(got.has_value()) << to_string(got.error());
+    ASSERT_EQ(n, wire::batch_datagram_size(1));
+    const auto count = wire::decode_batch(std::span<const std::uint8_t>(buf.data(), n), states);
+    ASSERT_TRUE(count.has_value()) << to_string(count.error());
+    ASSERT_EQ(states.size(), 1u);
+    auto got = &states[0];
     EXPECT_GE(got->send_wall_ns, want.send_wall_ns);
     EXPECT_LT(got->send_wall_ns - want.send_wall_ns, 1'000'000'000);
     got->send_wall_ns = want.send_wall_ns;

@@ -100,13 +100,16 @@ TEST_F(SessionTest, HelloAttachControlsAndForwarding) {
   EXPECT_EQ(c2.vehicle, 2);
   EXPECT_GT(c2.controls.throttle, 0.0f);  // lane follower speeds up from 5 towards 10 m/s
 
-  ASSERT_EQ(sink.sent.size(), 3u);
+  // The tick's three states leave in one batch datagram, in vehicle order.
+  ASSERT_EQ(sink.sent.size(), 1u);
+  std::vector<wire::VehicleState> states;
+  const auto count = wire::decode_batch(sink.sent[0], states);
+  ASSERT_TRUE(count.has_value()) << wire::to_string(count.error());
+  ASSERT_EQ(states.size(), 3u);
   for (std::size_t i = 0; i < 3; ++i) {
-    auto st = wire::decode(sink.sent[i]);
-    ASSERT_TRUE(st.has_value());
     auto want = testing::frame(5).vehicles[i];
     want.send_wall_ns = clock::to_unix_ns(clk.wall_now());
-    EXPECT_EQ(*st, want);
+    EXPECT_EQ(states[i], want);
   }
   EXPECT_EQ(s.latest()->tick, 5u);
 }
