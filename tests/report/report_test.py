@@ -183,6 +183,10 @@ class ReportTest(unittest.TestCase):
         for stage in ("t1", "air", "hmi", "state_to_hmi"):
             self.assertIn(f"stage {stage} has no records", r.stderr)
         self.assertNotIn("stage state_to_cam has no records", r.stderr)
+        # An unsigned run has no security stages: "all" leaves them out, naming one asks for it.
+        self.assertNotIn("stage t4.sign has no records", r.stderr)
+        r, _ = run_report(self.trace, "--require", "all,t4.sign")
+        self.assertIn("stage t4.sign has no records", r.stderr)
 
     def test_bounds(self):
         r, _ = run_report(self.trace, "--max-p99", "state_to_cam=100")
