@@ -2,6 +2,10 @@
 # (STYLE.md, point 1). Includes start at the repository root: #include "common/geodesy/..."
 
 get_filename_component(TESTBED_ROOT ${CMAKE_CURRENT_LIST_DIR}/.. ABSOLUTE)
+# Frames captured from another ETSI stack: shared data beside the clone (as in CI), read by the
+# tests in place rather than copied into the project.
+set(TESTBED_INTEROP_DIR ${TESTBED_ROOT}/../shared/interop
+    CACHE PATH "Folder of the captures from other ETSI stacks (shared/interop)")
 
 add_library(testbed_options INTERFACE)
 add_custom_target(fuzzers)  # `cmake --build DIR --target fuzzers` builds every fuzz target

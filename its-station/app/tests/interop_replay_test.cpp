@@ -1,4 +1,4 @@
-// Frames another ETSI stack sent (Vanetza's socktap, tests/data/interop), replayed at their
+// Frames another ETSI stack sent (Vanetza's socktap, shared/interop), replayed at their
 // recorded times into a station joined as the program joins it: link → GN router → BTP → CA
 // service → LDM. Every CAM the peer sent must reach the LDM, dated right.
 
@@ -19,8 +19,7 @@ namespace {
 using namespace std::chrono_literals;
 
 std::string data_path(const std::string& name) {
-  const char* root = std::getenv("TESTBED_ROOT");
-  return std::string{root != nullptr ? root : "."} + "/tests/data/interop/" + name;
+  return std::string{TESTBED_INTEROP_DIR} + "/" + name;
 }
 
 /// Our station, a few metres from the peer's fixed position (48.1351 N, 11.583 E).

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "its-station/security/tests/pcapng.hpp"
+#include "its-station/security/tests/socktap_capture.hpp"
 
 namespace tb::its::security {
 namespace {
@@ -233,16 +233,11 @@ TEST(SignedData, RejectsBadInputNamingTheField) {
 // Vanetza's socktap with its default security (`dummy`): TS 103 097 v1.3.1 signedData over
 // common header + SHB + BTP-B + CAM, signer self, an all-zero signature.
 TEST(SocktapCapture, EveryFrameDecodesAndReencodesToTheSameOctets) {
-  const auto frames = test::read_pcapng(std::string(TESTBED_SECURITY_DATA) +
-                                        "/vanetza-socktap-cams-dummy-signed.pcap");
+  const auto frames = test::socktap_secured_packets();
   ASSERT_EQ(frames.size(), 108u);
   std::optional<Time64> previous;
   for (const auto& f : frames) {
-    ASSERT_GT(f.size(), 18u);
-    ASSERT_EQ(f[12], 0x89);
-    ASSERT_EQ(f[13], 0x47);
-    ASSERT_EQ(f[14] & 0x0f, 2);  // basic header next header: secured packet
-    const std::span<const std::uint8_t> secured(f.data() + 18, f.size() - 18);
+    const std::span<const std::uint8_t> secured(f);
     auto d = decode_data(secured);
     ASSERT_TRUE(d) << asn1::to_string(d.error());
     ASSERT_EQ(d->content, Ieee1609Dot2Data::Content::kSignedData);
@@ -269,7 +264,7 @@ TEST(SocktapCapture, EveryFrameDecodesAndReencodesToTheSameOctets) {
   }
   // First frame, as tshark 4.0 shows it: generationTime 722539108207911 (2026-11-23
   // 17:18:23.207911 counted without leap seconds, 5 s behind the capture's 17:18:28).
-  auto first = decode_data(std::span(frames[0]).subspan(18));
+  auto first = decode_data(frames[0]);
   ASSERT_TRUE(first);
   EXPECT_EQ(first->signed_data.tbs.header.generation_time, 722539108207911ull);
   EXPECT_EQ(first->signed_data.tbs.payload.data->size(), 81u);

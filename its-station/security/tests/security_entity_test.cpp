@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "its-station/security/pki.hpp"
-#include "its-station/security/tests/pcapng.hpp"
+#include "its-station/security/tests/socktap_capture.hpp"
 #include "its-station/security/time.hpp"
 
 namespace tb::its::security {
@@ -102,10 +102,9 @@ TEST(SecurityEntity, SocktapSelfSignerDroppedWhenSignedPassedUpWhenPermissive) {
   Fixture f;
   auto strict = f.station(SecurityMode::kSigned);
   auto permissive = f.station(SecurityMode::kSignedPermissive);
-  const auto frames = test::read_pcapng(std::string(TESTBED_SECURITY_DATA) +
-                                        "/vanetza-socktap-cams-dummy-signed.pcap");
+  const auto frames = test::socktap_secured_packets();
   ASSERT_FALSE(frames.empty());
-  const std::span<const std::uint8_t> secured(frames[0].data() + 18, frames[0].size() - 18);
+  const std::span<const std::uint8_t> secured(frames[0]);
   const Time64 now = 722539108207911ull + 5'000'000;  // on our TAI base
   auto s = strict.decapsulate(secured, now);
   ASSERT_EQ(s.size(), 1u);

@@ -4,7 +4,7 @@
 
 #include "its-station/security/pki.hpp"
 #include "its-station/security/signer.hpp"
-#include "its-station/security/tests/pcapng.hpp"
+#include "its-station/security/tests/socktap_capture.hpp"
 #include "its-station/security/time.hpp"
 #include "its-station/security/verifier.hpp"
 
@@ -292,11 +292,10 @@ TEST(SignVerify, GenerationTimeWindowOnTaiOrUtc) {
 TEST(SignVerify, SocktapSelfSignedCamsAreRejectedWithTheirReason) {
   Pki pki;
   Verifier verifier = pki.verifier();
-  const auto frames = test::read_pcapng(std::string(TESTBED_SECURITY_DATA) +
-                                        "/vanetza-socktap-cams-dummy-signed.pcap");
+  const auto frames = test::socktap_secured_packets();
   ASSERT_FALSE(frames.empty());
   for (const auto& f : frames) {
-    const std::span<const std::uint8_t> secured(f.data() + 18, f.size() - 18);
+    const std::span<const std::uint8_t> secured(f);
     auto d = decode_data(secured);
     ASSERT_TRUE(d);
     // Verified at the instant it was stamped: socktap's UTC base is 5 s behind ours.
