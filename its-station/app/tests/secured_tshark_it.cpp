@@ -18,6 +18,7 @@
 #include "its-station/link/test_link.hpp"
 #include "its-station/messages/cam.hpp"
 #include "its-station/messages/denm.hpp"
+#include "its-station/messages/tests/run_command.hpp"
 #include "its-station/messages/tests/samples.hpp"
 #include "its-station/security/pki.hpp"
 #include "its-station/security/time.hpp"
@@ -52,16 +53,7 @@ void write_pcap(const std::filesystem::path& path, const std::vector<Bytes>& fra
 }
 
 std::string run(const std::string& cmd) {
-  std::string out;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (p == nullptr)
-    return out;
-  std::array<char, 4096> buf;
-  std::size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0)
-    out.append(buf.data(), n);
-  pclose(p);
-  return out;
+  return test::run_command(cmd);
 }
 
 TEST(SecuredTshark, SignedCamsAndDenmDecodeDownToTheirFields) {
