@@ -1,6 +1,7 @@
 // The road-surface mesh and the sampled lane lines on the shared maps.
 
 #include "common/map/opendrive/mesh.hpp"
+#include "common/map/opendrive/tests/shared_maps.hpp"
 
 #include <gtest/gtest.h>
 
@@ -15,10 +16,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path shared_maps() {
-  const char* root = std::getenv("TESTBED_ROOT");
-  return fs::path(root != nullptr ? root : ".") / ".." / "shared" / "data" / "opendrive";
-}
+using test::shared_maps;
 
 /// Lane area by quadrature of the width (fine steps, independent of the mesh's sampling).
 double lane_area(const Road& r) {

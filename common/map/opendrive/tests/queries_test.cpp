@@ -11,16 +11,14 @@
 #include "common/map/opendrive/lane_graph.hpp"
 #include "common/map/opendrive/queries.hpp"
 #include "common/map/opendrive/reader.hpp"
+#include "common/map/opendrive/tests/shared_maps.hpp"
 
 namespace tb::map::odr {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path shared_maps() {
-  const char* root = std::getenv("TESTBED_ROOT");
-  return fs::path(root != nullptr ? root : ".") / ".." / "shared" / "data" / "opendrive";
-}
+using test::shared_maps;
 
 TEST(LanePose, StraightRoadWithOffsetAndElevation) {
   const RoadNetwork net = parse_opendrive(

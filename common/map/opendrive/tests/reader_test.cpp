@@ -1,6 +1,7 @@
 // The importer on the shared esmini maps and on every bad-input case the issue lists.
 
 #include "common/map/opendrive/reader.hpp"
+#include "common/map/opendrive/tests/shared_maps.hpp"
 
 #include <gtest/gtest.h>
 
@@ -15,10 +16,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path shared_maps() {
-  const char* root = std::getenv("TESTBED_ROOT");
-  return fs::path(root != nullptr ? root : ".") / ".." / "shared" / "data" / "opendrive";
-}
+using test::shared_maps;
 
 std::vector<fs::path> all_shared_maps() {
   std::vector<fs::path> files;
