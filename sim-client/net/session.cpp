@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "common/map/builtin_network.hpp"
 #include "common/scenario/loader.hpp"
 
 namespace tb::client {
@@ -158,6 +159,8 @@ bool SimSession::on_welcome(const sim::Welcome& w) {
     try {
       scenario_ = scenario::parse(w.scenario_json, "scenario sent by the server");
       road_map_ = std::make_unique<map::RoadMap>(scenario_->map);
+      network_ =
+          std::make_shared<const map::odr::RoadNetwork>(map::generate_network(scenario_->map));
     } catch (const std::exception& e) {
       fail(fmt::format("cannot use the server's scenario: {}", e.what()));
       return false;

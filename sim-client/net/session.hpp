@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "common/clock/clock.hpp"
+#include "common/map/opendrive/road_network.hpp"
 #include "common/map/road_map.hpp"
 #include "common/scenario/scenario.hpp"
 #include "common/trace/tracer.hpp"
@@ -74,6 +75,8 @@ class SimSession {
   const wire::sim::Welcome* welcome() const { return welcome_ ? &*welcome_ : nullptr; }
   const scenario::Scenario* scenario() const { return scenario_ ? &*scenario_ : nullptr; }
   const map::RoadMap* road_map() const { return road_map_.get(); }
+  /// The world's road network (common/map's one model): what drivers and views read.
+  const map::odr::RoadNetwork* network() const { return network_.get(); }
   const wire::sim::StateFrame* latest() const { return latest_ ? &*latest_ : nullptr; }
   /// Indices (Welcome order) of the vehicles this connection drives.
   std::vector<std::uint16_t> driven() const;
@@ -108,6 +111,7 @@ class SimSession {
   std::optional<wire::sim::Welcome> welcome_;
   std::optional<scenario::Scenario> scenario_;
   std::unique_ptr<map::RoadMap> road_map_;
+  std::shared_ptr<const map::odr::RoadNetwork> network_;
   std::optional<wire::sim::StateFrame> latest_;
   std::map<std::uint16_t, Driven> driven_;
   DriverCommand human_;
