@@ -44,6 +44,10 @@ struct Station {
   Bytes send(const Bytes& payload, std::uint64_t its_aid = sec::kPsidCam) {
     auto req = DataRequest::single_hop();
     req.its_aid = its_aid;
+    return send(req, payload);
+  }
+  /// Sends @p payload by @p req and returns its frame.
+  Bytes send(DataRequest req, const Bytes& payload) {
     EXPECT_EQ(router->request(req, payload), DataConfirm::kAccepted);
     return link.sent().back().payload;
   }
@@ -62,6 +66,13 @@ struct Station {
 
 const Bytes kBtpCam{0x07, 0xd1, 0x00, 0x00, 0x02, 0x02, 0x00, 0x00, 0x03, 0xe9};
 const Bytes kBtpDenm{0x07, 0xd2, 0x00, 0x00, 0x02, 0x01, 0x00, 0x00, 0x03, 0xe9};
+
+/// A DENM's GBC around the point 300 m east of the origin, 1 km in radius.
+DataRequest denm_gbc() {
+  auto req = DataRequest::geo_broadcast(circle_at(at(300, 0), 1000));
+  req.its_aid = sec::kPsidDenm;
+  return req;
+}
 
 /// The frame forwarded from @p received: the same octets but for the remaining hop limit.
 void expect_forwarded_as_received(const Bytes& received, const Bytes& forwarded) {
@@ -146,10 +157,7 @@ TEST(SecuredRouter, SignedGbcIsForwardedAsReceivedAndVerifiesAtTheNextHop) {
   Station source(rt, 1, pki.entity(sec::SecurityMode::kSigned), simple);
   Station relay(rt, 2, pki.entity(sec::SecurityMode::kSigned), simple, at(300, 0));
   Station far(rt, 3, pki.entity(sec::SecurityMode::kSigned), simple, at(600, 0));
-  auto req = DataRequest::geo_broadcast(circle_at(at(300, 0), 1000));
-  req.its_aid = sec::kPsidDenm;
-  ASSERT_EQ(source.router->request(req, kBtpDenm), DataConfirm::kAccepted);
-  const Bytes sent = source.link.sent().back().payload;
+  const Bytes sent = source.send(denm_gbc(), kBtpDenm);
   ASSERT_EQ(sent[0] & 0x0f, 2);
 
   relay.receive(rt, sent, 1);
@@ -179,10 +187,7 @@ TEST(SecuredRouter, SignedGbcContendsAndGoesOutAsReceived) {
   Authority pki{rt.wall_now()};
   Station source(rt, 1, pki.entity(sec::SecurityMode::kSigned));
   Station relay(rt, 2, pki.entity(sec::SecurityMode::kSigned), no_beacons(), at(300, 0));
-  auto req = DataRequest::geo_broadcast(circle_at(at(300, 0), 1000));
-  req.its_aid = sec::kPsidDenm;
-  ASSERT_EQ(source.router->request(req, kBtpDenm), DataConfirm::kAccepted);
-  const Bytes sent = source.link.sent().back().payload;
+  const Bytes sent = source.send(denm_gbc(), kBtpDenm);
   relay.receive(rt, sent, 1);
   EXPECT_EQ(relay.router->stats().cbf_buffered, 1u);
   EXPECT_TRUE(relay.link.sent().empty());
@@ -198,8 +203,7 @@ TEST(SecuredRouter, SignedTsbIsForwardedAsReceived) {
   Station relay(rt, 2, pki.entity(sec::SecurityMode::kSigned));
   auto req = DataRequest::topologically_scoped(3);
   req.its_aid = sec::kPsidDenm;
-  ASSERT_EQ(source.router->request(req, kBtpDenm), DataConfirm::kAccepted);
-  const Bytes sent = source.link.sent().back().payload;
+  const Bytes sent = source.send(req, kBtpDenm);
   relay.receive(rt, sent, 1);
   ASSERT_EQ(relay.delivered.size(), 1u);
   ASSERT_EQ(relay.link.sent().size(), 1u);
