@@ -53,9 +53,10 @@ def main():
     sizes = [r["events"].get("signed_cam_bytes") for r in reports if "signed_cam_bytes" in r["events"]]
     if sizes:
         for kind in sorted({k for s in sizes for k in s}):
-            vals = [s[kind]["p50"] for s in sizes if kind in s]
-            print(f"\nsigned CAM, {kind} signer: {statistics.median(vals):.0f} octets "
-                  "(Ieee1609Dot2Data, median)")
+            packet = statistics.median(s[kind]["packet_p50"] for s in sizes if kind in s)
+            security = statistics.median(s[kind]["security_p50"] for s in sizes if kind in s)
+            print(f"\nsigned CAM, {kind} signer: GN packet {packet:.0f} octets, of it "
+                  f"{security:.0f} of security (medians)")
     return 0
 
 

@@ -143,7 +143,9 @@ class ReportTest(unittest.TestCase):
         # The decoded CAM follows the CAM's verification, not the beacon's after it.
         self.assertEqual(st["rx.decode"]["n"], 1)
         self.assertAlmostEqual(st["rx.decode"]["mean"], 0.1, places=6)
-        self.assertIn("certificate signer 316 (n=1), digest signer 174 (n=1)", r.stdout)
+        # Sizes: the CAMs are 50 octets (vehicle()), so 316 - 40 - 50 of security with the AT.
+        self.assertIn("certificate signer: GN packet 320, of it security 226 (n=1); "
+                      "digest signer: GN packet 178, of it security 84 (n=1)", r.stdout)
 
     def test_old_traces_count_every_step(self):
         for r in self.trace.records:
