@@ -561,11 +561,22 @@ Vehicle read_vehicle(Node n, const map::RoadMap& road_map) {
   v.spawn = read_spawn(n.required("spawn"), road_map);
   v.driver = n.optional("driver") ? read_driver(n.required("driver")) : Driver{HumanDriver{}};
   if (auto st = n.optional("station")) {
-    st->expect_object("a station (\"command\": the program and its arguments)");
-    for (const Node& a : st->required("command").array(1, 256)) {
-      v.station_command.push_back(a.string());
-      if (v.station_command.size() == 1 && v.station_command[0].empty())
-        a.fail("the program to run must not be empty");
+    st->expect_object(
+        "a station (\"command\": the program and its arguments, \"pki\": a test PKI's name)");
+    if (auto cmd = st->optional("command")) {
+      for (const Node& a : cmd->array(1, 256)) {
+        v.station_command.push_back(a.string());
+        if (v.station_command.size() == 1 && v.station_command[0].empty())
+          a.fail("the program to run must not be empty");
+      }
+    }
+    if (auto pki = st->optional("pki")) {
+      v.station_pki = pki->string();
+      if (v.station_pki.empty() || v.station_pki.size() > 64 ||
+          v.station_pki.find_first_not_of(
+              "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-") !=
+              std::string::npos)
+        pki->fail("PKI name \"" + v.station_pki + "\" must be 1 to 64 letters, digits, '_' or '-'");
     }
     st->finish();
   }

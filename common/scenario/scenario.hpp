@@ -149,6 +149,11 @@ struct Vehicle {
   /// (bring your own stack, docs/station-contract.md); empty: its-station. Placeholders such as
   /// {station_id} are the launcher's to fill.
   std::vector<std::string> station_command;
+  /// "station": {"pki": NAME}: the test PKI this station's certificates come from and whose
+  /// root it trusts, when not the scenario's (security signed): the launcher makes PKI NAME
+  /// beside the scenario's. Stations of different PKIs drop each other's packets
+  /// (untrusted_root): a foreign or misconfigured vehicle. Empty: the scenario's PKI.
+  std::string station_pki;
 };
 
 // ---------------------------------------------------------------------------------------------

@@ -164,7 +164,34 @@ TEST(ScenarioLoader, AVehicleMayBringItsOwnStationProgram) {
           "inline.json");
     FAIL() << "a misspelled station field loaded";
   } catch (const ScenarioError& e) {
-    EXPECT_EQ(e.path(), "/vehicles/0/station/command") << e.what();
+    EXPECT_EQ(e.path(), "/vehicles/0/station/cmd") << e.what();
+  }
+}
+
+TEST(ScenarioLoader, AStationMayComeFromAnotherPki) {
+  const char* fmt = R"({
+    "name": "foreign", "map": {"type": "ring", "lanes": 2}, "origin": {"lat": 48.1, "lon": 11.5},
+    "security": "signed",
+    "vehicles": [{"id": "v1", "station_id": 7, "spawn": {"lane": 1, "s": 3.5}},
+                 {"id": "v2", "station_id": 8, "spawn": {"lane": 1, "s": 30},
+                  "station": {"pki": %s}}]
+  })";
+  auto with = [&](const std::string& pki) {
+    std::string text(std::snprintf(nullptr, 0, fmt, pki.c_str()), '\0');
+    std::snprintf(text.data(), text.size() + 1, fmt, pki.c_str());
+    return text;
+  };
+  const Scenario s = parse(with("\"elsewhere\""), "inline.json");
+  EXPECT_TRUE(s.vehicles[0].station_pki.empty());  // the scenario's PKI
+  EXPECT_EQ(s.vehicles[1].station_pki, "elsewhere");
+  EXPECT_TRUE(s.vehicles[1].station_command.empty());  // still its-station
+  for (const std::string bad : {"\"\"", "\"../x\"", "7"}) {
+    try {
+      parse(with(bad), "inline.json");
+      FAIL() << "PKI name " << bad << " loaded";
+    } catch (const ScenarioError& e) {
+      EXPECT_EQ(e.path(), "/vehicles/1/station/pki") << e.what();
+    }
   }
 }
 
