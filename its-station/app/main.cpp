@@ -25,6 +25,7 @@
 #include "common/can/udp_can_bus.hpp"
 #include "common/clock/asio_runtime.hpp"
 #include "common/geodesy/local_frame.hpp"
+#include "common/map/scenario_map.hpp"
 #include "common/scenario/loader.hpp"
 #include "common/trace/tracer.hpp"
 #include "its-station/app/adapters.hpp"
@@ -316,9 +317,11 @@ int run(const Options& o) {
   // LCRW: evaluated at every own fix against the LDM's neighbours, and at every CAM received
   // (a neighbour's state change must not wait up to a fix period, 100 ms, for the next own fix
   // before it can raise a warning); both states are extrapolated to the evaluation instant.
+  // LCRW computes in an East-North-Up frame; with a scenario it is anchored where the map's
+  // (0, 0, 0) lies (the map's geoReference, or the scenario's origin: common/map's ScenarioMap).
   std::optional<tb::geodesy::LocalFrame> frame;
   if (scenario)
-    frame.emplace(scenario->origin);
+    frame.emplace(*tb::map::ScenarioMap(*scenario).origin().origin);
   tb::its::station::DenPortAdapter den_port(
       den,
       std::chrono::duration_cast<tb::clock::Duration>(
