@@ -101,6 +101,15 @@ void VethPorts::start() {
 }
 
 void VethPorts::drain() {
+  // The deliveries of what is read now go out at the end of this call, not a turn of the
+  // io_context later.
+  draining_ = true;
+  drain_batches();
+  draining_ = false;
+  flush();
+}
+
+void VethPorts::drain_batches() {
   // A bounded number of batches per wake-up, so that the timers and the positions get their
   // turn when the stations send more than the medium can take.
   for (int round = 0; round < 4; ++round) {
@@ -160,7 +169,7 @@ void VethPorts::queue(int ifindex, std::span<const std::uint8_t> frame) {
     flush();
   pending_.push_back({ifindex, arena_.size(), frame.size()});
   arena_.insert(arena_.end(), frame.begin(), frame.end());
-  if (!flush_posted_) {
+  if (!draining_ && !flush_posted_) {  // a delayed delivery: flushed once the due ones are in
     flush_posted_ = true;
     boost::asio::post(io_, [this] { flush(); });
   }

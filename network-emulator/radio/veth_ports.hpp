@@ -5,9 +5,9 @@
 /// Two AF_PACKET sockets for all stations instead of one per station: one receives what every
 /// station sends (up to kBatch frames per recvmmsg, each with the kernel's receive time), the
 /// other sends the medium's deliveries, each to its receiver's interface, in one sendmmsg per
-/// batch. A batch is flushed once the io_context has run what is ready: after each batch of
-/// frames read, and after delayed deliveries that fall due together. At 50 stations one CAM
-/// makes 49 deliveries: one system call instead of 49.
+/// batch: at the end of each wake-up that read frames, and once the io_context has run the
+/// delayed deliveries that fall due together. At 50 stations one CAM makes 49 deliveries: one
+/// system call instead of 49.
 
 #include <linux/if_packet.h>
 #include <sys/socket.h>
@@ -70,6 +70,7 @@ class VethPorts {
   };
 
   void drain();
+  void drain_batches();
   void queue(int ifindex, std::span<const std::uint8_t> frame);
   void flush();
 
@@ -93,6 +94,7 @@ class VethPorts {
   std::vector<iovec> tx_iovecs_;
   std::vector<mmsghdr> tx_headers_;
   bool flush_posted_ = false;
+  bool draining_ = false;
   std::uint64_t received_ = 0;
   std::uint64_t sent_ = 0;
   std::uint64_t send_calls_ = 0;
