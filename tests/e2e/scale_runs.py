@@ -184,7 +184,8 @@ def one_run(args, scenario, index):
     proc = subprocess.Popen(
         [sys.executable, str(ROOT / "scripts/testbed"), "run", str(scenario), "--build", args.build,
          "--duration", str(args.duration + 60), "--out", str(out)] +
-        (["--radio-forwarding", args.radio_forwarding] if args.radio_forwarding else []),
+        (["--radio-forwarding", args.radio_forwarding] if args.radio_forwarding else []) +
+        (["--shared-nice", str(args.shared_nice)] if args.shared_nice else []),
         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
     a = b = None
     a_unix = b_unix = 0
@@ -234,9 +235,13 @@ def one_run(args, scenario, index):
     result["cams"] = {"sent": sent, "expected": expected, "decoded": got}
     stats_file = run_dir / "radio-stats.json"
     if stats_file.exists():
-        totals = json.loads(stats_file.read_text())["totals"]
+        stats = json.loads(stats_file.read_text())
+        totals = stats["totals"]
+        # With the kernel's forwarding, a receiver's full queue drops in the kernel.
         result["medium"] = {"sent": totals["sent"], "delivered": totals["delivered"],
-                            "dropped": sum(totals["dropped"].values())}
+                            "dropped": sum(totals["dropped"].values()) +
+                            sum(stats.get("kernel_dropped", {}).values()),
+                            "tap_missed": stats.get("tap_missed", 0)}
     if perf is not None:
         result["perf_top"] = perf_report(Path(args.perf) / "scale.data")
     result["dir"] = str(out)
@@ -278,6 +283,8 @@ def main():
     ap.add_argument("--build", default=str(ROOT / "build/release"))
     ap.add_argument("--radio-forwarding", choices=["auto", "kernel", "user"],
                     help="passed on to scripts/testbed run (default: its own, auto)")
+    ap.add_argument("--shared-nice", type=int, default=0,
+                    help="passed on to scripts/testbed run")
     ap.add_argument("--perf", help="perf record -a -g of the first run's window into this folder "
                                    "(scale.data); prints the top entries")
     ap.add_argument("--json", help="write every run's figures here")
