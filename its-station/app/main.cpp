@@ -315,8 +315,9 @@ int run(const Options& o) {
   }
 
   // LCRW: evaluated at every own fix against the LDM's neighbours, and at every CAM received
-  // (a neighbour's state change must not wait up to a fix period, 100 ms, for the next own fix
-  // before it can raise a warning); both states are extrapolated to the evaluation instant.
+  // against its sender (a neighbour's state change must not wait up to a fix period, 100 ms,
+  // for the next own fix before it can raise a warning) and the neighbours with an active
+  // warning; both states are extrapolated to the evaluation instant.
   // LCRW computes in an East-North-Up frame; with a scenario it is anchored where the map's
   // (0, 0, 0) lies (the map's geoReference, or the scenario's origin: common/map's ScenarioMap).
   std::optional<tb::geodesy::LocalFrame> frame;
@@ -368,9 +369,26 @@ int run(const Options& o) {
     const std::int64_t decided_ns = tb::trace::Tracer::now_ns();
     published_about.clear();
     std::vector<apps::VehicleKinematics> others;
-    for (const auto& [id, n] : ldm.neighbours())
+    const auto assess = [&](std::uint32_t id, const fac::Neighbour& n) {
       others.push_back(tb::its::station::lcrw_kinematics(
           id, tb::its::station::neighbour_kinematics(n), n.latest().generation_time, *frame));
+    };
+    const auto& neighbours = ldm.neighbours();
+    if (cam_from) {
+      // After a CAM only its sender's state is new: assess the sender, and every neighbour with
+      // an active warning (so that time can still update or end it, as before); the others
+      // wait for the next own fix (100 ms at 10 Hz). Assessing every neighbour at every CAM
+      // made LCRW quadratic in the neighbours per station: with 50 stations each one took 490
+      // CAMs a second × 49 neighbours, most of the testbed's CPU (issue 21, docs/latency.md).
+      if (const auto it = neighbours.find(*cam_from); it != neighbours.end())
+        assess(it->first, it->second);
+      for (const auto& [id, w] : lcrw->lcrw().active())
+        if (const auto it = neighbours.find(id); id != *cam_from && it != neighbours.end())
+          assess(it->first, it->second);
+    } else {
+      for (const auto& [id, n] : neighbours)
+        assess(id, n);
+    }
     lcrw->update(tb::its::station::lcrw_kinematics(o.station_id, own, fix.time, *frame), others);
     auto& tracer = tb::trace::global();
     if (!tracer.enabled())

@@ -10,7 +10,8 @@
 
 namespace tb::emu {
 
-UdpBatchSocket::UdpBatchSocket(int family, const std::string& netns) {
+UdpBatchSocket::UdpBatchSocket(int family, const std::string& netns,
+                               const Destination* connect_to) {
   int err = 0;
   const std::error_code ns_ec = tb::can::run_in_netns(netns, [&] {
     fd_ = ::socket(family, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
@@ -41,6 +42,12 @@ UdpBatchSocket::UdpBatchSocket(int family, const std::string& netns) {
   const int size = 4 << 20;
   if (::setsockopt(fd_, SOL_SOCKET, SO_SNDBUFFORCE, &size, sizeof size) != 0)
     ::setsockopt(fd_, SOL_SOCKET, SO_SNDBUF, &size, sizeof size);
+  if (connect_to &&
+      ::connect(fd_, reinterpret_cast<const sockaddr*>(&connect_to->addr), connect_to->len) != 0) {
+    err = errno;
+    ::close(fd_);
+    throw std::system_error(err, std::system_category(), "connect to " + connect_to->to_string());
+  }
 }
 
 UdpBatchSocket::~UdpBatchSocket() {
@@ -118,6 +125,21 @@ void BatchSenders::flush() {
   for (BatchSender* s : all_)
     if (!s->empty())
       s->flush();
+}
+
+BatchSender& BatchSenders::get_connected(const std::string& netns, const Destination& to) {
+  auto [it, added] = connected_.try_emplace({netns, to.to_string()});
+  if (added) {
+    try {
+      it->second.socket = std::make_unique<UdpBatchSocket>(to.family(), netns, &to);
+    } catch (...) {
+      connected_.erase(it);
+      throw;
+    }
+    it->second.sender = std::make_unique<BatchSender>(*it->second.socket, 512, /*connected=*/true);
+    all_.push_back(it->second.sender.get());
+  }
+  return *it->second.sender;
 }
 
 BatchStats BatchSenders::stats() const {

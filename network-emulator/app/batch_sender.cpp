@@ -102,8 +102,8 @@ std::optional<QueuedError> parse_error_queue_message(const msghdr& msg) {
   return std::nullopt;
 }
 
-BatchSender::BatchSender(BatchSocketOps& ops, std::size_t max_batch)
-    : ops_(ops), max_batch_(std::max<std::size_t>(1, max_batch)) {
+BatchSender::BatchSender(BatchSocketOps& ops, std::size_t max_batch, bool connected)
+    : ops_(ops), max_batch_(std::max<std::size_t>(1, max_batch)), connected_(connected) {
   queued_.reserve(max_batch_);
   headers_.reserve(max_batch_);
   iovecs_.reserve(max_batch_);
@@ -171,8 +171,8 @@ void BatchSender::flush() {
     iovecs_[i] = {arena_.data() + q.offset, q.size};
     msghdr& h = headers_[i].msg_hdr;
     h = {};
-    h.msg_name = &d.addr;
-    h.msg_namelen = d.len;
+    h.msg_name = connected_ ? nullptr : &d.addr;
+    h.msg_namelen = connected_ ? 0 : d.len;
     h.msg_iov = &iovecs_[i];
     h.msg_iovlen = 1;
     headers_[i].msg_len = 0;

@@ -79,7 +79,9 @@ struct BatchStats {
 class BatchSender {
  public:
   /// @p max_batch datagrams at most per sendmmsg (the kernel takes up to 1024, UIO_MAXIOV).
-  explicit BatchSender(BatchSocketOps& ops, std::size_t max_batch = 512);
+  /// @p connected: the socket is connected to the one destination of all its sinks, and the
+  /// datagrams go without an address (the kernel then uses the socket's cached route).
+  explicit BatchSender(BatchSocketOps& ops, std::size_t max_batch = 512, bool connected = false);
   BatchSender(const BatchSender&) = delete;
   BatchSender& operator=(const BatchSender&) = delete;
 
@@ -110,6 +112,7 @@ class BatchSender {
 
   BatchSocketOps& ops_;
   std::size_t max_batch_;
+  bool connected_;
   std::vector<Destination> destinations_;
   std::unordered_map<Destination, std::size_t, DestinationHash> destination_index_;
   std::vector<std::vector<Sink>> sinks_of_destination_;

@@ -274,13 +274,14 @@ int main(int argc, char** argv) {
 
   asio::io_context io;
   clock::AsioRuntime runtime(io);
-  // Every UDP feed (NMEA, cannelloni) goes out of one socket per network namespace, in batches.
+  // Every UDP feed (NMEA, cannelloni) goes out of a socket of its station's namespace connected
+  // to its receiver, in batches; feeds to one receiver share the socket.
   emu::BatchSenders senders;
   auto sender_for = [&](const emu::StationEndpoints& e, const asio::ip::address& addr,
                         std::uint16_t port) -> std::pair<emu::BatchSender*, emu::Destination> {
     const udp::endpoint to(addr, port);
-    return {&senders.get(e.netns, addr.is_v6() ? AF_INET6 : AF_INET),
-            emu::Destination::from(to.data(), static_cast<socklen_t>(to.size()))};
+    const auto dest = emu::Destination::from(to.data(), static_cast<socklen_t>(to.size()));
+    return {&senders.get_connected(e.netns, dest), dest};
   };
   auto udp_can = [&](const emu::StationEndpoints& e,
                      const asio::ip::address& addr) -> std::unique_ptr<can::CanBus> {

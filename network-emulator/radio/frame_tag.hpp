@@ -15,6 +15,8 @@ namespace tb::emu::radio {
 
 /// GeoNetworking's ethertype (EN 302 636-4-1, IEEE registration).
 inline constexpr std::uint16_t kEthertypeGeoNetworking = 0x8947;
+/// What the medium's sockets take to mean every frame, whatever its ethertype (ETH_P_ALL).
+inline constexpr std::uint16_t kEthertypeAll = 0x0003;
 
 struct CamTag {
   std::uint32_t station_id = 0;

@@ -379,7 +379,7 @@ void HwsimMedium::on_message(nl_msg* msg) {
   ++frames_in_;
   const HwsimRouter::Plan plan = router_.plan(tx->transmitter, tx->frame);
   if (frame_observer_ && plan.sender)
-    frame_observer_(*plan.sender, tx->frame);
+    frame_observer_(*plan.sender, tx->frame, 0);
   auto frame = std::make_shared<const std::vector<std::uint8_t>>(tx->frame);
   const clock::SteadyTime now = runtime_.steady_now();
   for (const auto& d : plan.deliveries) {

@@ -17,10 +17,10 @@ void Medium::detach(StationId id) {
   receivers_.erase(id);
 }
 
-void Medium::on_frame(StationId from, std::span<const std::uint8_t> frame) {
+void Medium::on_frame(StationId from, std::span<const std::uint8_t> frame, std::int64_t unix_ns) {
   ++frames_in_;
   if (frame_observer_)
-    frame_observer_(from, frame);
+    frame_observer_(from, frame, unix_ns);
   std::shared_ptr<const std::vector<std::uint8_t>> copy;  // made once, only if a frame waits
   for (auto& [to, rx] : receivers_) {
     if (to == from)

@@ -24,8 +24,10 @@ class FrameSink {
 };
 
 /// Sees every frame a station puts on the air, before the channel decides: the veth medium's
-/// (Ethernet) and the hwsim medium's (802.11) alike.
-using FrameObserver = std::function<void(StationId from, std::span<const std::uint8_t> frame)>;
+/// (Ethernet) and the hwsim medium's (802.11) alike. @p unix_ns is when the kernel received it
+/// (CLOCK_REALTIME), or 0 where the medium does not know: then it is now.
+using FrameObserver =
+    std::function<void(StationId from, std::span<const std::uint8_t> frame, std::int64_t unix_ns)>;
 
 class Medium {
  public:
@@ -45,7 +47,8 @@ class Medium {
   /// A frame @p from put on the air. Frames with no delay are handed over before this returns;
   /// delayed ones keep their order per receiver, as a radio does not reorder (a later frame
   /// with less jitter waits for the one before it).
-  void on_frame(StationId from, std::span<const std::uint8_t> frame);
+  /// @p unix_ns: when the kernel received it, for the observer (0: unknown).
+  void on_frame(StationId from, std::span<const std::uint8_t> frame, std::int64_t unix_ns = 0);
 
   std::uint64_t frames_in() const { return frames_in_; }
   std::uint64_t deliveries() const { return deliveries_; }

@@ -11,9 +11,6 @@
 #include <cerrno>
 #include <system_error>
 
-#include <spdlog/spdlog.h>
-#include <boost/asio/post.hpp>
-
 namespace tb::emu::radio {
 
 namespace {
@@ -92,53 +89,6 @@ long PacketSocket::receive(std::span<std::uint8_t> buf, bool wait) {
     }
     return n;
   }
-}
-
-VethPort::VethPort(boost::asio::io_context& io, StationId id, const std::string& ifname,
-                   std::uint16_t ethertype, Medium& medium)
-    : id_(id),
-      socket_(ifname, ethertype, 8 << 20),
-      descriptor_(io),
-      medium_(medium),
-      buffer_(65536) {}
-
-void VethPort::start() {
-  descriptor_.assign(::dup(socket_.fd()));
-  wait();
-}
-
-void VethPort::wait() {
-  descriptor_.async_wait(boost::asio::posix::stream_descriptor::wait_read,
-                         [this](const boost::system::error_code& ec) {
-                           if (ec)
-                             return;  // cancelled at shutdown
-                           drain();
-                           wait();
-                         });
-}
-
-void VethPort::drain() {
-  // A bounded batch per wake-up keeps one busy station from starving the others.
-  for (int i = 0; i < 64; ++i) {
-    const long n = socket_.receive(buffer_);
-    if (n == 0)
-      return;
-    if (n < 0) {
-      if (receive_errors_++ == 0)
-        spdlog::warn("radio: receive on {} failed: {}", socket_.ifname(),
-                     std::system_category().message(errno));
-      continue;
-    }
-    ++received_;
-    medium_.on_frame(id_,
-                     std::span<const std::uint8_t>(buffer_.data(), static_cast<std::size_t>(n)));
-  }
-}
-
-void VethPort::transmit(std::span<const std::uint8_t> frame) {
-  if (!socket_.send(frame) && send_errors_++ == 0)
-    spdlog::warn("radio: sending into {} failed: {} (counted, reported once)", socket_.ifname(),
-                 std::system_category().message(errno));
 }
 
 }  // namespace tb::emu::radio

@@ -26,11 +26,12 @@
 #include "common/scenario/loader.hpp"
 #include "common/trace/tracer.hpp"
 #include "common/wire/vehicle_state.hpp"
+#include "network-emulator/radio/bridge_medium.hpp"
 #include "network-emulator/radio/channel.hpp"
 #include "network-emulator/radio/frame_tag.hpp"
 #include "network-emulator/radio/hwsim_radios.hpp"
 #include "network-emulator/radio/medium.hpp"
-#include "network-emulator/radio/packet_socket.hpp"
+#include "network-emulator/radio/veth_ports.hpp"
 #include "network-emulator/radio/veth_radios.hpp"
 
 namespace radio = tb::emu::radio;
@@ -45,6 +46,7 @@ struct Options {
   std::string scenario;
   std::string stations;
   std::string mode = "auto";
+  std::string forwarding = "auto";
   std::string positions = "udp://0.0.0.0:4701";
   std::string prefix = radio::kDefaultPrefix;
   std::string ethertype = "0x8947";
@@ -181,14 +183,32 @@ class PositionListener {
   std::uint64_t bad_ = 0;
 };
 
-void write_stats(const std::string& file, const radio::Channel& channel) {
+/// How the frames move between the stations' radios, for the statistics file.
+struct Forwarding {
+  radio::BridgeMedium* bridge = nullptr;  ///< in the kernel; else in this program (or hwsim)
+};
+
+void write_stats(const std::string& file, const radio::Channel& channel, const Forwarding& fw) {
   if (file.empty())
     return;
+  nlohmann::json j = channel.stats_json();
+  if (fw.bridge) {
+    // The kernel forwarded; the channel counted what it decided. A port whose station's queue
+    // was full dropped frames the counts above call delivered: said here, per receiver.
+    j["forwarding"] = "kernel";
+    nlohmann::json drops = nlohmann::json::object();
+    for (const auto& [id, n] : fw.bridge->kernel_drops())
+      drops[std::to_string(id)] = n;
+    j["kernel_dropped"] = drops;
+    j["tap_missed"] = fw.bridge->tap_drops();
+  } else {
+    j["forwarding"] = "radio-medium";
+  }
   // Written beside and renamed, so that a reader never sees half a file.
   const std::string tmp = file + ".tmp";
   {
     std::ofstream out(tmp);
-    out << channel.stats_json().dump(2) << '\n';
+    out << j.dump(2) << '\n';
     if (!out) {
       spdlog::error("radio-medium: cannot write statistics to {}", tmp);
       return;
@@ -208,6 +228,10 @@ int run(const Options& opt) {
   }
   const auto stations = parse_stations(opt.stations, sc);
   const std::uint16_t ethertype = parse_ethertype(opt.ethertype);
+  const auto why_not_kernel = radio::why_bridge_cannot_carry(sc.channel);
+  if (opt.forwarding == "kernel" && why_not_kernel)
+    throw UsageError("--forwarding kernel: the kernel bridge cannot carry this channel: " +
+                     *why_not_kernel);
   const auto positions_ep = parse_udp(opt.positions);
   if (opt.prefix.empty() || opt.prefix.size() > 5)
     throw UsageError("--prefix: \"" + opt.prefix +
@@ -248,16 +272,22 @@ int run(const Options& opt) {
   // One `medium.rx` record per frame a station puts on the air, when it comes in: the end of
   // t4 (stack → interface → medium) and, for a CAM, its sender and generationDeltaTime, by
   // which the report joins it to its.cam_tx and the receivers (docs/tracing.md).
+  // Stamped with the kernel's receive time where the medium has it: frames the kernel forwards
+  // are read in blocks, well after they arrived.
   const auto frame_tracer = [](radio::LinkFraming framing) {
-    return [framing](radio::StationId from, std::span<const std::uint8_t> frame) {
+    return [framing](radio::StationId from, std::span<const std::uint8_t> frame,
+                     std::int64_t unix_ns) {
       auto& t = tb::trace::global();
+      if (unix_ns == 0)
+        unix_ns = tb::trace::Tracer::now_ns();
       if (const auto cam = radio::peek_cam(frame, framing))
-        t.record("medium.rx", {{"src", from},
-                               {"station", cam->station_id},
-                               {"gdt", unsigned{cam->generation_delta_time}},
-                               {"bytes", frame.size()}});
+        t.record_at(unix_ns, "medium.rx",
+                    {{"src", from},
+                     {"station", cam->station_id},
+                     {"gdt", unsigned{cam->generation_delta_time}},
+                     {"bytes", frame.size()}});
       else
-        t.record("medium.rx", {{"src", from}, {"bytes", frame.size()}});
+        t.record_at(unix_ns, "medium.rx", {{"src", from}, {"bytes", frame.size()}});
     };
   };
   if (tb::trace::global().enabled())
@@ -274,7 +304,8 @@ int run(const Options& opt) {
   }
 
   std::unique_ptr<radio::VethRadios> veths;
-  std::map<radio::StationId, std::unique_ptr<radio::VethPort>> ports;
+  std::unique_ptr<radio::VethPorts> ports;      // forwarding in this program
+  std::unique_ptr<radio::BridgeMedium> bridge;  // forwarding in the kernel
   std::unique_ptr<radio::HwsimRadios> hwsim;
   std::unique_ptr<radio::HwsimMedium> hwsim_medium;
   try {
@@ -282,13 +313,26 @@ int run(const Options& opt) {
       for (const auto& name : radio::VethRadios::remove_leftovers(opt.prefix))
         spdlog::warn("radio-medium: removed {} left by a run that did not end cleanly", name);
       veths = std::make_unique<radio::VethRadios>(stations, opt.prefix);
-      for (const auto& s : stations) {
-        auto& port = ports[s.id] = std::make_unique<radio::VethPort>(
-            io, s.id, veths->host_ifname(s.id), ethertype, medium);
-        medium.attach(s.id, *port);
+      if (opt.forwarding == "kernel" || (opt.forwarding == "auto" && !why_not_kernel)) {
+        bridge = std::make_unique<radio::BridgeMedium>(io, opt.prefix + "br", radio::owner_alias(),
+                                                       ethertype, channel);
+        for (const auto& s : stations)
+          bridge->attach(s.id, veths->host_ifname(s.id));
+        if (tb::trace::global().enabled())
+          bridge->set_frame_observer(frame_tracer(radio::LinkFraming::kEthernet));
+        bridge->start();
+        spdlog::info(
+            "radio-medium: forwarding in the kernel (bridge {}, every frame to every other "
+            "station), since the channel is ideal without delay or jitter",
+            bridge->bridge_name());
+      } else {
+        ports = std::make_unique<radio::VethPorts>(io, ethertype, medium);
+        for (const auto& s : stations)
+          ports->attach(s.id, veths->host_ifname(s.id));
+        ports->start();
+        spdlog::info("radio-medium: forwarding in radio-medium: {}",
+                     why_not_kernel ? *why_not_kernel : std::string("--forwarding user"));
       }
-      for (auto& [id, p] : ports)
-        p->start();
     } else {
       for (const auto& name : radio::HwsimRadios::remove_leftovers(opt.prefix))
         spdlog::warn("radio-medium: removed radio {} left by a run that did not end cleanly", name);
@@ -323,14 +367,16 @@ int run(const Options& opt) {
             "restart radio-medium to move hwsim radios");
       } else {
         for (const auto id : veths->moved_stations()) {
-          medium.detach(id);
-          ports.erase(id);
+          if (bridge)
+            bridge->detach(id);
+          else
+            ports->detach(id);
           try {
             veths->reattach(id);
-            auto& port = ports[id] = std::make_unique<radio::VethPort>(
-                io, id, veths->host_ifname(id), ethertype, medium);
-            medium.attach(id, *port);
-            port->start();
+            if (bridge)
+              bridge->attach(id, veths->host_ifname(id));
+            else
+              ports->attach(id, veths->host_ifname(id));
             spdlog::info("radio-medium: station {}: new namespace, wlan0 made again", id);
           } catch (const std::exception& e) {
             spdlog::error("radio-medium: station {}: no radio: {}", id, e.what());
@@ -351,7 +397,7 @@ int run(const Options& opt) {
     stats_timer.async_wait([&](const boost::system::error_code& ec) {
       if (ec)
         return;
-      write_stats(opt.stats_file, channel);
+      write_stats(opt.stats_file, channel, {bridge.get()});
       arm_stats();
     });
   };
@@ -364,12 +410,29 @@ int run(const Options& opt) {
   std::fflush(stdout);
 
   io.run();
-  write_stats(opt.stats_file, channel);
+  if (bridge)
+    bridge->drain_all();  // what the tap holds yet
+  write_stats(opt.stats_file, channel, {bridge.get()});
   tb::trace::global().flush();
   const auto t = channel.totals();
-  const std::uint64_t frames_in = hwsim_medium ? hwsim_medium->frames_in() : medium.frames_in();
+  const std::uint64_t frames_in = hwsim_medium ? hwsim_medium->frames_in()
+                                  : bridge     ? bridge->frames_in()
+                                               : medium.frames_in();
   spdlog::info("radio-medium: {} frames in, {} delivered, {} dropped", frames_in, t.delivered,
                t.dropped_total());
+  if (bridge) {
+    std::uint64_t kernel_dropped = 0;
+    for (const auto& [id, n] : bridge->kernel_drops())
+      kernel_dropped += n;
+    spdlog::info(
+        "radio-medium: in the kernel: {} deliveries dropped (a station's queue full); "
+        "{} frames not seen by the tap (its ring full: forwarded, but neither traced "
+        "nor counted)",
+        kernel_dropped, bridge->tap_drops());
+  } else if (ports) {
+    spdlog::info("radio-medium: {} deliveries in {} sendmmsg calls, {} failed", ports->sent(),
+                 ports->send_calls(), ports->send_errors());
+  }
   return 0;
 }
 
@@ -390,6 +453,10 @@ int main(int argc, char** argv) {
   app.add_option("--positions", opt.positions, "where vehicle states arrive, udp://ADDR:PORT");
   app.add_option("--prefix", opt.prefix, "name prefix of host-side interfaces and radios");
   app.add_option("--ethertype", opt.ethertype, "veth medium: 0x8947 (GeoNetworking) or all");
+  app.add_option("--forwarding", opt.forwarding,
+                 "veth medium: auto (in the kernel when the channel is ideal without delay or "
+                 "jitter), kernel, or user (in this program, for any channel)")
+      ->check(CLI::IsMember({"auto", "kernel", "user"}));
   app.add_option("--stats", opt.stats_file, "write per-link statistics (JSON) here on exit");
   app.add_option("--stats-interval", opt.stats_interval_s, "and every this many seconds");
   app.add_option("--seed", opt.seed, "seed of the channel model's random numbers");

@@ -1,7 +1,10 @@
 #include "network-emulator/radio/rtnl.hpp"
 
+#include <linux/if_link.h>
 #include <net/if.h>
+#include <netlink/attr.h>
 #include <netlink/errno.h>
+#include <netlink/msg.h>
 #include <netlink/netlink.h>
 #include <netlink/route/link.h>
 #include <netlink/route/link/veth.h>
@@ -58,6 +61,7 @@ std::vector<LinkInfo> RouteSocket::links() {
       info.name = n;
     if (const char* a = rtnl_link_get_ifalias(l))
       info.alias = a;
+    info.tx_dropped = rtnl_link_get_stat(l, RTNL_LINK_TX_DROPPED);
     out.push_back(std::move(info));
   }
   return out;
@@ -88,6 +92,57 @@ void RouteSocket::add_veth(const std::string& name, const std::string& alias,
     throw NetlinkError("cannot create veth " + name + " with peer " + peer_name + " (" +
                            to_string(peer_mac) + ") in the station's namespace",
                        err);
+}
+
+void RouteSocket::add_hub_bridge(const std::string& name, const std::string& alias) {
+  if (name.size() >= IFNAMSIZ)
+    throw NetlinkError(
+        "bridge " + name + ": name longer than " + std::to_string(IFNAMSIZ - 1) + " characters",
+        -NLE_INVAL);
+  // libnl-route 3.7 has no setters for the bridge's own attributes (IFLA_BR_*): the request is
+  // built by hand.
+  nl_msg* msg = nlmsg_alloc_simple(RTM_NEWLINK, NLM_F_CREATE | NLM_F_EXCL);
+  if (!msg)
+    throw NetlinkError("bridge " + name + ": cannot allocate", -NLE_NOMEM);
+  ifinfomsg ifi{};
+  ifi.ifi_family = AF_UNSPEC;
+  int err = nlmsg_append(msg, &ifi, sizeof ifi, NLMSG_ALIGNTO);
+  nlattr* info = nullptr;
+  nlattr* data = nullptr;
+  if (err >= 0)
+    err = nla_put_string(msg, IFLA_IFNAME, name.c_str());
+  if (err >= 0)
+    err = nla_put_string(msg, IFLA_IFALIAS, alias.c_str());
+  if (err >= 0 && !(info = nla_nest_start(msg, IFLA_LINKINFO)))
+    err = -NLE_NOMEM;
+  if (err >= 0)
+    err = nla_put_string(msg, IFLA_INFO_KIND, "bridge");
+  if (err >= 0 && !(data = nla_nest_start(msg, IFLA_INFO_DATA)))
+    err = -NLE_NOMEM;
+  if (err >= 0)
+    err = nla_put_u32(msg, IFLA_BR_AGEING_TIME, 0);  // learns nothing: floods every frame
+  if (err >= 0)
+    err = nla_put_u32(msg, IFLA_BR_STP_STATE, 0);
+  if (err >= 0)
+    err = nla_put_u8(msg, IFLA_BR_MCAST_SNOOPING, 0);
+  if (err >= 0) {
+    nla_nest_end(msg, data);
+    nla_nest_end(msg, info);
+    err = nl_send_sync(sock_, msg);  // frees msg
+  } else {
+    nlmsg_free(msg);
+  }
+  if (err < 0)
+    throw NetlinkError("cannot create bridge " + name, err);
+}
+
+void RouteSocket::set_master(const std::string& port, const std::string& master) {
+  const int port_index = static_cast<int>(if_nametoindex(port.c_str()));
+  const int master_index = static_cast<int>(if_nametoindex(master.c_str()));
+  if (port_index == 0 || master_index == 0)
+    throw NetlinkError("cannot make " + port + " a port of " + master, -NLE_NODEV);
+  if (int err = rtnl_link_enslave_ifindex(sock_, master_index, port_index); err < 0)
+    throw NetlinkError("cannot make " + port + " a port of " + master, err);
 }
 
 void RouteSocket::set_up(const std::string& name) {

@@ -31,6 +31,8 @@ struct LinkInfo {
   int index = 0;
   std::string name;
   std::string alias;  ///< IFLA_IFALIAS, "" when unset
+  std::uint64_t tx_dropped =
+      0;  ///< frames the link could not pass on (a veth: its peer's queue was full)
 };
 
 /// A NETLINK_ROUTE socket of the namespace of the thread that made it.
@@ -48,6 +50,12 @@ class RouteSocket {
   /// NetlinkError.
   void add_veth(const std::string& name, const std::string& alias, const std::string& peer_name,
                 int peer_netns_fd, const MacAddress& peer_mac);
+  /// A bridge that behaves as a hub: it learns no addresses (ageing time 0), so that every
+  /// frame, unicast too, goes out of every port but the one it came in on; no spanning tree,
+  /// no multicast snooping. Down; @p alias as for add_veth. @throws NetlinkError.
+  void add_hub_bridge(const std::string& name, const std::string& alias);
+  /// Makes @p port a port of the bridge @p master. @throws NetlinkError.
+  void set_master(const std::string& port, const std::string& master);
   /// Sets IFF_UP. @throws NetlinkError.
   void set_up(const std::string& name);
   /// Deletes the link (a veth takes its peer along). Returns false if it did not exist.

@@ -16,10 +16,6 @@ namespace tb::emu::radio {
 namespace {
 constexpr std::string_view kAliasTag = "tb-radio-medium pid=";
 
-std::string owner_alias() {
-  return std::string(kAliasTag) + std::to_string(::getpid());
-}
-
 bool owner_alive(const std::string& alias) {
   if (!alias.starts_with(kAliasTag))
     return false;
@@ -31,6 +27,10 @@ bool owner_alive(const std::string& alias) {
   return ::kill(pid, 0) == 0 || errno == EPERM;
 }
 }  // namespace
+
+std::string owner_alias() {
+  return std::string(kAliasTag) + std::to_string(::getpid());
+}
 
 MacAddress station_mac(StationId id) {
   return {0x02,

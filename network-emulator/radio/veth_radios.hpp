@@ -26,6 +26,10 @@ MacAddress station_mac(StationId id);
 inline constexpr const char* kDefaultPrefix = "tbrm";
 inline constexpr const char* kStationIfname = "wlan0";
 
+/// "tb-radio-medium pid=N": the alias that names the process owning an interface (the host
+/// ends of the pairs, the bridge), by which a later run tells a crashed run's leftovers.
+std::string owner_alias();
+
 /// Creates the pairs in the constructor and deletes them in the destructor (the peer in the
 /// station's namespace goes with its pair).
 class VethRadios {

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <deque>
 #include <map>
+#include <optional>
 #include <set>
 #include <thread>
 
@@ -60,13 +61,17 @@ class FakeKernel final : public BatchSocketOps {
   int full_for = 0;                        // this many next datagrams find the buffer full
   std::deque<QueuedError> error_queue;
   int pending_error = 0;
+  std::optional<Destination> connected_to;  // a connected socket: datagrams without an address
 
   int send_many(std::span<mmsghdr> msgs) override {
     call_sizes.push_back(msgs.size());
     for (std::size_t i = 0; i < msgs.size(); ++i) {
       const msghdr& h = msgs[i].msg_hdr;
+      if ((h.msg_name == nullptr) != connected_to.has_value())
+        return i == 0 ? -EDESTADDRREQ : static_cast<int>(i);  // as the kernel, near enough
       const Destination to =
-          Destination::from(static_cast<const sockaddr*>(h.msg_name), h.msg_namelen);
+          connected_to ? *connected_to
+                       : Destination::from(static_cast<const sockaddr*>(h.msg_name), h.msg_namelen);
       const std::uint16_t port = ntohs(reinterpret_cast<const sockaddr_in&>(to.addr).sin_port);
       int err = std::exchange(pending_error, 0);
       if (!err && full_for > 0) {
@@ -95,6 +100,23 @@ class FakeKernel final : public BatchSocketOps {
     return e;
   }
 };
+
+TEST(BatchSender, AConnectedSenderSendsWithoutAddressesAndPausesAGoneReceiver) {
+  FakeKernel k;
+  k.connected_to = v4("127.0.0.1", 20000);
+  BatchSender b(k, 512, /*connected=*/true);
+  const auto can = b.add_sink(v4("127.0.0.1", 20000));
+  EXPECT_FALSE(b.send(can, bytes("one")));
+  EXPECT_FALSE(b.send(can, bytes("two")));
+  b.flush();
+  ASSERT_EQ(k.delivered.size(), 2u);  // an address would have been refused (EDESTADDRREQ)
+  EXPECT_EQ(k.delivered[1].payload, "two");
+  EXPECT_EQ(b.stats().failed, 0u);
+  k.refused_ports = {20000};
+  EXPECT_FALSE(b.send(can, bytes("three")));
+  b.flush();
+  EXPECT_EQ(b.send(can, bytes("four")), std::errc::connection_refused);
+}
 
 TEST(BatchSender, QueuesUntilFlushThenSendsAllInOneCall) {
   FakeKernel k;
@@ -505,6 +527,66 @@ TEST(UdpBatchSocket, TheKernelsIcmpErrorReachesTheSinkOfThatPortOnly) {
   EXPECT_EQ(gone_error, std::errc::connection_refused);
   EXPECT_FALSE(b.take_error(good));
   EXPECT_EQ(b.stats().failed, 0u);
+  ::close(rx);
+}
+
+/// BatchSenders with a connected socket per receiver, on the real kernel: the feed whose
+/// receiver is gone gets its error, the other socket's feed none.
+TEST(BatchSenders, OnlyTheConnectedSocketWhoseReceiverIsGoneGetsTheError) {
+  // A listening UDP port on ::1 and a free one on 127.0.0.1: two sockets (one per family).
+  const int rx = ::socket(AF_INET6, SOCK_DGRAM, 0);
+  sockaddr_in6 l{};
+  l.sin6_family = AF_INET6;
+  l.sin6_addr = in6addr_loopback;
+  if (::bind(rx, reinterpret_cast<sockaddr*>(&l), sizeof l) != 0) {
+    ::close(rx);
+    GTEST_SKIP() << "no IPv6 loopback";
+  }
+  socklen_t len = sizeof l;
+  ::getsockname(rx, reinterpret_cast<sockaddr*>(&l), &len);
+  const int probe = ::socket(AF_INET, SOCK_DGRAM, 0);
+  sockaddr_in p{};
+  p.sin_family = AF_INET;
+  p.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ::bind(probe, reinterpret_cast<sockaddr*>(&p), sizeof p);
+  len = sizeof p;
+  ::getsockname(probe, reinterpret_cast<sockaddr*>(&p), &len);
+  ::close(probe);  // nobody listens there now
+
+  BatchSenders senders;
+  const auto gone_to = Destination::from(reinterpret_cast<sockaddr*>(&p), sizeof p);
+  const auto good_to = Destination::from(reinterpret_cast<sockaddr*>(&l), sizeof l);
+  BatchedDatagramSink gone(senders.get_connected("", gone_to), gone_to);
+  BatchedDatagramSink good(senders.get_connected("", good_to), good_to);
+  ASSERT_EQ(senders.sockets(), 2u);
+  // The gone feed learns of its receiver on a later send, as with a connected socket; a
+  // deadline, not a fixed wait, covers an ICMP answer that a busy machine delivers late.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  std::error_code gone_error, good_error;
+  int rounds = 0;
+  while (!gone_error && std::chrono::steady_clock::now() < deadline) {
+    gone_error = gone.send(bytes("x"));
+    good_error = good.send(bytes("y"));
+    senders.flush();
+    ++rounds;
+    if (good_error)
+      break;
+  }
+  EXPECT_EQ(gone_error, std::errc::connection_refused);
+  EXPECT_FALSE(good_error);
+  const BatchStats st = senders.stats();
+  EXPECT_GE(st.late_errors, 1u);
+  EXPECT_EQ(st.failed, 0u);
+  // Every datagram to the listening port arrived.
+  char buf[8];
+  int got = 0;
+  while (got < rounds) {
+    pollfd pfd{rx, POLLIN, 0};
+    if (::poll(&pfd, 1, 10'000) <= 0 || ::recv(rx, buf, sizeof buf, 0) <= 0)
+      break;
+    ++got;
+  }
+  EXPECT_EQ(got, rounds);
   ::close(rx);
 }
 

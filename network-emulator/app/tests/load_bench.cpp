@@ -6,7 +6,7 @@
 //
 //   network-emulator-load --emulator build/bin/network-emulator [--emulator OTHER]...
 //                         [--stations 1000] [--rate 100] [--seconds 10] [--runs 1]
-//                         [--namespaces K] [--batch N] [--emulator-arg ARG]...
+//                         [--namespaces K] [--batch N] [--emulator-arg ARG]... [--perf FILE]
 //
 // States go out as a sim-client sends them: the states of one tick in batch datagrams of up to
 // --batch states (default 9, as many as wire::kDefaultBatchDatagramSize holds; docs/wire.md).
@@ -255,10 +255,31 @@ std::string load_average() {
   return a + " " + b + " " + c;
 }
 
+/// Starts `perf record -g` of @p pid into @p file; returns its pid, or -1.
+pid_t start_perf(pid_t pid, const std::string& file) {
+  std::vector<std::string> args{"perf", "record", "-g", "-o", file, "-p", std::to_string(pid)};
+  std::vector<char*> argv_c;
+  for (auto& a : args)
+    argv_c.push_back(a.data());
+  argv_c.push_back(nullptr);
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", O_WRONLY, 0);
+  pid_t perf = -1;
+  if (::posix_spawnp(&perf, "perf", &fa, nullptr, argv_c.data(), environ) != 0)
+    perf = -1;
+  posix_spawn_file_actions_destroy(&fa);
+  if (perf < 0)
+    std::fprintf(stderr, "cannot start perf (Debian's linux-perf, scripts/install-deps)\n");
+  return perf;
+}
+
 /// One run of @p emulator; nullopt when it did not come up.
 std::optional<RunResult> run_once(const std::string& emulator,
                                   const std::vector<std::string>& extra_args, int stations,
-                                  int rate, double seconds, int namespaces, int batch) {
+                                  int rate, double seconds, int namespaces, int batch,
+                                  const std::string& perf_file) {
   Receivers receivers(namespaces);
   if (!receivers.ok())
     return std::nullopt;
@@ -369,6 +390,9 @@ std::optional<RunResult> run_once(const std::string& emulator,
       flush();
   };
 
+  // The profile covers the measured window only: the start-up's namespaces and sockets are not
+  // what is asked about.
+  const pid_t perf = perf_file.empty() ? -1 : start_perf(pid, perf_file);
   RunResult r;
   const std::uint64_t overflows0 = receive_buffer_errors();
   const double cpu0 = cpu_seconds(pid), sys0 = cpu_seconds(pid, true);
@@ -387,6 +411,10 @@ std::optional<RunResult> run_once(const std::string& emulator,
     std::this_thread::sleep_until(next);
   }
   const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+  if (perf > 0) {
+    ::kill(perf, SIGINT);
+    ::waitpid(perf, nullptr, 0);
+  }
   // Let it finish what is still queued (a backlog on a busy machine is late, not lost): done
   // when no CAN datagram came for 200 ms, or after 3 s.
   for (int quiet = 0, i = 0; quiet < 4 && i < 60; ++i) {
@@ -442,6 +470,7 @@ int main(int argc, char** argv) {
   int stations = 1000, rate = 100, runs = 1, namespaces = 0;
   int batch = static_cast<int>(tb::wire::states_per_batch(tb::wire::kDefaultBatchDatagramSize));
   std::vector<std::string> extra_args;
+  std::string perf_file;
   double seconds = 10;
   app.add_option("--emulator", emulators, "path of network-emulator (repeatable: take turns)")
       ->required();
@@ -462,6 +491,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   // Written --emulator-arg=--flag=value, so that the value is not taken for an option here.
   app.add_option("--emulator-arg", extra_args, "passed on to every emulator (repeatable)");
+  app.add_option("--perf", perf_file,
+                 "perf record -g of each emulator's first run into FILE (FILE.1, FILE.2, ... "
+                 "for the second --emulator and on)");
   CLI11_PARSE(app, argc, argv);
 
   std::printf("load average before: %s; %d stations in %s\n", load_average().c_str(), stations,
@@ -473,7 +505,10 @@ int main(int argc, char** argv) {
       // A port taken between the probe and the emulator's bind: try again with another.
       std::optional<RunResult> r;
       for (int attempt = 0; attempt < 3 && !r; ++attempt)
-        r = run_once(emulators[e], extra_args, stations, rate, seconds, namespaces, batch);
+        r = run_once(emulators[e], extra_args, stations, rate, seconds, namespaces, batch,
+                     run == 0 && !perf_file.empty()
+                         ? perf_file + (e == 0 ? "" : "." + std::to_string(e))
+                         : "");
       if (!r)
         return 1;
       results[e].push_back(*r);

@@ -10,6 +10,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -313,6 +314,9 @@ class VethMediumIT : public ::testing::Test {
         "--log-level", "warn"};
   }
   std::vector<std::unique_ptr<TestNetns>> ns_;
+
+ public:
+  const std::vector<std::unique_ptr<TestNetns>>& namespaces() const { return ns_; }
 };
 
 nlohmann::json read_json(const fs::path& f) {
@@ -420,11 +424,35 @@ TEST_F(VethMediumIT, RangeModelReachesStationsInRangeAndNoneBeyond) {
   EXPECT_EQ(b_c.first, 300u);
 }
 
-TEST_F(VethMediumIT, IdealModelLosesNoneOfTenThousandFrames) {
+// The ideal channel in both places: the kernel bridge (what auto picks for it) and the
+// program's own forwarding (--forwarding user, what every other channel gets).
+void ideal_loses_none_of_ten_thousand_frames(VethMediumIT& t, MediumProcess& medium,
+                                             const fs::path& stats, const char* forwarding);
+
+TEST_F(VethMediumIT, IdealModelInTheKernelLosesNoneOfTenThousandFrames) {
   const fs::path scenario = write_scenario(R"({ "model": "ideal" })");
   const fs::path stats = scenario.parent_path() / "ideal-stats.json";
   MediumProcess medium(args(scenario, stats, free_udp_port()));
   ASSERT_TRUE(medium.wait_ready());
+  const auto links = host_links_with_prefix();
+  EXPECT_NE(std::find(links.begin(), links.end(), std::string(kPrefix) + "br"), links.end())
+      << "no bridge " << kPrefix << "br";
+  ideal_loses_none_of_ten_thousand_frames(*this, medium, stats, "kernel");
+}
+
+TEST_F(VethMediumIT, IdealModelInTheProgramLosesNoneOfTenThousandFrames) {
+  const fs::path scenario = write_scenario(R"({ "model": "ideal" })");
+  const fs::path stats = scenario.parent_path() / "ideal-user-stats.json";
+  auto argv = args(scenario, stats, free_udp_port());
+  argv.insert(argv.end(), {"--forwarding", "user"});
+  MediumProcess medium(argv);
+  ASSERT_TRUE(medium.wait_ready());
+  ideal_loses_none_of_ten_thousand_frames(*this, medium, stats, "radio-medium");
+}
+
+void ideal_loses_none_of_ten_thousand_frames(VethMediumIT& t, MediumProcess& medium,
+                                             const fs::path& stats, const char* forwarding) {
+  const auto& ns_ = t.namespaces();
   Station a(11, ns_[0]->name()), b(12, ns_[1]->name()), c(13, ns_[2]->name());
   std::vector<Station*> all{&a, &b, &c};
   constexpr std::uint32_t kFrames = 10'000;
@@ -441,6 +469,78 @@ TEST_F(VethMediumIT, IdealModelLosesNoneOfTenThousandFrames) {
   EXPECT_EQ(link(j, 11, 13)["delivered"], kFrames);
   EXPECT_EQ(j["totals"]["sent"], 2 * kFrames);
   EXPECT_EQ(j["totals"]["delivered"], 2 * kFrames);
+  EXPECT_EQ(j["forwarding"], forwarding);
+  if (j.contains("kernel_dropped")) {
+    for (const auto& [station, n] : j["kernel_dropped"].items()) {
+      EXPECT_EQ(n, 0u) << "station " << station;
+    }
+  }
+}
+
+// In the kernel the program reads the frames late, in blocks: the trace still stamps each
+// `medium.rx` with the time the kernel received it, and decides (`medium.frame`) every link.
+TEST_F(VethMediumIT, IdealModelInTheKernelTracesEachFrameAtItsKernelTime) {
+  const fs::path scenario = write_scenario(R"({ "model": "ideal" })");
+  const fs::path stats = scenario.parent_path() / "trace-stats.json";
+  const fs::path trace = scenario.parent_path() / "kernel-trace.jsonl";
+  fs::remove(trace);
+  auto argv = args(scenario, stats, free_udp_port());
+  argv.insert(argv.end(), {"--trace", trace.string()});
+  MediumProcess medium(argv);
+  ASSERT_TRUE(medium.wait_ready());
+  Station a(11, ns_[0]->name()), b(12, ns_[1]->name()), c(13, ns_[2]->name());
+  std::vector<Station*> all{&a, &b, &c};
+  const auto unix_now = [] {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(
+               std::chrono::system_clock::now().time_since_epoch())
+        .count();
+  };
+  // Ten frames, each sent only once the one before has reached both others: every frame's
+  // kernel time lies between its send and its arrival, which the test knows.
+  std::vector<std::pair<std::int64_t, std::int64_t>> windows;
+  for (std::uint32_t i = 0; i < 10; ++i) {
+    const std::int64_t before = unix_now();
+    send_paced(a, 1, all, {&b, &c});
+    windows.emplace_back(before, unix_now());
+  }
+  ASSERT_EQ(b.count_from(11), 10u);
+  ASSERT_EQ(c.count_from(11), 10u);
+  ASSERT_TRUE(WIFEXITED(medium.stop()));
+
+  std::vector<std::int64_t> came_in;
+  std::map<int, std::uint64_t> decided;
+  std::ifstream lines(trace);
+  std::string line;
+  while (std::getline(lines, line)) {
+    const auto r = nlohmann::json::parse(line);
+    if (r["ev"] == "medium.rx") {
+      EXPECT_EQ(r["src"], 11);
+      came_in.push_back(r["ts"].get<std::int64_t>());
+    } else if (r["ev"] == "medium.frame") {
+      EXPECT_EQ(r["src"], 11);
+      EXPECT_TRUE(r["ok"].get<bool>());
+      ++decided[r["dst"].get<int>()];
+    }
+  }
+  ASSERT_EQ(came_in.size(), 10u);
+  std::sort(came_in.begin(), came_in.end());
+  for (std::size_t i = 0; i < 10; ++i) {
+    EXPECT_GE(came_in[i], windows[i].first) << "frame " << i;
+    EXPECT_LE(came_in[i], windows[i].second) << "frame " << i;
+  }
+  EXPECT_EQ(decided[12], 10u);
+  EXPECT_EQ(decided[13], 10u);
+}
+
+TEST_F(VethMediumIT, KernelForwardingOfAChannelThatDecidesIsRefused) {
+  const fs::path scenario = write_scenario(R"({ "model": "range", "range_m": 300 })");
+  auto argv = args(scenario, scenario.parent_path() / "refused.json", free_udp_port());
+  argv.insert(argv.end(), {"--forwarding", "kernel"});
+  MediumProcess medium(argv);
+  EXPECT_FALSE(medium.wait_ready());
+  const int status = medium.stop();
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 1);
 }
 
 TEST_F(VethMediumIT, RestartRemovesWhatACrashedRunLeft) {
@@ -451,7 +551,7 @@ TEST_F(VethMediumIT, RestartRemovesWhatACrashedRunLeft) {
     ASSERT_TRUE(crashed.wait_ready());
     crashed.stop(SIGKILL);
   }
-  EXPECT_EQ(host_links_with_prefix().size(), 3u) << "SIGKILL leaves the pairs behind";
+  EXPECT_EQ(host_links_with_prefix().size(), 4u) << "SIGKILL leaves the pairs and the bridge";
   EXPECT_TRUE(ns_[0]->has(kStationIfname));
   MediumProcess again(args(scenario, stats, free_udp_port()));
   ASSERT_TRUE(again.wait_ready()) << "a restart must clear the leftovers and start";

@@ -1,0 +1,125 @@
+#include "network-emulator/radio/bridge_medium.hpp"
+
+#include <net/if.h>
+#include <poll.h>
+#include <unistd.h>
+
+#include <fstream>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "network-emulator/radio/read_loop.hpp"
+#include "network-emulator/radio/rtnl.hpp"
+
+namespace tb::emu::radio {
+
+std::optional<std::string> why_bridge_cannot_carry(const scenario::ChannelModel& model) {
+  if (model.kind != scenario::ChannelModel::Kind::kIdeal)
+    return fmt::format("the {} channel decides per frame and link", to_string(model.kind));
+  if (model.delay_ms != 0.0 || model.jitter_ms != 0.0)
+    return fmt::format("the ideal channel has a delay of {} ms and a jitter of {} ms",
+                       model.delay_ms, model.jitter_ms);
+  return std::nullopt;
+}
+
+namespace {
+int ifindex_of(const std::string& name) {
+  return static_cast<int>(if_nametoindex(name.c_str()));
+}
+
+/// The bridge's own IPv6 (a link-local address, its router and listener reports) would be sent
+/// into every station as frames on the air. Best effort: a kernel without IPv6 has none.
+void disable_ipv6(const std::string& ifname) {
+  std::ofstream f("/proc/sys/net/ipv6/conf/" + ifname + "/disable_ipv6");
+  f << "1\n";
+}
+}  // namespace
+
+BridgeMedium::BridgeMedium(boost::asio::io_context& io, const std::string& bridge_name,
+                           const std::string& alias, std::uint16_t ethertype, Channel& channel)
+    : bridge_(bridge_name), channel_(channel), descriptor_(io) {
+  RouteSocket rtnl;
+  rtnl.add_hub_bridge(bridge_, alias);
+  try {
+    disable_ipv6(bridge_);
+    // The frames the bridge passes up to its own interface (every broadcast) are copies of
+    // frames already tapped on their port.
+    tap_ = std::make_unique<PacketTap>(ethertype, ifindex_of(bridge_));
+  } catch (...) {
+    rtnl.remove(bridge_);
+    throw;
+  }
+}
+
+BridgeMedium::~BridgeMedium() {
+  try {
+    RouteSocket().remove(bridge_);
+  } catch (const std::exception& e) {
+    spdlog::error("radio: {}", e.what());
+  }
+}
+
+void BridgeMedium::attach(StationId id, const std::string& host_ifname) {
+  RouteSocket().set_master(host_ifname, bridge_);
+  detach(id);
+  station_of_ifindex_[ifindex_of(host_ifname)] = id;
+  ifname_of_station_[id] = host_ifname;
+  stations_.push_back(id);
+}
+
+void BridgeMedium::detach(StationId id) {
+  std::erase(stations_, id);
+  ifname_of_station_.erase(id);
+  std::erase_if(station_of_ifindex_, [id](const auto& e) { return e.second == id; });
+}
+
+void BridgeMedium::start() {
+  RouteSocket().set_up(bridge_);
+  descriptor_.assign(::dup(tap_->fd()));
+  drain_when_readable(descriptor_, [this] { drain(); });
+}
+
+std::size_t BridgeMedium::drain() {
+  return tap_->drain([this](const TappedFrame& f) { on_frame(f); });
+}
+
+void BridgeMedium::drain_all() {
+  drain();
+  pollfd p{tap_->fd(), POLLIN, 0};
+  while (::poll(&p, 1, 2 * static_cast<int>(PacketTap::kBlockTimeoutMs)) > 0 && drain() > 0) {
+  }
+}
+
+void BridgeMedium::on_frame(const TappedFrame& f) {
+  const auto it = station_of_ifindex_.find(f.ifindex);
+  if (it == station_of_ifindex_.end()) {
+    // Another interface of this namespace with the same ethertype, or a port detached since.
+    if (unknown_port_++ == 0)
+      spdlog::debug("radio: frame on interface {}, which is no station's port (ignored)",
+                    f.ifindex);
+    return;
+  }
+  const StationId from = it->second;
+  ++frames_in_;
+  if (observer_)
+    observer_(from, f.bytes, f.unix_ns);
+  // The kernel has delivered it to every other port; the channel counts (and traces) what it
+  // would have decided, which for this channel is exactly that.
+  for (const StationId to : stations_)
+    if (to != from)
+      channel_.decide(from, to);
+}
+
+std::map<StationId, std::uint64_t> BridgeMedium::kernel_drops() const {
+  std::map<StationId, std::uint64_t> out;
+  std::map<std::string, std::uint64_t> by_name;
+  for (const LinkInfo& l : RouteSocket().links())
+    by_name[l.name] = l.tx_dropped;
+  for (const auto& [id, name] : ifname_of_station_)
+    if (const auto it = by_name.find(name); it != by_name.end())
+      out[id] = it->second;
+  return out;
+}
+
+}  // namespace tb::emu::radio
