@@ -22,7 +22,7 @@ messages::Cam build_cam(const CaConfig& config, const PositionFix& fix, const Ve
   p.basicContainer.stationType = config.station_type;
   p.basicContainer.referencePosition = cdd::reference_position(fix);
 
-  auto& hf = p.highFrequencyContainer;
+  auto& hf = *messages::vehicle_hf(p);
   hf.heading = cdd::heading(fix.heading_deg, fix.heading_confidence_deg);
   hf.speed.speedValue = cdd::speed_value(fix.speed_mps);
   if (hf.speed.speedValue != messages::kSpeedValueUnavailable)

@@ -170,9 +170,9 @@ TEST(CaService, BrakingTriggersOnSpeedChange) {
                                         {4400, CamTrigger::kTime},
                                         {5400, CamTrigger::kTime}}));
   // Each CAM carries the speed of the fix of its own instant.
-  EXPECT_EQ(h.sent[3].cam.camParameters.highFrequencyContainer.speed.speedValue, 240);
-  EXPECT_EQ(h.sent[4].cam.camParameters.highFrequencyContainer.speed.speedValue, 180);
-  EXPECT_EQ(h.sent[7].cam.camParameters.highFrequencyContainer.speed.speedValue, 0);
+  EXPECT_EQ(messages::vehicle_hf(h.sent[3].cam.camParameters)->speed.speedValue, 240);
+  EXPECT_EQ(messages::vehicle_hf(h.sent[4].cam.camParameters)->speed.speedValue, 180);
+  EXPECT_EQ(messages::vehicle_hf(h.sent[7].cam.camParameters)->speed.speedValue, 0);
 }
 
 TEST(CaService, TurningTriggersOnHeadingChangeAcrossNorth) {
@@ -203,7 +203,7 @@ TEST(CaService, TurningTriggersOnHeadingChangeAcrossNorth) {
                                         {4800, CamTrigger::kTime},
                                         {5200, CamTrigger::kTime},
                                         {6200, CamTrigger::kTime}}));
-  EXPECT_EQ(h.sent[7].cam.camParameters.highFrequencyContainer.heading.headingValue, 180);
+  EXPECT_EQ(messages::vehicle_hf(h.sent[7].cam.camParameters)->heading.headingValue, 180);
 }
 
 TEST(CaService, FixedPolicySendsAtItsPeriodWhateverTheDynamics) {
@@ -269,7 +269,7 @@ TEST(CaService, EncodedCamDecodesToWhatWasBuilt) {
   auto decoded = messages::decode_cam(h.sender.packets[0].payload);
   ASSERT_TRUE(decoded) << asn1::to_string(decoded.error());
   EXPECT_EQ(*decoded, h.sent[0]);
-  const auto& hf = decoded->cam.camParameters.highFrequencyContainer;
+  const auto& hf = *messages::vehicle_hf(decoded->cam.camParameters);
   EXPECT_EQ(hf.heading.headingValue, 900);
   EXPECT_EQ(hf.heading.headingConfidence, 10);
   EXPECT_EQ(hf.speed.speedValue, 1500);

@@ -21,7 +21,8 @@ class NullSender final : public fac::MessageSender {
     return fac::SendResult::kSent;
   }
   fac::SendResult send_geobroadcast(std::uint16_t, const fac::GeoArea&,
-                                    std::span<const std::uint8_t>, std::uint32_t) override {
+                                    std::span<const std::uint8_t>, std::uint32_t,
+                                    std::uint8_t) override {
     return fac::SendResult::kSent;
   }
   std::vector<std::uint8_t> last;
