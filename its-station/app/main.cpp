@@ -157,6 +157,11 @@ int run(const Options& o) {
   if (vehicle) {
     ca_cfg.vehicle_length_m = vehicle->model.length_m;
     ca_cfg.vehicle_width_m = vehicle->model.width_m;
+    // The scenario's role is the CDD VehicleRole, value for value.
+    ca_cfg.vehicle_role = static_cast<tb::its::messages::VehicleRole>(vehicle->role);
+    if (vehicle->dangerous_goods)
+      ca_cfg.dangerous_goods =
+          static_cast<tb::its::messages::DangerousGoodsBasic>(*vehicle->dangerous_goods);
   }
   if (o.cam_policy == "fixed") {
     ca_cfg.policy.kind = tb::scenario::CamPolicy::Kind::kFixed;

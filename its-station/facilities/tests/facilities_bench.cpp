@@ -81,7 +81,9 @@ void BM_FixToCamBytes(benchmark::State& state) {
                   .brake_pedal = false,
                   .gas_pedal = true,
                   .reversing = false,
-                  .exterior_lights = fac::lights::kLowBeam});
+                  .exterior_lights = fac::lights::kLowBeam,
+                  .light_bar = std::nullopt,
+                  .siren = std::nullopt});
   double x = 0.0;
   position.inject(fix_at(rt, x));
   ca.start();
