@@ -236,7 +236,8 @@ TEST_F(NetworkEmulatorIt, FeedsStationsAndSurvivesOneWithoutReceiver) {
       ASSERT_TRUE(wait_until([&] {
         drain();
         return nmea.size() >= epochs;
-      })) << "epoch " << epochs << " never came; " << read_file(log);
+      })) << "epoch "
+          << epochs << " never came; " << read_file(log);
     }
   }
   // Everything sent must come out; wait for it (a deadline, not a fixed time).
@@ -299,8 +300,9 @@ TEST_F(NetworkEmulatorIt, CanTransportIsDetectedAndSaidOnce) {
   const fs::path log = dir_ / "auto.log";
   {
     Program emu({"--scenario", (dir_ / "scenario.json").string(), "--listen", "127.0.0.1:0"}, log);
-    EXPECT_TRUE(wait_until([&] { return read_file(log).find("CAN transport:") != std::string::npos; }))
-        << read_file(log);
+    EXPECT_TRUE(wait_until([&] {
+      return read_file(log).find("CAN transport:") != std::string::npos;
+    })) << read_file(log);
     EXPECT_EQ(emu.wait_exit(true), 0);
   }
   const std::string text = read_file(log);
