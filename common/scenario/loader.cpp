@@ -1,8 +1,10 @@
 #include "common/scenario/loader.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <set>
 #include <sstream>
 #include <unordered_map>
@@ -14,6 +16,7 @@
 #include "common/map/opendrive/reader.hpp"
 #include "common/map/scenario_map.hpp"
 #include "common/scenario/json_reader.hpp"
+#include "common/wire/vehicle_state.hpp"
 
 namespace tb::scenario {
 
@@ -630,6 +633,71 @@ Vehicle read_vehicle(Node n, const MapContext& m) {
     v.model = read_model(*m);
   v.spawn = read_spawn(n.required("spawn"), m);
   v.driver = n.optional("driver") ? read_driver(n.required("driver")) : Driver{HumanDriver{}};
+  if (auto r = n.optional("role")) {
+    // CDD VehicleRole names, in the order of their values (reserved1..3 are not roles).
+    static constexpr std::string_view kRoles[] = {
+        "default",     "publicTransport", "specialTransport", "dangerousGoods",
+        "roadWork",    "rescue",          "emergency",        "safetyCar",
+        "agriculture", "commercial",      "military",         "roadOperator",
+        "taxi"};
+    const std::string name =
+        r->choice({kRoles[0], kRoles[1], kRoles[2], kRoles[3], kRoles[4], kRoles[5], kRoles[6],
+                   kRoles[7], kRoles[8], kRoles[9], kRoles[10], kRoles[11], kRoles[12]});
+    v.role = static_cast<VehicleRole>(std::find(std::begin(kRoles), std::end(kRoles), name) -
+                                      std::begin(kRoles));
+  }
+  if (auto g = n.optional("dangerous_goods")) {
+    if (v.role != VehicleRole::kDangerousGoods)
+      g->fail("\"dangerous_goods\" is only for a vehicle with \"role\": \"dangerousGoods\"");
+    static constexpr std::string_view kGoods[] = {
+        "explosives1",
+        "explosives2",
+        "explosives3",
+        "explosives4",
+        "explosives5",
+        "explosives6",
+        "flammableGases",
+        "nonFlammableGases",
+        "toxicGases",
+        "flammableLiquids",
+        "flammableSolids",
+        "substancesLiableToSpontaneousCombustion",
+        "substancesEmittingFlammableGasesUponContactWithWater",
+        "oxidizingSubstances",
+        "organicPeroxides",
+        "toxicSubstances",
+        "infectiousSubstances",
+        "radioactiveMaterial",
+        "corrosiveSubstances",
+        "miscellaneousDangerousSubstances"};
+    const std::string name = g->string();
+    const auto* it = std::find(std::begin(kGoods), std::end(kGoods), name);
+    if (it == std::end(kGoods))
+      g->fail(
+          "\"" + name +
+          "\" is not a CDD DangerousGoodsBasic (explosives1 … miscellaneousDangerousSubstances, "
+          "docs/scenario.md)");
+    v.dangerous_goods = static_cast<int>(it - std::begin(kGoods));
+  } else if (v.role == VehicleRole::kDangerousGoods) {
+    n.required("dangerous_goods");  // names the missing field
+  }
+  if (auto l = n.optional("lights")) {
+    for (const Node& e : l->array(0, 16)) {
+      const std::string name = e.choice({"low_beam", "high_beam", "fog", "parking",
+                                         "daytime_running", "hazard", "light_bar", "siren"});
+      const std::uint16_t bit = name == "low_beam"          ? wire::kLowBeam
+                                : name == "high_beam"       ? wire::kHighBeam
+                                : name == "fog"             ? wire::kFogLight
+                                : name == "parking"         ? wire::kParkingLights
+                                : name == "daytime_running" ? wire::kDaytimeRunning
+                                : name == "hazard"          ? wire::kHazard
+                                : name == "light_bar"       ? wire::kLightBar
+                                                            : wire::kSiren;
+      if (v.lights & bit)
+        e.fail("\"" + name + "\" is listed twice");
+      v.lights |= bit;
+    }
+  }
   if (auto st = n.optional("station")) {
     st->expect_object(
         "a station (\"command\": the program and its arguments, \"pki\": a test PKI's name)");

@@ -156,6 +156,25 @@ struct LaneFollowDriver {
 
 using Driver = std::variant<HumanDriver, TimelineDriver, LaneFollowDriver>;
 
+/// The vehicle's role in road traffic: CDD VehicleRole (TS 102 894-2), the enumerator's value
+/// being the CDD's. Its station says it in the CAM's low-frequency container and, for the roles
+/// 1 to 7, sends the special-vehicle container of that role (EN 302 637-2 B.2.x).
+enum class VehicleRole : std::uint8_t {
+  kDefault = 0,
+  kPublicTransport = 1,
+  kSpecialTransport = 2,
+  kDangerousGoods = 3,
+  kRoadWork = 4,
+  kRescue = 5,
+  kEmergency = 6,
+  kSafetyCar = 7,
+  kAgriculture = 8,
+  kCommercial = 9,
+  kMilitary = 10,
+  kRoadOperator = 11,
+  kTaxi = 12,
+};
+
 struct Vehicle {
   std::string id;
   std::uint32_t station_id = 0;   ///< ETSI StationID
@@ -173,6 +192,14 @@ struct Vehicle {
   /// beside the scenario's. Stations of different PKIs drop each other's packets
   /// (untrusted_root): a foreign or misconfigured vehicle. Empty: the scenario's PKI.
   std::string station_pki;
+  /// "role": a CDD VehicleRole name ("emergency", "publicTransport", …).
+  VehicleRole role = VehicleRole::kDefault;
+  /// "dangerous_goods": the CDD DangerousGoodsBasic (0 explosives1 … 19
+  /// miscellaneousDangerousSubstances) a "dangerousGoods" vehicle carries; only for that role.
+  std::optional<int> dangerous_goods;
+  /// "lights": the light switches (wire::Light bits) on from the start. A scripted driver keeps
+  /// them; a human driver starts from them and switches with the keys.
+  std::uint16_t lights = 0;
 };
 
 // ---------------------------------------------------------------------------------------------

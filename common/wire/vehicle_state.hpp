@@ -32,6 +32,9 @@ enum Light : std::uint16_t {
   kFogLight = 1u << 7,
   kParkingLights = 1u << 8,
   kDaytimeRunning = 1u << 9,
+  /// A special vehicle's light bar and siren (CDD LightBarSirenInUse).
+  kLightBar = 1u << 10,
+  kSiren = 1u << 11,
 };
 
 struct Controls {

@@ -50,7 +50,8 @@ facilities::SendResult BtpMessageSender::send_single_hop(std::uint16_t port,
 facilities::SendResult BtpMessageSender::send_geobroadcast(std::uint16_t port,
                                                            const facilities::GeoArea& area,
                                                            std::span<const std::uint8_t> payload,
-                                                           std::uint32_t lifetime_ms) {
+                                                           std::uint32_t lifetime_ms,
+                                                           std::uint8_t traffic_class) {
   geonet::AreaShape shape = geonet::AreaShape::kCircle;
   if (area.shape == facilities::GeoArea::Shape::kRectangle)
     shape = geonet::AreaShape::kRectangle;
@@ -60,30 +61,46 @@ facilities::SendResult BtpMessageSender::send_geobroadcast(std::uint16_t port,
       geonet::make_geo_area(shape, {area.latitude_deg, area.longitude_deg}, area.distance_a_m,
                             area.distance_b_m, area.angle_deg));
   r.lifetime = std::chrono::milliseconds{lifetime_ms};
-  r.traffic_class = kDenmTrafficClass;
+  r.traffic_class = geonet::TrafficClass{false, false, traffic_class};
   return to_send_result(btp_.send_b(r, port, 0, payload));
 }
 
-double DenPortAdapter::radius_m(apps::RelevanceDistance d) {
-  switch (d) {
-    case apps::RelevanceDistance::kLessThan50m:
-      return 50.0;
-    case apps::RelevanceDistance::kLessThan100m:
-      return 100.0;
-    case apps::RelevanceDistance::kLessThan200m:
-      return 200.0;
-    case apps::RelevanceDistance::kLessThan500m:
-      return 500.0;
-    case apps::RelevanceDistance::kLessThan1000m:
-      return 1000.0;
-    case apps::RelevanceDistance::kLessThan5km:
-      return 5000.0;
-    case apps::RelevanceDistance::kLessThan10km:
-      return 10000.0;
-    case apps::RelevanceDistance::kOver10km:
-      return 20000.0;
+facilities::DenmReception den_reception(const btp::Indication& ind) {
+  facilities::DenmReception rx;
+  if (ind.gn == nullptr)
+    return rx;
+  rx.traffic_class = ind.gn->traffic_class.id;
+  // A permissive station's unverified DENMs have nothing trustworthy to check against.
+  if (ind.gn->security_report == security::VerifyResult::kOk)
+    rx.ssp = ind.gn->permissions;
+  if (const auto& a = ind.gn->destination_area) {
+    facilities::GeoArea area;
+    area.shape = a->shape == geonet::AreaShape::kRectangle ? facilities::GeoArea::Shape::kRectangle
+                 : a->shape == geonet::AreaShape::kEllipse ? facilities::GeoArea::Shape::kEllipse
+                                                           : facilities::GeoArea::Shape::kCircle;
+    area.latitude_deg = geonet::to_degrees(a->latitude);
+    area.longitude_deg = geonet::to_degrees(a->longitude);
+    area.distance_a_m = a->distance_a;
+    area.distance_b_m = a->distance_b;
+    area.angle_deg = a->angle;
+    rx.destination_area = area;
   }
-  return 1000.0;
+  return rx;
+}
+
+bool GnAreaLocator::inside(const facilities::GeoArea& area) const {
+  const auto& fix = position_.current();
+  if (!fix)
+    return true;
+  geonet::AreaShape shape = geonet::AreaShape::kCircle;
+  if (area.shape == facilities::GeoArea::Shape::kRectangle)
+    shape = geonet::AreaShape::kRectangle;
+  else if (area.shape == facilities::GeoArea::Shape::kEllipse)
+    shape = geonet::AreaShape::kEllipse;
+  return geonet::is_inside_or_at_border(
+      geonet::make_geo_area(shape, {area.latitude_deg, area.longitude_deg}, area.distance_a_m,
+                            area.distance_b_m, area.angle_deg),
+      {fix->latitude_deg, fix->longitude_deg});
 }
 
 facilities::DenRequest DenPortAdapter::to_request(const apps::DenEventRequest& r) const {
@@ -102,7 +119,9 @@ facilities::DenRequest DenPortAdapter::to_request(const apps::DenEventRequest& r
       std::clamp<std::int64_t>(r.validity_duration.count(), 0, 86400));
   q.repetition_interval = interval_;
   q.repetition_duration = std::min<clock::Duration>(duration_, r.validity_duration);
-  const double radius = radius_m(r.relevance_distance);
+  q.traffic_class = r.traffic_class;
+  const double radius = facilities::cdd::relevance_radius_m(
+      static_cast<messages::RelevanceDistance>(r.relevance_distance));
   q.destination_area = {facilities::GeoArea::Shape::kCircle,
                         q.event_latitude_deg,
                         q.event_longitude_deg,
@@ -171,7 +190,10 @@ apps::mqtt::Kinematics neighbour_kinematics(const facilities::Neighbour& n) {
   k.heading_deg = s.heading_deg;
   if (s.speed_mps)
     k.speed_mps = std::abs(*s.speed_mps);
-  const auto& hf = p.highFrequencyContainer;
+  const auto* vhf = messages::vehicle_hf(p);
+  if (vhf == nullptr)
+    return k;  // a road-side unit: a position, nothing of a vehicle's motion
+  const auto& hf = *vhf;
   k.reversing = hf.driveDirection == messages::DriveDirection::backward;
   if (hf.longitudinalAcceleration.longitudinalAccelerationValue !=
       messages::kAccelerationValueUnavailable)

@@ -59,23 +59,38 @@ class BtpMessageSender final : public facilities::MessageSender {
   /// profile DP2 of TS 102 636-4-2: periodic awareness); the lifetime bounds nothing for SHB.
   static constexpr geonet::TrafficClass kCamTrafficClass{false, false, 2};
   static constexpr clock::Duration kCamLifetime = std::chrono::seconds{1};
-  /// DENMs go with traffic class 0, the highest (DP0 of TS 102 636-4-2: event-driven safety
-  /// warnings; EN 302 637-3 leaves the value to the profile, and our DENMs are collision
-  /// warnings); no store-carry-forward, so a GBC at a greedy local optimum is broadcast.
-  static constexpr geonet::TrafficClass kDenmTrafficClass{false, false, 0};
+  /// DENMs go with the traffic class ID the DEN service asks for (facilities::DenRequest:
+  /// 1, or 0 for time-critical warnings), without store-carry-forward, so that a GBC at a
+  /// greedy local optimum is broadcast.
 
   explicit BtpMessageSender(btp::Dispatcher& btp) : btp_(btp) {}
   facilities::SendResult send_single_hop(std::uint16_t port,
                                          std::span<const std::uint8_t> payload) override;
   facilities::SendResult send_geobroadcast(std::uint16_t port, const facilities::GeoArea& area,
                                            std::span<const std::uint8_t> payload,
-                                           std::uint32_t lifetime_ms) override;
+                                           std::uint32_t lifetime_ms,
+                                           std::uint8_t traffic_class) override;
 
  private:
   btp::Dispatcher& btp_;
 };
 
 facilities::SendResult to_send_result(geonet::DataConfirm c);
+
+/// What the DEN service learns of a received DENM from GeoNetworking: its destination area
+/// (GBC) and traffic class ID; a packet that came without GN indication gives the defaults.
+facilities::DenmReception den_reception(const btp::Indication& ind);
+
+/// Whether the station stands in an area: GeoNetworking's geometric function (EN 302 931) at
+/// the newest fix; without a fix it counts as inside.
+class GnAreaLocator final : public facilities::AreaLocator {
+ public:
+  explicit GnAreaLocator(const facilities::PositionProvider& p) : position_(p) {}
+  bool inside(const facilities::GeoArea& area) const override;
+
+ private:
+  const facilities::PositionProvider& position_;
+};
 
 /// The applications' DEN port over the facilities' DEN service. The destination area is a
 /// circle around the event as large as its relevance distance class.
@@ -89,8 +104,6 @@ class DenPortAdapter final : public apps::DenService {
   bool terminate(const apps::ActionId& id) override;
 
   facilities::DenRequest to_request(const apps::DenEventRequest& r) const;
-  /// Upper bound of a CDD RelevanceDistance class, m (over10km: 20 km).
-  static double radius_m(apps::RelevanceDistance d);
 
  private:
   facilities::DenService& den_;

@@ -77,6 +77,7 @@ struct Options {
   std::string mqtt_prefix = "its";
   double denm_repetition_ms = 100.0;
   double denm_repetition_duration_s = 1.0;
+  bool no_keep_alive_forwarding = false;
   bool lcrw = true;
   std::string trace;
   std::string status_file;
@@ -158,6 +159,11 @@ int run(const Options& o) {
   if (vehicle) {
     ca_cfg.vehicle_length_m = vehicle->model.length_m;
     ca_cfg.vehicle_width_m = vehicle->model.width_m;
+    // The scenario's role is the CDD VehicleRole, value for value.
+    ca_cfg.vehicle_role = static_cast<tb::its::messages::VehicleRole>(vehicle->role);
+    if (vehicle->dangerous_goods)
+      ca_cfg.dangerous_goods =
+          static_cast<tb::its::messages::DangerousGoodsBasic>(*vehicle->dangerous_goods);
   }
   if (o.cam_policy == "fixed") {
     ca_cfg.policy.kind = tb::scenario::CamPolicy::Kind::kFixed;
@@ -248,7 +254,12 @@ int run(const Options& o) {
   // Facilities.
   fac::Ldm ldm(runtime);
   fac::CaService ca(runtime, position, vehicle_data.get(), sender, ldm, ca_cfg);
-  fac::DenService den(runtime, sender, ldm, {o.station_id, ca_cfg.station_type, 1000.0});
+  fac::DenConfig den_cfg;
+  den_cfg.station_id = o.station_id;
+  den_cfg.station_type = ca_cfg.station_type;
+  den_cfg.keep_alive_forwarding = !o.no_keep_alive_forwarding;
+  tb::its::station::GnAreaLocator den_locator(position);
+  fac::DenService den(runtime, sender, ldm, den_cfg, &den_locator);
   // The station's ITS clock is its GNSS time, as on a real OBU: received CAMs are dated, and
   // LCRW extrapolates and ages states, on the timebase of the fixes (sim time in the testbed,
   // which need not be the host's wall clock), so that generationDeltaTime resolves to the right
@@ -266,10 +277,7 @@ int run(const Options& o) {
   });
   btp.register_port(fac::kBtpPortDenm, [&](const tb::its::btp::Indication& ind,
                                            std::span<const std::uint8_t> payload) {
-    std::optional<std::span<const std::uint8_t>> ssp;
-    if (ind.gn && ind.gn->security_report == tb::its::security::VerifyResult::kOk)
-      ssp = ind.gn->permissions;
-    den.receive(payload, ssp);
+    den.receive(payload, tb::its::station::den_reception(ind));
   });
 
   // MQTT.
@@ -445,6 +453,8 @@ int run(const Options& o) {
     j["cams_sent"] = ca.counters().sent;
     j["cams_received"] = ca.counters().received;
     j["denms_sent"] = den.counters().sent;
+    j["denms_received"] = den.counters().received;
+    j["denms_forwarded"] = den.counters().forwarded;
     j["neighbours"] = nlohmann::json::array();
     for (const auto& [id, n] : ldm.neighbours()) {
       const auto& s = n.latest();
@@ -652,6 +662,8 @@ int main(int argc, char** argv) {
   app.add_option("--denm-repetition-duration", o.denm_repetition_duration_s,
                  "T_RepetitionDuration of application DENMs, s")
       ->capture_default_str();
+  app.add_flag("--no-keep-alive-forwarding", o.no_keep_alive_forwarding,
+               "do not keep other stations' DENMs alive (EN 302 637-3 clause 8.2.2, optional)");
   app.add_flag("!--no-lcrw", o.lcrw, "do not run the LCRW application");
   app.add_option("--trace", o.trace, "write trace records (JSON lines) to FILE");
   app.add_option("--status-file", o.status_file,

@@ -13,8 +13,38 @@
 
 namespace tb::its::facilities {
 
+std::optional<messages::SpecialVehicleContainer> special_vehicle_container(
+    const CaConfig& config, const VehicleData* vehicle) {
+  namespace m = messages;
+  m::LightBarSirenInUse lbs = 0;
+  if (vehicle && vehicle->light_bar.value_or(false))
+    lbs |= m::light_bar_siren::kLightBarActivated;
+  if (vehicle && vehicle->siren.value_or(false))
+    lbs |= m::light_bar_siren::kSirenActivated;
+  switch (config.vehicle_role) {
+    case m::VehicleRole::publicTransport:
+      return m::PublicTransportContainer{};
+    case m::VehicleRole::specialTransport:
+      return m::SpecialTransportContainer{0, lbs};
+    case m::VehicleRole::dangerousGoods:
+      // miscellaneousDangerousSubstances (19) when the configuration names nothing better.
+      return m::DangerousGoodsContainer{config.dangerous_goods.value_or(19)};
+    case m::VehicleRole::roadWork:
+      return m::RoadWorksContainerBasic{std::nullopt, lbs, std::nullopt};
+    case m::VehicleRole::rescue:
+      return m::RescueContainer{lbs};
+    case m::VehicleRole::emergency:
+      return m::EmergencyContainer{lbs, std::nullopt, std::nullopt};
+    case m::VehicleRole::safetyCar:
+      return m::SafetyCarContainer{lbs, std::nullopt, std::nullopt, std::nullopt};
+    default:
+      return std::nullopt;
+  }
+}
+
 messages::Cam build_cam(const CaConfig& config, const PositionFix& fix, const VehicleData* vehicle,
-                        const messages::PathHistory* low_frequency_path) {
+                        const messages::PathHistory* low_frequency_path,
+                        bool with_special_vehicle) {
   messages::Cam cam;
   cam.header.stationID = config.station_id;
   // EN 302 637-2 B.3: generationDeltaTime is the time of the reference position.
@@ -23,7 +53,7 @@ messages::Cam build_cam(const CaConfig& config, const PositionFix& fix, const Ve
   p.basicContainer.stationType = config.station_type;
   p.basicContainer.referencePosition = cdd::reference_position(fix);
 
-  auto& hf = p.highFrequencyContainer;
+  auto& hf = *messages::vehicle_hf(p);
   hf.heading = cdd::heading(fix.heading_deg, fix.heading_confidence_deg);
   hf.speed.speedValue = cdd::speed_value(fix.speed_mps);
   if (hf.speed.speedValue != messages::kSpeedValueUnavailable)
@@ -78,6 +108,8 @@ messages::Cam build_cam(const CaConfig& config, const PositionFix& fix, const Ve
     lf.pathHistory = *low_frequency_path;
     p.lowFrequencyContainer = lf;
   }
+  if (with_special_vehicle)
+    p.specialVehicleContainer = special_vehicle_container(config, vehicle);
   return cam;
 }
 
@@ -214,7 +246,10 @@ void CaService::generate(CamTrigger why, const PositionFix& fix) {
   if (rules_.low_frequency_due(now))
     path = path_.build(fix);
   const VehicleData* vd = vehicle_ && vehicle_->current() ? &*vehicle_->current() : nullptr;
-  const auto cam = build_cam(config_, fix, vd, path ? &*path : nullptr);
+  // Clause 6.1.3: the special-vehicle container in the first CAM, then once 500 ms or more
+  // have passed since the last CAM that carried it.
+  const bool special = rules_.special_vehicle_due(now);
+  const auto cam = build_cam(config_, fix, vd, path ? &*path : nullptr, special);
 
   // Tracing: the build ends and the encoding starts here (p3.build | p3.encode).
   const std::int64_t encode_ns = trace::global().enabled() ? trace::Tracer::now_ns() : 0;
@@ -228,6 +263,8 @@ void CaService::generate(CamTrigger why, const PositionFix& fix) {
   rules_.generated(now, fix, why);
   if (path)
     rules_.low_frequency_sent(now);
+  if (cam.cam.camParameters.specialVehicleContainer)
+    rules_.special_vehicle_sent(now);
   // its.cam_tx marks the hand-over to the network (end of p3, start of t4): stamped before the
   // send, which on a veth or hwsim radio already delivers the frame to the medium and beyond;
   // sent_ns when the send returned, the frame on the interface (end of t4).

@@ -24,13 +24,29 @@ struct CaConfig {
   scenario::CamPolicy policy;  ///< the standard's rules by default; `fixed` for the thesis
   std::optional<double> vehicle_length_m;
   std::optional<double> vehicle_width_m;
+  /// The vehicle's role (scenario "role"): in the low-frequency container, and the
+  /// special-vehicle container of the roles that have one.
   messages::VehicleRole vehicle_role = messages::VehicleRole::default_;
+  /// What a dangerousGoods vehicle carries (its DangerousGoodsContainer).
+  std::optional<messages::DangerousGoodsBasic> dangerous_goods;
 };
 
+/// The special-vehicle container of @p config's role (EN 302 637-2 B.2.x): publicTransport,
+/// specialTransport, dangerousGoods, roadWork, rescue, emergency and safetyCar each have one,
+/// the other roles none (empty). lightBarSirenInUse comes from @p vehicle's light bar and siren
+/// where the container has it (both off when the vehicle data does not say); the optional
+/// components the station cannot know (ptActivation, incidentIndication, emergencyPriority,
+/// closedLanes …) are left out.
+std::optional<messages::SpecialVehicleContainer> special_vehicle_container(
+    const CaConfig& config, const VehicleData* vehicle);
+
 /// Builds the CAM of @p fix (reference position, heading, speed and generationDeltaTime all
-/// from the fix, so the CAM names the fix it came from), with @p vehicle's signals.
+/// from the fix, so the CAM names the fix it came from), with @p vehicle's signals; with the
+/// low-frequency container when @p low_frequency_path is given, and the special-vehicle
+/// container of the station's role when @p with_special_vehicle.
 messages::Cam build_cam(const CaConfig& config, const PositionFix& fix, const VehicleData* vehicle,
-                        const messages::PathHistory* low_frequency_path);
+                        const messages::PathHistory* low_frequency_path,
+                        bool with_special_vehicle = false);
 
 class CaService {
  public:

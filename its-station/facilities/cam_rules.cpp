@@ -40,6 +40,7 @@ CamRules::CamRules(CamTiming timing, scenario::CamPolicy policy)
 void CamRules::reset() {
   last_.reset();
   last_lf_.reset();
+  last_special_.reset();
   t_gen_cam_ = timing_.T_GenCamMax;
   consecutive_time_cams_ = 0;
 }
@@ -104,6 +105,10 @@ void CamRules::generated(clock::SteadyTime now, const PositionFix& fix, CamTrigg
 
 bool CamRules::low_frequency_due(clock::SteadyTime now) const {
   return !last_lf_ || now - *last_lf_ >= timing_.lf_interval;
+}
+
+bool CamRules::special_vehicle_due(clock::SteadyTime now) const {
+  return !last_special_ || now - *last_special_ >= timing_.special_vehicle_interval;
 }
 
 std::optional<clock::SteadyTime> CamRules::next_time_due() const {

@@ -34,6 +34,9 @@ struct CamTiming {
   clock::Duration fresh_fix_wait = 10ms;
   /// Low-frequency container: in the first CAM, then when this much time has passed (B.3.5).
   clock::Duration lf_interval = 500ms;
+  /// Special-vehicle container: the same rule, its own clock (clause 6.1.3: in the first CAM,
+  /// then when 500 ms or more have passed since the last CAM that carried it).
+  clock::Duration special_vehicle_interval = 500ms;
   /// Thresholds of condition 1.
   double heading_threshold_deg = 4.0;
   double position_threshold_m = 4.0;
@@ -66,6 +69,10 @@ class CamRules {
   /// Whether the CAM to be generated at @p now carries the low-frequency container.
   bool low_frequency_due(clock::SteadyTime now) const;
   void low_frequency_sent(clock::SteadyTime now) { last_lf_ = now; }
+  /// Whether the CAM to be generated at @p now carries the special-vehicle container (for a
+  /// station that has one).
+  bool special_vehicle_due(clock::SteadyTime now) const;
+  void special_vehicle_sent(clock::SteadyTime now) { last_special_ = now; }
 
   /// The earliest instant a time-based CAM can become due (for the check timer); empty before
   /// the first CAM.
@@ -95,6 +102,7 @@ class CamRules {
   scenario::CamPolicy policy_;
   std::optional<Last> last_;
   std::optional<clock::SteadyTime> last_lf_;
+  std::optional<clock::SteadyTime> last_special_;
   clock::Duration t_gen_cam_;
   int consecutive_time_cams_ = 0;
 };

@@ -30,6 +30,7 @@ namespace {
 struct Layout {
   std::string_view message;
   std::array<std::string_view, 8> signals;
+  std::array<std::string_view, 2> optional_signals{};
 };
 constexpr Layout kSpeed{"VehicleSpeed", {"VehicleSpeed", "DrivingDirection"}};
 constexpr Layout kDynamics{"Dynamics",
@@ -38,7 +39,8 @@ constexpr Layout kSteering{"Steering", {"SteeringWheelAngle"}};
 constexpr Layout kPowertrain{"Powertrain", {"ThrottlePedal", "BrakePedal"}};
 constexpr Layout kLights{"Lights",
                          {"IndicatorLeft", "IndicatorRight", "HazardLights", "LowBeam", "HighBeam",
-                          "ReverseLight", "FogLight"}};
+                          "ReverseLight", "FogLight"},
+                         {"LightBar", "Siren"}};
 
 constexpr double kKmhToMps = 1.0 / 3.6;
 
@@ -69,6 +71,9 @@ Expected<CanVehicleDecoder, CanSchemaError> CanVehicleDecoder::create(const can:
         return Unexpected{CanSchemaError{"message " + m->name + " has no signal " +
                                          std::string(layout->signals[i])}};
     }
+    for (std::size_t i = 0; i < layout->optional_signals.size(); ++i)
+      if (!layout->optional_signals[i].empty())
+        e.optional_signals[i] = m->find_signal(layout->optional_signals[i]);
     entries[m->extended ? (m->id | can::kEffFlag) : m->id] = e;
   }
   return CanVehicleDecoder(std::move(entries));
@@ -161,6 +166,10 @@ void CanVehicleDecoder::decode(const Entry& e, std::span<const std::uint8_t> dat
       if (value(6) > 0.5)
         l |= lights::kFog;
       state_.exterior_lights = l;
+      if (e.optional_signals[0])
+        state_.light_bar = e.optional_signals[0]->decode(data) > 0.5;
+      if (e.optional_signals[1])
+        state_.siren = e.optional_signals[1]->decode(data) > 0.5;
       break;
     }
   }

@@ -62,6 +62,8 @@ class CanVehicleDecoder {
     const can::Signal* counter = nullptr;
     const can::Signal* checksum = nullptr;
     std::array<const can::Signal*, 8> signals{};
+    /// Signals a DBC may leave out (a car without light bar and siren): null when absent.
+    std::array<const can::Signal*, 2> optional_signals{};
     int last_counter = -1;
   };
 

@@ -179,4 +179,26 @@ m::Curvature curvature(std::optional<double> yaw_rate_dps, std::optional<double>
   return c;
 }
 
+double relevance_radius_m(m::RelevanceDistance d) {
+  switch (d) {
+    case m::RelevanceDistance::lessThan50m:
+      return 50.0;
+    case m::RelevanceDistance::lessThan100m:
+      return 100.0;
+    case m::RelevanceDistance::lessThan200m:
+      return 200.0;
+    case m::RelevanceDistance::lessThan500m:
+      return 500.0;
+    case m::RelevanceDistance::lessThan1000m:
+      return 1000.0;
+    case m::RelevanceDistance::lessThan5km:
+      return 5000.0;
+    case m::RelevanceDistance::lessThan10km:
+      return 10000.0;
+    case m::RelevanceDistance::over10km:
+      return 20000.0;
+  }
+  return 1000.0;
+}
+
 }  // namespace tb::its::facilities::cdd

@@ -36,4 +36,8 @@ m::SteeringWheelAngle steering_wheel_angle(std::optional<double> deg);
 /// Curvature from yaw rate and speed (κ = ω / v), CurvatureCalculationMode yawRateUsed.
 m::Curvature curvature(std::optional<double> yaw_rate_dps, std::optional<double> speed_mps);
 
+/// Upper bound of a RelevanceDistance class, m (over10km: 20 km), the radius of the relevance
+/// area a DENM of that class is GeoBroadcast in.
+double relevance_radius_m(m::RelevanceDistance d);
+
 }  // namespace tb::its::facilities::cdd

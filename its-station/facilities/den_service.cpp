@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
 
 #include <spdlog/spdlog.h>
 
@@ -38,12 +39,20 @@ std::uint32_t gn_lifetime_ms(messages::ValidityDuration validity_s) {
 
 }  // namespace
 
-DenService::DenService(clock::Runtime& runtime, MessageSender& sender, Ldm& ldm, DenConfig config)
-    : runtime_(runtime), sender_(sender), ldm_(ldm), config_(config) {}
+DenService::DenService(clock::Runtime& runtime, MessageSender& sender, Ldm& ldm, DenConfig config,
+                       const AreaLocator* locator)
+    : runtime_(runtime),
+      sender_(sender),
+      ldm_(ldm),
+      config_(std::move(config)),
+      locator_(locator),
+      rng_(config_.station_id) {}
 
 DenService::~DenService() {
   for (auto& [_, own] : own_)
     runtime_.cancel(own.timer);
+  for (auto& [_, f] : forwarding_)
+    runtime_.cancel(f.timer);
 }
 
 Expected<messages::Denm, DenError> DenService::make(const messages::ActionID& id,
@@ -84,10 +93,13 @@ Expected<messages::Denm, DenError> DenService::make(const messages::ActionID& id
   d.denm.situation = sc;
   if (r.location)
     d.denm.location = r.location;
+  if (r.alacarte)
+    d.denm.alacarte = r.alacarte;
   return d;
 }
 
-bool DenService::transmit(const messages::Denm& denm, const GeoArea& area) {
+bool DenService::transmit(const messages::Denm& denm, const GeoArea& area,
+                          std::uint8_t traffic_class, bool forwarded) {
   std::array<std::uint8_t, messages::kDenmMaxEncodedSize> buf;
   auto n = messages::encode(denm, buf);
   if (!n) {
@@ -96,14 +108,23 @@ bool DenService::transmit(const messages::Denm& denm, const GeoArea& area) {
     return false;
   }
   const auto r = sender_.send_geobroadcast(kBtpPortDenm, area, std::span(buf.data(), *n),
-                                           gn_lifetime_ms(denm.denm.management.validityDuration));
+                                           gn_lifetime_ms(denm.denm.management.validityDuration),
+                                           traffic_class);
   if (r != SendResult::kSent) {
     ++counters_.send_errors;
     spdlog::warn("DEN service: DENM not sent: {}", to_string(r));
     return false;
   }
-  ++counters_.sent;
   const auto& mc = denm.denm.management;
+  if (forwarded) {
+    ++counters_.forwarded;
+    trace::global().record("its.denm_fwd", {{"station", config_.station_id},
+                                            {"origin", mc.actionID.originatingStationID},
+                                            {"seq", unsigned{mc.actionID.sequenceNumber}},
+                                            {"ref", static_cast<std::uint64_t>(mc.referenceTime)}});
+    return true;
+  }
+  ++counters_.sent;
   trace::global().record("its.denm_tx", {{"station", config_.station_id},
                                          {"origin", mc.actionID.originatingStationID},
                                          {"seq", unsigned{mc.actionID.sequenceNumber}},
@@ -156,7 +177,7 @@ void DenService::repeat(Key key) {
     own_.erase(it);  // no repetition beyond the validity (clause 8.1.2)
     return;
   }
-  transmit(own.denm, own.area);
+  transmit(own.denm, own.area, own.traffic_class);
   start_repetition(own, own.interval, own.repeat_until - runtime_.steady_now());
 }
 
@@ -167,10 +188,10 @@ Expected<messages::ActionID, DenError> DenService::trigger(const DenRequest& req
     return Unexpected{denm.error()};
   // Sequence numbers wrap (clause 8.1.1 uses them modulo 2^16).
   ++next_sequence_;
-  auto [it, _] =
-      own_.insert_or_assign(Key{id.originatingStationID, id.sequenceNumber},
-                            Own{*denm, request.destination_area, {}, {}, 0, false, false});
-  if (!transmit(it->second.denm, it->second.area)) {
+  auto [it, _] = own_.insert_or_assign(
+      Key{id.originatingStationID, id.sequenceNumber},
+      Own{*denm, request.destination_area, request.traffic_class, {}, {}, 0, false, false});
+  if (!transmit(it->second.denm, it->second.area, it->second.traffic_class)) {
     own_.erase(it);
     return Unexpected{DenError::kSendFailed};
   }
@@ -193,7 +214,8 @@ Expected<messages::ActionID, DenError> DenService::update(const messages::Action
     denm->denm.management.detectionTime = it->second.denm.denm.management.detectionTime;
   it->second.denm = *denm;
   it->second.area = request.destination_area;
-  if (!transmit(it->second.denm, it->second.area))
+  it->second.traffic_class = request.traffic_class;
+  if (!transmit(it->second.denm, it->second.area, it->second.traffic_class))
     return Unexpected{DenError::kSendFailed};
   start_repetition(it->second, request.repetition_interval, request.repetition_duration);
   return id;
@@ -209,7 +231,7 @@ Expected<messages::ActionID, DenError> DenService::terminate(const messages::Act
     own.terminated = true;
     own.denm.denm.management.termination = messages::Termination::isCancellation;
     own.denm.denm.management.referenceTime = static_cast<messages::TimestampIts>(now_its);
-    if (!transmit(own.denm, own.area))
+    if (!transmit(own.denm, own.area, own.traffic_class))
       return Unexpected{DenError::kSendFailed};
     // Repeat the cancellation as the event was repeated, over the remaining duration.
     const auto remaining =
@@ -229,20 +251,14 @@ Expected<messages::ActionID, DenError> DenService::terminate(const messages::Act
   mc.termination = messages::Termination::isNegation;
   mc.detectionTime = static_cast<messages::TimestampIts>(std::max<std::int64_t>(0, now_its));
   mc.stationType = config_.station_type;
-  GeoArea area;
-  area.latitude_deg = cdd::latitude_deg(mc.eventPosition.latitude).value_or(0.0);
-  area.longitude_deg = cdd::longitude_deg(mc.eventPosition.longitude).value_or(0.0);
-  area.distance_a_m = config_.negation_radius_m;
-  area.distance_b_m = config_.negation_radius_m;
-  if (!transmit(neg, area))
+  if (!transmit(neg, relevance_area(neg), kDenmTrafficClassDefault))
     return Unexpected{DenError::kSendFailed};
   // Our own LDM applies the negation too, so the event stops being active here at once.
   ldm_.add_denm(neg);
   return id;
 }
 
-void DenService::receive(std::span<const std::uint8_t> payload,
-                         std::optional<std::span<const std::uint8_t>> ssp) {
+void DenService::receive(std::span<const std::uint8_t> payload, const DenmReception& rx) {
   auto denm = messages::decode_denm(payload);
   if (!denm) {
     ++counters_.decode_errors;
@@ -252,8 +268,8 @@ void DenService::receive(std::span<const std::uint8_t> payload,
   const auto& mc = denm->denm.management;
   if (denm->header.stationID == config_.station_id)
     return;  // our own, heard back
-  if (ssp) {
-    if (const auto missing = denm_not_permitted(*denm, *ssp)) {
+  if (rx.ssp) {
+    if (const auto missing = denm_not_permitted(*denm, *rx.ssp)) {
       ++counters_.not_permitted;
       spdlog::debug("DEN service: dropped DENM of {}: its AT does not permit {}",
                     denm->header.stationID, missing->name);
@@ -261,25 +277,139 @@ void DenService::receive(std::span<const std::uint8_t> payload,
     }
   }
   ++counters_.received;
-  // Another station negated one of our events: stop repeating it.
-  if (mc.actionID.originatingStationID == config_.station_id && mc.termination) {
-    auto it = own_.find({mc.actionID.originatingStationID, mc.actionID.sequenceNumber});
-    if (it != own_.end()) {
-      runtime_.cancel(it->second.timer);
-      own_.erase(it);
-      spdlog::info("DEN service: station {} negated our event {}", denm->header.stationID,
-                   mc.actionID.sequenceNumber);
+  if (mc.actionID.originatingStationID == config_.station_id) {
+    // Another station negated one of our events: stop repeating it.
+    if (mc.termination == messages::Termination::isNegation) {
+      auto it = own_.find({mc.actionID.originatingStationID, mc.actionID.sequenceNumber});
+      if (it != own_.end()) {
+        runtime_.cancel(it->second.timer);
+        own_.erase(it);
+        spdlog::info("DEN service: station {} negated our event {}", denm->header.stationID,
+                     mc.actionID.sequenceNumber);
+      }
+      return;
     }
+    // One of our own events (or its cancellation), kept alive by another station: we know it
+    // better.
+    ++counters_.own_heard;
     return;
   }
   const auto outcome = ldm_.add_denm(*denm);
-  if (outcome != DenmOutcome::kNew && outcome != DenmOutcome::kUpdate &&
-      outcome != DenmOutcome::kTerminated)
+  if (!accepted(outcome))
     ++counters_.dropped;
   trace::global().record("its.denm_rx", {{"station", config_.station_id},
                                          {"origin", mc.actionID.originatingStationID},
                                          {"seq", unsigned{mc.actionID.sequenceNumber}},
                                          {"outcome", to_string(outcome)}});
+  if (config_.keep_alive_forwarding)
+    keep_alive(*denm, outcome, rx);
+}
+
+GeoArea DenService::relevance_area(const messages::Denm& denm) const {
+  const auto& mc = denm.denm.management;
+  const double radius = mc.relevanceDistance ? cdd::relevance_radius_m(*mc.relevanceDistance)
+                                             : config_.negation_radius_m;
+  return GeoArea{GeoArea::Shape::kCircle,
+                 cdd::latitude_deg(mc.eventPosition.latitude).value_or(0.0),
+                 cdd::longitude_deg(mc.eventPosition.longitude).value_or(0.0),
+                 radius,
+                 radius,
+                 0.0};
+}
+
+// Keep-alive forwarding, EN 302 637-3 V1.3.1 clause 8.2.2, as the DEN conformance tests check
+// it (TS 102 869-2 TP/DEN/KAFW/BV-01…11, TI-03):
+// - only DENMs with a transmissionInterval are kept alive (BV-11);
+// - every DENM of the event that is not older than the version held restarts T_Forwarding
+//   (BV-01, BV-02): someone else is keeping it alive;
+// - T_Forwarding = min(2 × transmissionInterval + rnd(0, 150 ms), remaining validity) (TI-03);
+// - when it expires, the station re-sends the DENM held, its own station ID in the header and
+//   every container unchanged: action ID, referenceTime, termination (BV-04…BV-08), into the
+//   area it came for, and starts T_Forwarding again;
+// - it stops when the validity ends (BV-09) or the station is outside the relevance area
+//   (BV-10).
+void DenService::keep_alive(const messages::Denm& denm, DenmOutcome outcome,
+                            const DenmReception& rx) {
+  const auto& mc = denm.denm.management;
+  const Key key{mc.actionID.originatingStationID, mc.actionID.sequenceNumber};
+  auto it = forwarding_.find(key);
+  switch (outcome) {
+    case DenmOutcome::kOutdated:
+    case DenmOutcome::kExpired:
+    case DenmOutcome::kUnknownTermination:
+      return;  // says nothing newer about an event we keep alive
+    case DenmOutcome::kRepetition:
+      if (it != forwarding_.end()) {
+        // It is alive without us, for now. (A newer repetition of a termination, which the
+        // LDM files as a repetition, becomes the version we would forward.)
+        const auto& held = it->second.denm.denm.management;
+        if (std::make_pair(mc.referenceTime, mc.detectionTime) >
+            std::make_pair(held.referenceTime, held.detectionTime))
+          it->second.denm = denm;
+        start_forwarding_timer(key, it->second);
+      }
+      return;
+    default:
+      break;
+  }
+  if (!mc.transmissionInterval) {
+    // The newest version asks for no keep-alive forwarding.
+    if (it != forwarding_.end()) {
+      runtime_.cancel(it->second.timer);
+      forwarding_.erase(it);
+    }
+    return;
+  }
+  // The version the LDM now holds is this one: forward that.
+  if (it == forwarding_.end())
+    it = forwarding_.emplace(key, Forwarding{}).first;
+  Forwarding& f = it->second;
+  f.denm = denm;
+  f.area = rx.destination_area.value_or(relevance_area(denm));
+  f.traffic_class = rx.traffic_class;
+  start_forwarding_timer(key, f);
+}
+
+void DenService::start_forwarding_timer(Key key, Forwarding& f) {
+  runtime_.cancel(f.timer);
+  const auto& mc = f.denm.denm.management;
+  const clock::Duration jitter =
+      config_.kaf_jitter
+          ? config_.kaf_jitter()
+          : std::chrono::duration_cast<clock::Duration>(
+                std::chrono::duration<double>(std::uniform_real_distribution<double>(
+                    0.0, std::chrono::duration<double>(config_.kaf_jitter_max).count())(rng_)));
+  const clock::Duration interval = std::chrono::milliseconds{*mc.transmissionInterval};
+  const std::int64_t end_its =
+      static_cast<std::int64_t>(mc.detectionTime) + std::int64_t{mc.validityDuration} * 1000;
+  const clock::Duration remaining = std::chrono::milliseconds{
+      std::max<std::int64_t>(0, end_its - timestamp_its(runtime_.wall_now()))};
+  const clock::Duration delay = std::min(2 * interval + jitter, remaining);
+  f.timer = runtime_.schedule_in(delay, [this, key] { forward(key); });
+}
+
+void DenService::forward(Key key) {
+  auto it = forwarding_.find(key);
+  if (it == forwarding_.end())
+    return;
+  Forwarding& f = it->second;
+  const auto& mc = f.denm.denm.management;
+  const std::int64_t end_its =
+      static_cast<std::int64_t>(mc.detectionTime) + std::int64_t{mc.validityDuration} * 1000;
+  if (timestamp_its(runtime_.wall_now()) >= end_its) {
+    forwarding_.erase(it);  // BV-09: the event's validity is over
+    return;
+  }
+  if (locator_ != nullptr && !locator_->inside(f.area)) {
+    spdlog::debug("DEN service: outside the relevance area of {}/{}: no longer kept alive",
+                  key.first, key.second);
+    forwarding_.erase(it);  // BV-10
+    return;
+  }
+  messages::Denm copy = f.denm;
+  copy.header.stationID = config_.station_id;  // BV-04: the forwarder's header
+  transmit(copy, f.area, f.traffic_class, true);
+  start_forwarding_timer(key, f);
 }
 
 }  // namespace tb::its::facilities

@@ -17,8 +17,10 @@ std::string_view to_string(DenmOutcome o) {
       return "repetition";
     case DenmOutcome::kOutdated:
       return "outdated";
-    case DenmOutcome::kTerminated:
-      return "terminated";
+    case DenmOutcome::kCancelled:
+      return "cancelled";
+    case DenmOutcome::kNegated:
+      return "negated";
     case DenmOutcome::kUnknownTermination:
       return "unknown-termination";
     case DenmOutcome::kExpired:
@@ -52,7 +54,6 @@ void Ldm::add_cam(const messages::Cam& cam, clock::WallTime rx_wall) {
   const auto lon = cdd::longitude_deg(basic.referencePosition.longitude);
   if (!lat || !lon)
     return;
-  const auto& hf = cam.cam.camParameters.highFrequencyContainer;
   NeighbourSample s;
   s.received = runtime_.steady_now();
   s.received_wall = rx_wall;
@@ -60,10 +61,14 @@ void Ldm::add_cam(const messages::Cam& cam, clock::WallTime rx_wall) {
   s.generation_time = generation_time(cam.cam.generationDeltaTime, rx_wall);
   s.latitude_deg = *lat;
   s.longitude_deg = *lon;
-  s.heading_deg = cdd::heading_deg(hf.heading.headingValue);
-  s.speed_mps = cdd::speed_mps(hf.speed.speedValue);
-  if (s.speed_mps && hf.driveDirection == messages::DriveDirection::backward)
-    s.speed_mps = -*s.speed_mps;
+  // An RSU's CAM (rsuContainerHighFrequency) names a position only: heading and speed stay
+  // unknown, as for a vehicle that sends them unavailable.
+  if (const auto* hf = messages::vehicle_hf(cam.cam.camParameters)) {
+    s.heading_deg = cdd::heading_deg(hf->heading.headingValue);
+    s.speed_mps = cdd::speed_mps(hf->speed.speedValue);
+    if (s.speed_mps && hf->driveDirection == messages::DriveDirection::backward)
+      s.speed_mps = -*s.speed_mps;
+  }
 
   auto& n = neighbours_[cam.header.stationID];
   n.station_id = cam.header.stationID;
@@ -86,7 +91,7 @@ DenmOutcome Ldm::add_denm(const messages::Denm& denm) {
       l(e, o);
     return o;
   };
-  // EN 302 637-3 clause 8.2.2: a DENM whose validity has ended is dropped.
+  // A DENM whose validity has ended is dropped (receiving ITS-S operation of EN 302 637-3).
   if (expires <= now_its())
     return DenmOutcome::kExpired;
   auto it = events_.find(key);
@@ -98,8 +103,6 @@ DenmOutcome Ldm::add_denm(const messages::Denm& denm) {
     return notify(pos->second, DenmOutcome::kNew);
   }
   Event& e = it->second;
-  // Clause 8.2.2: DENMs of one event are ordered by referenceTime, then detectionTime (a
-  // negation keeps the event's referenceTime and brings a later detectionTime).
   const auto& held = e.denm.denm.management;
   const auto order = std::make_pair(mc.referenceTime, mc.detectionTime);
   const auto held_order = std::make_pair(held.referenceTime, held.detectionTime);
@@ -107,24 +110,21 @@ DenmOutcome Ldm::add_denm(const messages::Denm& denm) {
     return DenmOutcome::kOutdated;
   if (order == held_order)
     return DenmOutcome::kRepetition;
-  if (e.terminated) {
-    // A newer repetition of the termination keeps the tombstone; anything else about a
-    // terminated event is stale (the originator uses a new action ID for a new event).
-    if (mc.termination) {
-      e.denm = denm;
-      e.expires_its = expires;
-      return DenmOutcome::kRepetition;
-    }
-    return DenmOutcome::kOutdated;
-  }
+  if (e.terminated && held.termination == messages::Termination::isCancellation && !mc.termination)
+    return DenmOutcome::kOutdated;  // the originator ended it; nothing revives it
+  const bool was_terminated = e.terminated;
+  const auto held_termination = held.termination;  // `held` is overwritten below
   e.denm = denm;
   e.received = runtime_.steady_now();
   e.expires_its = expires;
-  if (mc.termination) {
-    e.terminated = true;
-    return notify(e, DenmOutcome::kTerminated);
-  }
-  return notify(e, DenmOutcome::kUpdate);
+  e.terminated = mc.termination.has_value();
+  if (!mc.termination)
+    return notify(e, DenmOutcome::kUpdate);
+  if (was_terminated && held_termination == mc.termination)
+    return DenmOutcome::kRepetition;  // a newer repetition of the end: the tombstone moves on
+  return notify(e, *mc.termination == messages::Termination::isCancellation
+                       ? DenmOutcome::kCancelled
+                       : DenmOutcome::kNegated);
 }
 
 void Ldm::expire() {
@@ -160,6 +160,11 @@ std::vector<const Event*> Ldm::active_events() const {
     if (!e.terminated && e.expires_its > its)
       out.push_back(&e);
   return out;
+}
+
+const Event* Ldm::any_event(const messages::ActionID& id) const {
+  auto it = events_.find({id.originatingStationID, id.sequenceNumber});
+  return it == events_.end() ? nullptr : &it->second;
 }
 
 const Event* Ldm::event(const messages::ActionID& id) const {

@@ -45,16 +45,23 @@ struct Event {
   bool terminated = false;  ///< kept as a tombstone until expiry, so late repeats stay dropped
 };
 
-/// What the LDM did with a received DENM (EN 302 637-3 clause 8.2.2 receiving rules).
+/// What the LDM did with a received DENM: the receiving ITS-S rules of EN 302 637-3 V1.3.1 as
+/// the DEN conformance tests check them (TS 102 869-2 TP/DEN/MSRV), see Ldm::add_denm.
 enum class DenmOutcome : std::uint8_t {
-  kNew,                 ///< a new event
-  kUpdate,              ///< a newer referenceTime of a known event
-  kRepetition,          ///< the same referenceTime again: dropped
-  kOutdated,            ///< an older referenceTime than held: dropped
-  kTerminated,          ///< cancellation or negation of a known event: removed
+  kNew,                 ///< a new event (action ID not held, not a termination)
+  kUpdate,              ///< a newer (referenceTime, detectionTime) of a known event
+  kRepetition,          ///< the same referenceTime and detectionTime again: dropped
+  kOutdated,            ///< older than the version held, or about a cancelled event: dropped
+  kCancelled,           ///< isCancellation (the originator ended it): the event ends
+  kNegated,             ///< isNegation (another station found it gone): the event ends
   kUnknownTermination,  ///< terminates nothing we hold: dropped
   kExpired,             ///< its validity had already ended: dropped
 };
+/// Whether @p o put the DENM's content into the LDM (the ones applications hear of).
+inline bool accepted(DenmOutcome o) {
+  return o == DenmOutcome::kNew || o == DenmOutcome::kUpdate || o == DenmOutcome::kCancelled ||
+         o == DenmOutcome::kNegated;
+}
 std::string_view to_string(DenmOutcome o);
 
 struct LdmConfig {
@@ -79,7 +86,17 @@ class Ldm {
 
   /// A CAM from another station arrived (decoded). Ignores CAMs without a position.
   void add_cam(const messages::Cam& cam, clock::WallTime rx_wall);
-  /// A DENM arrived; applies the receiving rules and says what became of it.
+  /// A DENM arrived; applies the receiving rules and says what became of it:
+  /// - validity over (detectionTime + validityDuration ≤ now): kExpired;
+  /// - unknown action ID: kNew, or kUnknownTermination for a termination;
+  /// - known action ID: versions are ordered by referenceTime, then detectionTime (a negation
+  ///   keeps the event's referenceTime and brings a later detectionTime): an older one is
+  ///   kOutdated, the same one kRepetition, a newer one an update or, with a termination,
+  ///   kCancelled / kNegated;
+  /// - after a cancellation nothing but newer repetitions of it is taken (the originator ended
+  ///   the event and does not reuse its action ID); after a negation a newer DENM from the
+  ///   originator brings the event back (it still sees it, and its referenceTime is newer than
+  ///   the one the negation named).
   DenmOutcome add_denm(const messages::Denm& denm);
 
   /// Removes expired neighbours and events now (also done by the periodic sweep).
@@ -90,7 +107,10 @@ class Ldm {
   const Neighbour* neighbour(messages::StationID id) const;
   /// Active (not terminated, not expired) events.
   std::vector<const Event*> active_events() const;
+  /// The active event of @p id, or null.
   const Event* event(const messages::ActionID& id) const;
+  /// The newest version held of @p id, terminated events included (until their validity ends).
+  const Event* any_event(const messages::ActionID& id) const;
 
   void on_neighbour(NeighbourListener l) { neighbour_listeners_.push_back(std::move(l)); }
   void on_neighbour_gone(NeighbourGoneListener l) { gone_listeners_.push_back(std::move(l)); }

@@ -22,6 +22,7 @@ struct GeoArea {
   double distance_a_m = 0.0;   ///< radius, or half length along the azimuth
   double distance_b_m = 0.0;   ///< half width (rectangle, ellipse)
   double angle_deg = 0.0;      ///< azimuth of the a axis, clockwise from north
+  friend bool operator==(const GeoArea&, const GeoArea&) = default;
 };
 
 enum class SendResult { kSent, kNoPosition, kTooLarge, kLinkError };
@@ -32,10 +33,11 @@ class MessageSender {
   virtual ~MessageSender() = default;
   /// GN single-hop broadcast, BTP-B to @p port.
   virtual SendResult send_single_hop(std::uint16_t port, std::span<const std::uint8_t> payload) = 0;
-  /// GN GeoBroadcast to @p area, BTP-B to @p port; @p lifetime_ms bounds forwarding.
+  /// GN GeoBroadcast to @p area, BTP-B to @p port; @p lifetime_ms bounds forwarding;
+  /// @p traffic_class is the GN TC ID (0..63, EN 302 636-4-1 clause 9.7.5).
   virtual SendResult send_geobroadcast(std::uint16_t port, const GeoArea& area,
                                        std::span<const std::uint8_t> payload,
-                                       std::uint32_t lifetime_ms) = 0;
+                                       std::uint32_t lifetime_ms, std::uint8_t traffic_class) = 0;
 };
 
 }  // namespace tb::its::facilities

@@ -35,6 +35,10 @@ struct VehicleData {
   std::optional<bool> gas_pedal;
   std::optional<bool> reversing;
   std::optional<std::uint8_t> exterior_lights;  ///< lights:: bits
+  /// A special vehicle's light bar and siren (CDD LightBarSirenInUse); empty when the vehicle's
+  /// bus does not carry them.
+  std::optional<bool> light_bar;
+  std::optional<bool> siren;
 };
 
 /// Source of VehicleData: the CAN reader in the station, a test's hand in unit tests.

@@ -174,6 +174,95 @@ void get(UperReader& r, BasicVehicleContainerHighFrequency& hf, bool v1) {
   }
 }
 
+// RSUContainerHighFrequency ::= SEQUENCE {protectedCommunicationZonesRSU OPTIONAL, ...}; each
+// ProtectedCommunicationZone has an extension marker in CDD version 2 only.
+void put(UperWriter& w, const ProtectedCommunicationZone& z, bool v1) {
+  if (!v1)
+    w.put_bool(false);
+  w.put_bool(z.expiryTime.has_value());
+  w.put_bool(z.protectedZoneRadius.has_value());
+  w.put_bool(z.protectedZoneID.has_value());
+  // ProtectedZoneType: one root value (no index bits) behind the extension bit; version 2's
+  // temporaryCenDsrcTolling is extension addition 0, a normally small number (X.691 14.3).
+  if (z.protectedZoneType == ProtectedZoneType::permanentCenDsrcTolling) {
+    w.put_bool(false);
+  } else if (z.protectedZoneType == ProtectedZoneType::temporaryCenDsrcTolling && !v1) {
+    w.put_bool(true);
+    w.put_normally_small(0);
+  } else {
+    w.fail(Error::kValueOutOfRange, "protectedZoneType",
+           static_cast<std::int64_t>(z.protectedZoneType));
+    return;
+  }
+  if (z.expiryTime)
+    w.put_constrained<0, 4398046511103>(static_cast<std::int64_t>(*z.expiryTime), "expiryTime");
+  w.put_constrained<-900000000, 900000001>(z.protectedZoneLatitude, "protectedZoneLatitude");
+  w.put_constrained<-1800000000, 1800000001>(z.protectedZoneLongitude, "protectedZoneLongitude");
+  if (z.protectedZoneRadius) {  // (1..255, ...): root values only, 0 is out of range here
+    w.put_bool(false);
+    w.put_constrained<1, 255>(*z.protectedZoneRadius, "protectedZoneRadius");
+  }
+  if (z.protectedZoneID)
+    w.put_constrained<0, 134217727>(*z.protectedZoneID, "protectedZoneID");
+}
+
+void get(UperReader& r, ProtectedCommunicationZone& z, bool v1) {
+  z = ProtectedCommunicationZone{};
+  const bool ext = !v1 && r.get_bool("protectedCommunicationZone");
+  const auto present = r.get_bits(3, "protectedCommunicationZone");
+  const std::size_t type_at = r.bit_position();
+  if (r.get_bool("protectedZoneType")) {
+    const auto index = r.get_normally_small("protectedZoneType");
+    if (!r.ok())
+      return;
+    if (v1 || index != 0) {  // version 1 knows no extension value
+      r.fail_at(Error::kUnknownExtension, "protectedZoneType", static_cast<std::int64_t>(index),
+                type_at);
+      return;
+    }
+    z.protectedZoneType = ProtectedZoneType::temporaryCenDsrcTolling;
+  }
+  if (present & 4)
+    z.expiryTime = static_cast<TimestampIts>(r.get_bits(42, "expiryTime"));
+  z.protectedZoneLatitude =
+      static_cast<Latitude>(r.get_constrained<-900000000, 900000001>("protectedZoneLatitude"));
+  z.protectedZoneLongitude =
+      static_cast<Longitude>(r.get_constrained<-1800000000, 1800000001>("protectedZoneLongitude"));
+  if (present & 2)
+    z.protectedZoneRadius =
+        static_cast<ProtectedZoneRadius>(r.get_constrained_ext<1, 255>("protectedZoneRadius"));
+  if (present & 1)
+    z.protectedZoneID =
+        static_cast<ProtectedZoneID>(r.get_constrained<0, 134217727>("protectedZoneID"));
+  if (ext)
+    r.skip_sequence_extensions("protectedCommunicationZone");
+}
+
+void put(UperWriter& w, const RSUContainerHighFrequency& rsu, bool v1) {
+  w.put_bool(false);
+  w.put_bool(rsu.protectedCommunicationZonesRSU.has_value());
+  if (!rsu.protectedCommunicationZonesRSU)
+    return;
+  const auto& zones = *rsu.protectedCommunicationZonesRSU;
+  put_size<1, 16>(w, zones.size(), "protectedCommunicationZonesRSU");
+  for (const ProtectedCommunicationZone& z : zones)
+    put(w, z, v1);
+}
+
+void get(UperReader& r, RSUContainerHighFrequency& rsu, bool v1) {
+  rsu = RSUContainerHighFrequency{};
+  const bool ext = r.get_bool("rsuContainerHighFrequency");
+  if (r.get_bool("rsuContainerHighFrequency")) {
+    auto& zones = rsu.protectedCommunicationZonesRSU.emplace();
+    const auto n =
+        static_cast<std::size_t>(r.get_constrained<1, 16>("protectedCommunicationZonesRSU"));
+    for (std::size_t i = 0; i < n && r.ok(); ++i)
+      get(r, zones.emplace_back(), v1);
+  }
+  if (ext)
+    r.skip_sequence_extensions("rsuContainerHighFrequency");
+}
+
 // ---- Special-vehicle containers: SEQUENCEs without extension marker, OPTIONAL bits first ----
 void put_causecode_opt(UperWriter& w, const std::optional<CauseCode>& c, bool v1) {
   if (c)
@@ -208,28 +297,8 @@ struct SpecialPut {
     if (c.roadworksSubCauseCode)
       w.put_bits(*c.roadworksSubCauseCode, 8);
     put_named_bits(w, c.lightBarSirenInUse, 2, "lightBarSirenInUse");
-    if (c.closedLanes) {
-      if (v1) {  // CDD version 1 has another ClosedLanes
-        w.fail(Error::kUnsupported, "closedLanes", 1);
-        return;
-      }
-      const ClosedLanes& l = *c.closedLanes;
-      w.put_bool(false);
-      w.put_bool(l.innerhardShoulderStatus.has_value());
-      w.put_bool(l.outerhardShoulderStatus.has_value());
-      w.put_bool(l.drivingLaneStatus.has_value());
-      if (l.innerhardShoulderStatus)
-        put_enum(w, *l.innerhardShoulderStatus, 3, false, "innerhardShoulderStatus");
-      if (l.outerhardShoulderStatus)
-        put_enum(w, *l.outerhardShoulderStatus, 3, false, "outerhardShoulderStatus");
-      if (l.drivingLaneStatus) {
-        // BIT STRING (SIZE(1..13)): size - 1 in 4 bits, then the bits.
-        const DrivingLaneStatus& d = *l.drivingLaneStatus;
-        w.put_constrained<1, 13>(d.size, "drivingLaneStatus");
-        if (w.ok())
-          put_named_bits(w, d.bits, d.size, "drivingLaneStatus");
-      }
-    }
+    if (c.closedLanes)
+      put(w, *c.closedLanes, v1);
   }
   void operator()(const RescueContainer& c) const {
     put_named_bits(w, c.lightBarSirenInUse, 2, "lightBarSirenInUse");
@@ -301,36 +370,14 @@ void get(UperReader& r, SpecialVehicleContainer& out, bool v1) {
     case 3: {
       auto& c = out.emplace<RoadWorksContainerBasic>();
       const bool has_sub = r.get_bool("roadWorksContainerBasic");
-      const std::size_t lanes_at = r.bit_position();
       const bool has_lanes = r.get_bool("roadWorksContainerBasic");
       if (has_sub)
         c.roadworksSubCauseCode =
             static_cast<SubCauseCodeType>(r.get_bits(8, "roadworksSubCauseCode"));
       c.lightBarSirenInUse =
           static_cast<LightBarSirenInUse>(get_named_bits(r, 2, "lightBarSirenInUse"));
-      if (has_lanes) {
-        if (v1) {
-          r.fail_at(Error::kUnsupported, "closedLanes", 1, lanes_at);
-          return;
-        }
-        ClosedLanes& l = c.closedLanes.emplace();
-        const bool ext = r.get_bool("closedLanes");
-        const auto present = r.get_bits(3, "closedLanes");
-        if (present & 4)
-          l.innerhardShoulderStatus =
-              get_enum<HardShoulderStatus>(r, 3, false, "innerhardShoulderStatus");
-        if (present & 2)
-          l.outerhardShoulderStatus =
-              get_enum<HardShoulderStatus>(r, 3, false, "outerhardShoulderStatus");
-        if (present & 1) {
-          DrivingLaneStatus& d = l.drivingLaneStatus.emplace();
-          d.size = static_cast<std::uint8_t>(r.get_constrained<1, 13>("drivingLaneStatus"));
-          if (r.ok())
-            d.bits = static_cast<std::uint16_t>(get_named_bits(r, d.size, "drivingLaneStatus"));
-        }
-        if (ext)
-          r.skip_sequence_extensions("closedLanes");
-      }
+      if (has_lanes)
+        get(r, c.closedLanes.emplace(), v1);
       break;
     }
     case 4: {
@@ -388,10 +435,15 @@ void put(UperWriter& w, const Cam& cam) {
   w.put_bool(false);
   w.put_bits(p.basicContainer.stationType, 8);
   put(w, p.basicContainer.referencePosition);
-  // HighFrequencyContainer CHOICE {basicVehicleContainerHighFrequency, rsu…, ...}: extension
-  // bit 0, index 0 in one bit.
-  w.put_bits(0b00, 2);
-  put(w, p.highFrequencyContainer, cam.header.protocolVersion == kProtocolVersion1);
+  // HighFrequencyContainer CHOICE {basicVehicleContainerHighFrequency,
+  // rsuContainerHighFrequency, ...}: extension bit 0, the index in one bit.
+  const bool v1 = cam.header.protocolVersion == kProtocolVersion1;
+  w.put_bool(false);
+  w.put_bits(p.highFrequencyContainer.index(), 1);
+  if (const auto* hf = vehicle_hf(p))
+    put(w, *hf, v1);
+  else
+    put(w, std::get<RSUContainerHighFrequency>(p.highFrequencyContainer), v1);
   if (p.lowFrequencyContainer) {
     // LowFrequencyContainer CHOICE {basicVehicleContainerLowFrequency, ...}: extension bit 0;
     // a single root alternative takes no index bits.
@@ -424,11 +476,12 @@ void get(UperReader& r, Cam& cam) {
     r.fail_at(Error::kUnknownExtension, "highFrequencyContainer", 0, hf_at);
     return;
   }
-  if (r.get_bool("highFrequencyContainer")) {
-    r.fail_at(Error::kUnsupported, "rsuContainerHighFrequency", 1, hf_at);
-    return;
-  }
-  get(r, p.highFrequencyContainer, cam.header.protocolVersion == kProtocolVersion1);
+  if (r.get_bool("highFrequencyContainer"))
+    get(r, p.highFrequencyContainer.emplace<RSUContainerHighFrequency>(),
+        cam.header.protocolVersion == kProtocolVersion1);
+  else
+    get(r, p.highFrequencyContainer.emplace<BasicVehicleContainerHighFrequency>(),
+        cam.header.protocolVersion == kProtocolVersion1);
   p.lowFrequencyContainer.reset();
   if (has_lf) {
     const std::size_t lf_at = r.bit_position();

@@ -2,15 +2,14 @@
 /// @file The Cooperative Awareness Message of EN 302 637-2 V1.4.1 (module CAM-PDU-Descriptions
 /// version 2) and its UPER (ITU-T X.691 unaligned) codec.
 ///
-/// Covered: ItsPduHeader, the basic container, the high-frequency container of a vehicle
-/// (basicVehicleContainerHighFrequency, with all its optional fields) and the low-frequency
-/// container of a vehicle (vehicleRole, exteriorLights, pathHistory of up to 40 points).
-/// The special-vehicle containers (public transport, special transport, dangerous goods, road
-/// works, rescue, emergency, safety car) are covered too. Not covered (decode answers
-/// Error::kUnsupported naming the component): the RSU high-frequency container, which no
-/// station of this testbed sends, and closedLanes of a protocolVersion 1 road-works container.
-/// Extension additions of extensible SEQUENCEs are skipped when decoding, as X.691 clause 19 allows
-/// a version-1 decoder to.
+/// Covered, for protocolVersion 2 and 1: ItsPduHeader, the basic container, both alternatives
+/// of the high-frequency container (a vehicle's basicVehicleContainerHighFrequency with all its
+/// optional fields, and a road-side unit's rsuContainerHighFrequency with its protected
+/// communication zones), the low-frequency container of a vehicle (vehicleRole,
+/// exteriorLights, pathHistory of up to 40 points) and every special-vehicle container (public
+/// transport, special transport, dangerous goods, road works, rescue, emergency, safety car).
+/// Extension additions of extensible SEQUENCEs are skipped when decoding, as X.691 clause 19
+/// allows a decoder of an earlier version to.
 
 #include <cstddef>
 #include <cstdint>
@@ -66,6 +65,35 @@ struct BasicVehicleContainerLowFrequency {
                          const BasicVehicleContainerLowFrequency&) = default;
 };
 
+/// ProtectedCommunicationZone ::= SEQUENCE {protectedZoneType, expiryTime OPTIONAL,
+/// protectedZoneLatitude, protectedZoneLongitude, protectedZoneRadius OPTIONAL,
+/// protectedZoneID OPTIONAL, ...} (CDD version 1: no extension marker).
+struct ProtectedCommunicationZone {
+  ProtectedZoneType protectedZoneType = ProtectedZoneType::permanentCenDsrcTolling;
+  std::optional<TimestampIts> expiryTime;
+  Latitude protectedZoneLatitude = kLatitudeUnavailable;
+  Longitude protectedZoneLongitude = kLongitudeUnavailable;
+  std::optional<ProtectedZoneRadius> protectedZoneRadius;
+  std::optional<ProtectedZoneID> protectedZoneID;
+  friend bool operator==(const ProtectedCommunicationZone&,
+                         const ProtectedCommunicationZone&) = default;
+};
+/// SEQUENCE (SIZE(1..16)) OF ProtectedCommunicationZone.
+using ProtectedCommunicationZonesRSU = BoundedVector<ProtectedCommunicationZone, 16>;
+
+/// RSUContainerHighFrequency ::= SEQUENCE {protectedCommunicationZonesRSU OPTIONAL, ...}: the
+/// high-frequency container of a road-side unit's CAM (EN 302 637-2 B.2.3).
+struct RSUContainerHighFrequency {
+  std::optional<ProtectedCommunicationZonesRSU> protectedCommunicationZonesRSU;
+  friend bool operator==(const RSUContainerHighFrequency&,
+                         const RSUContainerHighFrequency&) = default;
+};
+
+/// HighFrequencyContainer ::= CHOICE {basicVehicleContainerHighFrequency,
+/// rsuContainerHighFrequency, ...}: the variant's index is the CHOICE index.
+using HighFrequencyContainer =
+    std::variant<BasicVehicleContainerHighFrequency, RSUContainerHighFrequency>;
+
 // ---- Special-vehicle containers (EN 302 637-2 B.2.x) -------------------------------------------
 struct PublicTransportContainer {
   bool embarkationStatus = false;
@@ -114,12 +142,11 @@ using SpecialVehicleContainer =
                  RoadWorksContainerBasic, RescueContainer, EmergencyContainer, SafetyCarContainer>;
 
 /// SEQUENCE {basicContainer, highFrequencyContainer, lowFrequencyContainer OPTIONAL,
-/// specialVehicleContainer OPTIONAL, ...}. The highFrequencyContainer CHOICE is always its
-/// basicVehicleContainerHighFrequency alternative; lowFrequencyContainer always
+/// specialVehicleContainer OPTIONAL, ...}. lowFrequencyContainer is always
 /// basicVehicleContainerLowFrequency (its only root alternative).
 struct CamParameters {
   BasicContainer basicContainer;
-  BasicVehicleContainerHighFrequency highFrequencyContainer;
+  HighFrequencyContainer highFrequencyContainer;  ///< a vehicle's unless set to an RSU's
   std::optional<BasicVehicleContainerLowFrequency> lowFrequencyContainer;
   std::optional<SpecialVehicleContainer> specialVehicleContainer;
   friend bool operator==(const CamParameters&, const CamParameters&) = default;
@@ -138,9 +165,17 @@ struct Cam {
   friend bool operator==(const Cam&, const Cam&) = default;
 };
 
-/// Largest UPER encoding of a Cam as modelled here (all optional fields, 40 path points), in
-/// bytes; a buffer this big never gives kBufferTooSmall.
-inline constexpr std::size_t kCamMaxEncodedSize = 512;
+/// The vehicle high-frequency container of @p p, or null when it is an RSU's CAM.
+inline BasicVehicleContainerHighFrequency* vehicle_hf(CamParameters& p) {
+  return std::get_if<BasicVehicleContainerHighFrequency>(&p.highFrequencyContainer);
+}
+inline const BasicVehicleContainerHighFrequency* vehicle_hf(const CamParameters& p) {
+  return std::get_if<BasicVehicleContainerHighFrequency>(&p.highFrequencyContainer);
+}
+
+/// Largest UPER encoding of a Cam as modelled here (all optional fields, 40 path points, or an
+/// RSU container with 16 zones), in bytes; a buffer this big never gives kBufferTooSmall.
+inline constexpr std::size_t kCamMaxEncodedSize = 1024;
 
 /// Encodes @p cam into @p out, by the rules of header.protocolVersion (2, or 1); returns the
 /// number of bytes written. Fails with

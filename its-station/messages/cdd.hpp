@@ -8,6 +8,7 @@
 /// `unavailable` and `outOfRange` values of the dictionary are named constants. Member names are
 /// the ASN.1 component names. Ranges are checked by the encoder and decoder, not here.
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 
@@ -365,7 +366,8 @@ enum class HardShoulderStatus : std::uint8_t {
   availableForDriving = 2,
 };
 
-/// BIT STRING (SIZE(1..13)): @p size bits; bit n (lane n from the outside) is (1 << n).
+/// BIT STRING (SIZE(1..13)), SIZE(1..14) in CDD version 1: @p size bits; bit n (lane n from
+/// the outside) is (1 << n).
 struct DrivingLaneStatus {
   std::uint16_t bits = 0;
   std::uint8_t size = 1;
@@ -373,7 +375,10 @@ struct DrivingLaneStatus {
 };
 
 /// SEQUENCE {innerhardShoulderStatus, outerhardShoulderStatus, drivingLaneStatus (all
-/// OPTIONAL), ...} (CDD version 2; version 1's differs and is not decoded).
+/// OPTIONAL), ...} in CDD version 2. CDD version 1 (protocolVersion 1) has SEQUENCE
+/// {hardShoulderStatus OPTIONAL, drivingLaneStatus BIT STRING (SIZE(1..14)), ...}: its one hard
+/// shoulder is the outer one (its LanePosition counts from the outside), so it is held in
+/// outerhardShoulderStatus, innerhardShoulderStatus stays empty and drivingLaneStatus is present.
 struct ClosedLanes {
   std::optional<HardShoulderStatus> innerhardShoulderStatus;
   std::optional<HardShoulderStatus> outerhardShoulderStatus;
@@ -386,6 +391,82 @@ struct PtActivation {
   std::uint8_t ptActivationType = 0;
   BoundedVector<std::uint8_t, 20> ptActivationData;
   friend bool operator==(const PtActivation&, const PtActivation&) = default;
+};
+
+// ---- Road-side units (CAM RSU high-frequency container) ---------------------------------------
+/// ENUMERATED {permanentCenDsrcTolling (0), ..., temporaryCenDsrcTolling (1)}: the second value
+/// is an extension addition of CDD version 2 (encoded as extension index 0); CDD version 1 has
+/// only the first, named cenDsrcTolling.
+enum class ProtectedZoneType : std::uint8_t {
+  permanentCenDsrcTolling = 0,
+  temporaryCenDsrcTolling = 1,
+};
+using ProtectedZoneRadius = std::uint8_t;  // m, (1..255, ...): only root values are held
+
+// ---- Vehicle details (DENM à-la-carte container) -----------------------------------------------
+using HeightLonCarr = std::uint8_t;      // cm, (1..100), 100 unavailable
+using PosLonCarr = std::uint8_t;         // cm, (1..127), 127 unavailable
+using PosPillar = std::uint8_t;          // 10 cm, (1..30), 30 unavailable
+using PosCentMass = std::uint8_t;        // 10 cm, (1..63), 63 unavailable
+using WheelBaseVehicle = std::uint8_t;   // 10 cm, (1..127), 127 unavailable
+using TurningRadius = std::uint8_t;      // 0.4 m, (1..255), 255 unavailable
+using PosFrontAx = std::uint8_t;         // 10 cm, (1..20), 20 unavailable
+using VehicleMass = std::uint16_t;       // 100 kg, (1..1024), 1024 unavailable
+using NumberOfOccupants = std::uint8_t;  // (0..127), 127 unavailable
+/// SEQUENCE (SIZE(1..3, ...)) OF PosPillar: only root sizes are held.
+using PositionOfPillars = BoundedVector<PosPillar, 3>;
+/// BIT STRING (SIZE(20)): row1LeftOccupied (bit 0) … row4NotPresent (bit 19).
+using PositionOfOccupants = std::uint32_t;
+/// BIT STRING (SIZE(7)): hydrogenStorage (bit 0), electricEnergyStorage, liquidPropaneGas,
+/// compressedNaturalGas, diesel, gasoline, ammonia (bit 6).
+using EnergyStorageType = std::uint8_t;
+/// SEQUENCE (SIZE(1..3, ...)) OF StationType: only root sizes are held.
+using RestrictedTypes = BoundedVector<StationType, 3>;
+
+enum class RequestResponseIndication : std::uint8_t { request = 0, response = 1 };
+
+enum class StationarySince : std::uint8_t {
+  lessThan1Minute = 0,
+  lessThan2Minutes = 1,
+  lessThan15Minutes = 2,
+  equalOrGreater15Minutes = 3,
+};
+
+/// A character string of at most @p N characters (IA5String, NumericString), one char each.
+template <std::size_t N>
+using CharString = BoundedVector<char, N>;
+/// Builds a CharString from @p s; the characters past @p N are dropped (the caller's to avoid).
+template <std::size_t N>
+CharString<N> char_string(const char* s) {
+  CharString<N> out;
+  for (; s != nullptr && *s != '\0' && out.push_back(*s); ++s) {
+  }
+  return out;
+}
+
+/// SEQUENCE {dangerousGoodsType, unNumber (0..9999), elevatedTemperature, tunnelsRestricted,
+/// limitedQuantity, emergencyActionCode IA5String (SIZE(1..24)) OPTIONAL, phoneNumber
+/// OPTIONAL, companyName UTF8String (SIZE(1..24)) OPTIONAL, ...}. phoneNumber is a
+/// NumericString (SIZE(1..16)) in CDD version 2 and an IA5String (SIZE(1..24)) in version 1,
+/// which also has no extension marker here. companyName holds the UTF-8 octets (up to 24
+/// characters of up to 4 octets).
+struct DangerousGoodsExtended {
+  DangerousGoodsBasic dangerousGoodsType = 0;
+  std::uint16_t unNumber = 0;
+  bool elevatedTemperature = false;
+  bool tunnelsRestricted = false;
+  bool limitedQuantity = false;
+  std::optional<CharString<24>> emergencyActionCode;
+  std::optional<CharString<24>> phoneNumber;
+  std::optional<BoundedVector<std::uint8_t, 96>> companyName;
+  friend bool operator==(const DangerousGoodsExtended&, const DangerousGoodsExtended&) = default;
+};
+
+/// SEQUENCE {wMInumber IA5String (SIZE(1..3)) OPTIONAL, vDS IA5String (SIZE(6)) OPTIONAL, ...}.
+struct VehicleIdentification {
+  std::optional<CharString<3>> wMInumber;
+  std::optional<CharString<6>> vDS;  ///< exactly 6 characters
+  friend bool operator==(const VehicleIdentification&, const VehicleIdentification&) = default;
 };
 
 // ---- Time --------------------------------------------------------------------------------------
@@ -466,6 +547,9 @@ using EventHistory = BoundedVector<EventPoint, 23>;
 
 /// SEQUENCE SIZE(1..7) OF PathHistory.
 using Traces = BoundedVector<PathHistory, 7>;
+
+/// SEQUENCE SIZE(1..40) OF ReferencePosition.
+using ItineraryPath = BoundedVector<ReferencePosition, 40>;
 
 enum class RoadType : std::uint8_t {
   urban_NoStructuralSeparationToOppositeLanes = 0,

@@ -163,50 +163,222 @@ void get(UperReader& r, LocationContainer& l) {
     r.skip_sequence_extensions("location");
 }
 
-// AlacarteContainer ::= SEQUENCE {lanePosition, impactReduction, externalTemperature,
-// roadWorks, positioningSolution, stationaryVehicle (all OPTIONAL), ...}
-void put(UperWriter& w, const AlacarteContainer& a) {
-  w.put_bool(false);
-  w.put_bool(a.lanePosition.has_value());
-  w.put_bool(false);
-  w.put_bool(a.externalTemperature.has_value());
-  w.put_bool(false);
-  w.put_bool(a.positioningSolution.has_value());
-  w.put_bool(false);
-  if (a.lanePosition)
-    w.put_constrained<-1, 14>(*a.lanePosition, "lanePosition");
-  if (a.externalTemperature)
-    w.put_constrained<-60, 67>(*a.externalTemperature, "externalTemperature");
-  if (a.positioningSolution)
-    put_enum(w, *a.positioningSolution, 6, true, "positioningSolution");
+void put(UperWriter& w, const ImpactReductionContainer& c) {
+  w.put_constrained<1, 100>(c.heightLonCarrLeft, "heightLonCarrLeft");
+  w.put_constrained<1, 100>(c.heightLonCarrRight, "heightLonCarrRight");
+  w.put_constrained<1, 127>(c.posLonCarrLeft, "posLonCarrLeft");
+  w.put_constrained<1, 127>(c.posLonCarrRight, "posLonCarrRight");
+  put_size_ext<1, 3>(w, c.positionOfPillars.size(), "positionOfPillars");
+  for (PosPillar p : c.positionOfPillars)
+    w.put_constrained<1, 30>(p, "posPillar");
+  w.put_constrained<1, 63>(c.posCentMass, "posCentMass");
+  w.put_constrained<1, 127>(c.wheelBaseVehicle, "wheelBaseVehicle");
+  w.put_constrained<1, 255>(c.turningRadius, "turningRadius");
+  w.put_constrained<1, 20>(c.posFrontAx, "posFrontAx");
+  put_named_bits(w, c.positionOfOccupants, 20, "positionOfOccupants");
+  w.put_constrained<1, 1024>(c.vehicleMass, "vehicleMass");
+  put_enum(w, c.requestResponseIndication, 2, false, "requestResponseIndication");
 }
 
-void get(UperReader& r, AlacarteContainer& a) {
-  const std::size_t at = r.bit_position();
+void get(UperReader& r, ImpactReductionContainer& c) {
+  c.heightLonCarrLeft = static_cast<HeightLonCarr>(r.get_constrained<1, 100>("heightLonCarrLeft"));
+  c.heightLonCarrRight =
+      static_cast<HeightLonCarr>(r.get_constrained<1, 100>("heightLonCarrRight"));
+  c.posLonCarrLeft = static_cast<PosLonCarr>(r.get_constrained<1, 127>("posLonCarrLeft"));
+  c.posLonCarrRight = static_cast<PosLonCarr>(r.get_constrained<1, 127>("posLonCarrRight"));
+  c.positionOfPillars.clear();
+  const std::size_t pillars = get_size_ext<1, 3>(r, "positionOfPillars");
+  for (std::size_t i = 0; i < pillars && r.ok(); ++i)
+    c.positionOfPillars.push_back(static_cast<PosPillar>(r.get_constrained<1, 30>("posPillar")));
+  c.posCentMass = static_cast<PosCentMass>(r.get_constrained<1, 63>("posCentMass"));
+  c.wheelBaseVehicle = static_cast<WheelBaseVehicle>(r.get_constrained<1, 127>("wheelBaseVehicle"));
+  c.turningRadius = static_cast<TurningRadius>(r.get_constrained<1, 255>("turningRadius"));
+  c.posFrontAx = static_cast<PosFrontAx>(r.get_constrained<1, 20>("posFrontAx"));
+  c.positionOfOccupants =
+      static_cast<PositionOfOccupants>(get_named_bits(r, 20, "positionOfOccupants"));
+  c.vehicleMass = static_cast<VehicleMass>(r.get_constrained<1, 1024>("vehicleMass"));
+  c.requestResponseIndication =
+      get_enum<RequestResponseIndication>(r, 2, false, "requestResponseIndication");
+}
+
+void put(UperWriter& w, const RoadWorksContainerExtended& c, bool v1) {
+  w.put_bool(c.lightBarSirenInUse.has_value());
+  w.put_bool(c.closedLanes.has_value());
+  w.put_bool(c.restriction.has_value());
+  w.put_bool(c.speedLimit.has_value());
+  w.put_bool(c.incidentIndication.has_value());
+  w.put_bool(c.recommendedPath.has_value());
+  w.put_bool(c.startingPointSpeedLimit.has_value());
+  w.put_bool(c.trafficFlowRule.has_value());
+  w.put_bool(c.referenceDenms.has_value());
+  if (c.lightBarSirenInUse)
+    put_named_bits(w, *c.lightBarSirenInUse, 2, "lightBarSirenInUse");
+  if (c.closedLanes)
+    put(w, *c.closedLanes, v1);
+  if (c.restriction) {
+    put_size_ext<1, 3>(w, c.restriction->size(), "restriction");
+    for (StationType t : *c.restriction)
+      w.put_bits(t, 8);
+  }
+  if (c.speedLimit)
+    w.put_constrained<1, 255>(*c.speedLimit, "speedLimit");
+  if (c.incidentIndication)
+    put(w, *c.incidentIndication, v1);
+  if (c.recommendedPath) {
+    put_size<1, 40>(w, c.recommendedPath->size(), "recommendedPath");
+    for (const ReferencePosition& p : *c.recommendedPath)
+      put(w, p);
+  }
+  if (c.startingPointSpeedLimit)
+    put(w, *c.startingPointSpeedLimit);
+  if (c.trafficFlowRule)
+    put_enum(w, *c.trafficFlowRule, 4, true, "trafficFlowRule");
+  if (c.referenceDenms) {
+    put_size_ext<1, 8>(w, c.referenceDenms->size(), "referenceDenms");
+    for (const ActionID& a : *c.referenceDenms) {
+      w.put_bits(a.originatingStationID, 32);
+      w.put_bits(a.sequenceNumber, 16);
+    }
+  }
+}
+
+void get(UperReader& r, RoadWorksContainerExtended& c, bool v1) {
+  c = RoadWorksContainerExtended{};
+  const auto present = r.get_bits(9, "roadWorks");
+  if (present & 0x100)
+    c.lightBarSirenInUse =
+        static_cast<LightBarSirenInUse>(get_named_bits(r, 2, "lightBarSirenInUse"));
+  if (present & 0x80)
+    get(r, c.closedLanes.emplace(), v1);
+  if (present & 0x40) {
+    RestrictedTypes& t = c.restriction.emplace();
+    const std::size_t n = get_size_ext<1, 3>(r, "restriction");
+    for (std::size_t i = 0; i < n && r.ok(); ++i)
+      t.push_back(static_cast<StationType>(r.get_bits(8, "restriction")));
+  }
+  if (present & 0x20)
+    c.speedLimit = static_cast<SpeedLimit>(r.get_constrained<1, 255>("speedLimit"));
+  if (present & 0x10)
+    get(r, c.incidentIndication.emplace(), "incidentIndication", v1);
+  if (present & 0x08) {
+    ItineraryPath& path = c.recommendedPath.emplace();
+    const auto n = static_cast<std::size_t>(r.get_constrained<1, 40>("recommendedPath"));
+    for (std::size_t i = 0; i < n && r.ok(); ++i)
+      get(r, path.emplace_back());
+  }
+  if (present & 0x04)
+    get(r, c.startingPointSpeedLimit.emplace());
+  if (present & 0x02)
+    c.trafficFlowRule = get_enum<TrafficRule>(r, 4, true, "trafficFlowRule");
+  if (present & 0x01) {
+    ReferenceDenms& refs = c.referenceDenms.emplace();
+    const std::size_t n = get_size_ext<1, 8>(r, "referenceDenms");
+    for (std::size_t i = 0; i < n && r.ok(); ++i) {
+      ActionID& a = refs.emplace_back();
+      a.originatingStationID = static_cast<StationID>(r.get_bits(32, "originatingStationID"));
+      a.sequenceNumber = static_cast<SequenceNumber>(r.get_bits(16, "sequenceNumber"));
+    }
+  }
+}
+
+void put(UperWriter& w, const StationaryVehicleContainer& c, bool v1) {
+  w.put_bool(c.stationarySince.has_value());
+  w.put_bool(c.stationaryCause.has_value());
+  w.put_bool(c.carryingDangerousGoods.has_value());
+  w.put_bool(c.numberOfOccupants.has_value());
+  w.put_bool(c.vehicleIdentification.has_value());
+  w.put_bool(c.energyStorageType.has_value());
+  if (c.stationarySince)
+    put_enum(w, *c.stationarySince, 4, false, "stationarySince");
+  if (c.stationaryCause)
+    put(w, *c.stationaryCause, v1);
+  if (c.carryingDangerousGoods)
+    put(w, *c.carryingDangerousGoods, v1);
+  if (c.numberOfOccupants)
+    w.put_constrained<0, 127>(*c.numberOfOccupants, "numberOfOccupants");
+  if (c.vehicleIdentification) {
+    const VehicleIdentification& id = *c.vehicleIdentification;
+    w.put_bool(false);
+    w.put_bool(id.wMInumber.has_value());
+    w.put_bool(id.vDS.has_value());
+    if (id.wMInumber)
+      put_ia5<1, 3>(w, *id.wMInumber, "wMInumber");
+    if (id.vDS)
+      put_ia5<6, 6>(w, *id.vDS, "vDS");
+  }
+  if (c.energyStorageType)
+    put_named_bits(w, *c.energyStorageType, 7, "energyStorageType");
+}
+
+void get(UperReader& r, StationaryVehicleContainer& c, bool v1) {
+  c = StationaryVehicleContainer{};
+  const auto present = r.get_bits(6, "stationaryVehicle");
+  if (present & 0x20)
+    c.stationarySince = get_enum<StationarySince>(r, 4, false, "stationarySince");
+  if (present & 0x10)
+    get(r, c.stationaryCause.emplace(), "stationaryCause", v1);
+  if (present & 0x08)
+    get(r, c.carryingDangerousGoods.emplace(), v1);
+  if (present & 0x04)
+    c.numberOfOccupants =
+        static_cast<NumberOfOccupants>(r.get_constrained<0, 127>("numberOfOccupants"));
+  if (present & 0x02) {
+    VehicleIdentification& id = c.vehicleIdentification.emplace();
+    const bool ext = r.get_bool("vehicleIdentification");
+    const bool has_wmi = r.get_bool("vehicleIdentification");
+    const bool has_vds = r.get_bool("vehicleIdentification");
+    if (has_wmi)
+      get_ia5<1, 3>(r, id.wMInumber.emplace(), "wMInumber");
+    if (has_vds)
+      get_ia5<6, 6>(r, id.vDS.emplace(), "vDS");
+    if (ext)
+      r.skip_sequence_extensions("vehicleIdentification");
+  }
+  if (present & 0x01)
+    c.energyStorageType = static_cast<EnergyStorageType>(get_named_bits(r, 7, "energyStorageType"));
+}
+
+// AlacarteContainer ::= SEQUENCE {lanePosition, impactReduction, externalTemperature,
+// roadWorks, positioningSolution, stationaryVehicle (all OPTIONAL), ...}
+void put(UperWriter& w, const AlacarteContainer& a, bool v1) {
+  w.put_bool(false);
+  w.put_bool(a.lanePosition.has_value());
+  w.put_bool(a.impactReduction.has_value());
+  w.put_bool(a.externalTemperature.has_value());
+  w.put_bool(a.roadWorks.has_value());
+  w.put_bool(a.positioningSolution.has_value());
+  w.put_bool(a.stationaryVehicle.has_value());
+  if (a.lanePosition)
+    w.put_constrained<-1, 14>(*a.lanePosition, "lanePosition");
+  if (a.impactReduction)
+    put(w, *a.impactReduction);
+  if (a.externalTemperature)
+    w.put_constrained<-60, 67>(*a.externalTemperature, "externalTemperature");
+  if (a.roadWorks)
+    put(w, *a.roadWorks, v1);
+  if (a.positioningSolution)
+    put_enum(w, *a.positioningSolution, 6, true, "positioningSolution");
+  if (a.stationaryVehicle)
+    put(w, *a.stationaryVehicle, v1);
+}
+
+void get(UperReader& r, AlacarteContainer& a, bool v1) {
+  a = AlacarteContainer{};
   const bool ext = r.get_bool("alacarte");
   const auto present = r.get_bits(6, "alacarte");
-  if (present & 0x10) {
-    r.fail_at(Error::kUnsupported, "impactReduction", 1, at + 2);
-    return;
-  }
-  if (present & 0x04) {
-    r.fail_at(Error::kUnsupported, "roadWorks", 1, at + 4);
-    return;
-  }
-  if (present & 0x01) {
-    r.fail_at(Error::kUnsupported, "stationaryVehicle", 1, at + 6);
-    return;
-  }
-  a.lanePosition.reset();
-  a.externalTemperature.reset();
-  a.positioningSolution.reset();
   if (present & 0x20)
     a.lanePosition = static_cast<LanePosition>(r.get_constrained<-1, 14>("lanePosition"));
+  if (present & 0x10)
+    get(r, a.impactReduction.emplace());
   if (present & 0x08)
     a.externalTemperature =
         static_cast<Temperature>(r.get_constrained<-60, 67>("externalTemperature"));
+  if (present & 0x04)
+    get(r, a.roadWorks.emplace(), v1);
   if (present & 0x02)
     a.positioningSolution = get_enum<PositioningSolutionType>(r, 6, true, "positioningSolution");
+  if (present & 0x01)
+    get(r, a.stationaryVehicle.emplace(), v1);
   if (ext)
     r.skip_sequence_extensions("alacarte");
 }
@@ -226,7 +398,7 @@ void put(UperWriter& w, const Denm& d) {
   if (m.location)
     put(w, *m.location);
   if (m.alacarte)
-    put(w, *m.alacarte);
+    put(w, *m.alacarte, d.header.protocolVersion == kProtocolVersion1);
 }
 
 void get(UperReader& r, Denm& d) {
@@ -257,7 +429,7 @@ void get(UperReader& r, Denm& d) {
   if (has_location)
     get(r, m.location.emplace());
   if (has_alacarte)
-    get(r, m.alacarte.emplace());
+    get(r, m.alacarte.emplace(), h.protocolVersion == kProtocolVersion1);
 }
 
 }  // namespace

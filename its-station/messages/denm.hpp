@@ -2,10 +2,10 @@
 /// @file The Decentralized Environmental Notification Message of EN 302 637-3 V1.3.1 (module
 /// DENM-PDU-Descriptions version 2) and its UPER (ITU-T X.691 unaligned) codec.
 ///
-/// Covered: ItsPduHeader, the management, situation and location containers in full, and the
-/// simple members of the à-la-carte container (lanePosition, externalTemperature,
-/// positioningSolution). An à-la-carte container carrying impactReduction, roadWorks or
-/// stationaryVehicle is answered with Error::kUnsupported naming the component.
+/// Covered: ItsPduHeader and every container in full: management, situation, location and the
+/// à-la-carte container with all its members (lanePosition, impactReduction,
+/// externalTemperature, roadWorks, positioningSolution, stationaryVehicle), for protocolVersion
+/// 2 and 1 (whose CDD differs in CauseCode, ClosedLanes and DangerousGoodsExtended, cdd.hpp).
 
 #include <cstddef>
 #include <cstdint>
@@ -71,10 +71,69 @@ enum class PositioningSolutionType : std::uint8_t {
   dR = 5,
 };
 
+/// SEQUENCE {heightLonCarrLeft, heightLonCarrRight, posLonCarrLeft, posLonCarrRight,
+/// positionOfPillars, posCentMass, wheelBaseVehicle, turningRadius, posFrontAx,
+/// positionOfOccupants, vehicleMass, requestResponseIndication}: the vehicle's build, for
+/// reducing the impact of a collision. The defaults are the CDD's unavailable values.
+struct ImpactReductionContainer {
+  HeightLonCarr heightLonCarrLeft = 100;
+  HeightLonCarr heightLonCarrRight = 100;
+  PosLonCarr posLonCarrLeft = 127;
+  PosLonCarr posLonCarrRight = 127;
+  PositionOfPillars positionOfPillars{30};  ///< SIZE(1..3): one, unavailable
+  PosCentMass posCentMass = 63;
+  WheelBaseVehicle wheelBaseVehicle = 127;
+  TurningRadius turningRadius = 255;
+  PosFrontAx posFrontAx = 20;
+  PositionOfOccupants positionOfOccupants = 0;
+  VehicleMass vehicleMass = 1024;
+  RequestResponseIndication requestResponseIndication = RequestResponseIndication::request;
+  friend bool operator==(const ImpactReductionContainer&,
+                         const ImpactReductionContainer&) = default;
+};
+
+/// ReferenceDenms ::= SEQUENCE (SIZE(1..8, ...)) OF ActionID: only root sizes are held.
+using ReferenceDenms = BoundedVector<ActionID, 8>;
+
+/// SEQUENCE {lightBarSirenInUse, closedLanes, restriction, speedLimit, incidentIndication,
+/// recommendedPath, startingPointSpeedLimit, trafficFlowRule, referenceDenms}, all OPTIONAL, no
+/// extension marker.
+struct RoadWorksContainerExtended {
+  std::optional<LightBarSirenInUse> lightBarSirenInUse;
+  std::optional<ClosedLanes> closedLanes;
+  std::optional<RestrictedTypes> restriction;
+  std::optional<SpeedLimit> speedLimit;
+  std::optional<CauseCode> incidentIndication;
+  std::optional<ItineraryPath> recommendedPath;
+  std::optional<DeltaReferencePosition> startingPointSpeedLimit;
+  std::optional<TrafficRule> trafficFlowRule;
+  std::optional<ReferenceDenms> referenceDenms;
+  friend bool operator==(const RoadWorksContainerExtended&,
+                         const RoadWorksContainerExtended&) = default;
+};
+
+/// SEQUENCE {stationarySince, stationaryCause, carryingDangerousGoods, numberOfOccupants,
+/// vehicleIdentification, energyStorageType}, all OPTIONAL, no extension marker.
+struct StationaryVehicleContainer {
+  std::optional<StationarySince> stationarySince;
+  std::optional<CauseCode> stationaryCause;
+  std::optional<DangerousGoodsExtended> carryingDangerousGoods;
+  std::optional<NumberOfOccupants> numberOfOccupants;
+  std::optional<VehicleIdentification> vehicleIdentification;
+  std::optional<EnergyStorageType> energyStorageType;
+  friend bool operator==(const StationaryVehicleContainer&,
+                         const StationaryVehicleContainer&) = default;
+};
+
+/// SEQUENCE {lanePosition, impactReduction, externalTemperature, roadWorks,
+/// positioningSolution, stationaryVehicle (all OPTIONAL), ...}.
 struct AlacarteContainer {
   std::optional<LanePosition> lanePosition;
+  std::optional<ImpactReductionContainer> impactReduction;
   std::optional<Temperature> externalTemperature;
+  std::optional<RoadWorksContainerExtended> roadWorks;
   std::optional<PositioningSolutionType> positioningSolution;
+  std::optional<StationaryVehicleContainer> stationaryVehicle;
   friend bool operator==(const AlacarteContainer&, const AlacarteContainer&) = default;
 };
 
@@ -94,7 +153,8 @@ struct Denm {
   friend bool operator==(const Denm&, const Denm&) = default;
 };
 
-/// Largest UPER encoding of a Denm as modelled here (7 traces of 40 points), in bytes.
+/// Largest UPER encoding of a Denm as modelled here (7 traces of 40 points, 23 event points,
+/// every à-la-carte member at its largest), in bytes, with room to spare.
 inline constexpr std::size_t kDenmMaxEncodedSize = 4096;
 
 /// As for Cam (cam.hpp): encode into @p out and return the bytes written, or an error naming

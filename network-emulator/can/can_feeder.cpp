@@ -107,6 +107,10 @@ constexpr NamedSource kSources[] = {
                         const FeederConfig&) { return light(s, wire::kReverseLight) ? 1.0 : 0.0; }},
     {"FogLight", [](const VehicleState& s,
                     const FeederConfig&) { return light(s, wire::kFogLight) ? 1.0 : 0.0; }},
+    {"LightBar", [](const VehicleState& s,
+                    const FeederConfig&) { return light(s, wire::kLightBar) ? 1.0 : 0.0; }},
+    {"Siren",
+     [](const VehicleState& s, const FeederConfig&) { return light(s, wire::kSiren) ? 1.0 : 0.0; }},
 };
 
 constexpr std::string_view kAliveCounter = "AliveCounter";

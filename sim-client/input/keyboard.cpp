@@ -29,6 +29,7 @@ const std::vector<KeyHelp>& key_map_help() {
       {"L", "low beam"},
       {"K", "high beam"},
       {"F", "fog light"},
+      {"B / N", "light bar / siren (special vehicles)"},
       {"H", "show / hide this help"},
       {"Esc", "quit"},
   };
@@ -59,6 +60,12 @@ void KeyboardDriver::press(Key k) {
       break;
     case Key::kFog:
       toggle_light(command_.lights, wire::kFogLight);
+      break;
+    case Key::kLightBar:
+      toggle_light(command_.lights, wire::kLightBar);
+      break;
+    case Key::kSiren:
+      toggle_light(command_.lights, wire::kSiren);
       break;
     case Key::kHelp:
       help_ = !help_;

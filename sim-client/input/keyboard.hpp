@@ -24,6 +24,8 @@ enum class Key {
   kLowBeam,
   kHighBeam,
   kFog,
+  kLightBar,
+  kSiren,
   kHelp,
   kQuit,
 };

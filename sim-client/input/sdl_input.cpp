@@ -55,6 +55,10 @@ std::optional<Key> key_for(SDL_Scancode code) {
       return Key::kHighBeam;
     case SDL_SCANCODE_F:
       return Key::kFog;
+    case SDL_SCANCODE_B:
+      return Key::kLightBar;
+    case SDL_SCANCODE_N:
+      return Key::kSiren;
     case SDL_SCANCODE_H:
       return Key::kHelp;
     case SDL_SCANCODE_ESCAPE:

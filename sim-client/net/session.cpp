@@ -217,6 +217,7 @@ bool SimSession::on_welcome(const sim::Welcome& w) {
                          v->id));
         return false;
       }
+      d.lights = v->lights;
       try {
         d.script =
             road_map_ != nullptr
@@ -290,6 +291,7 @@ void SimSession::on_state(const sim::StateFrame& f) {
       // A scripted driver reads its input (the state) now.
       c.input_ns = clock::to_unix_ns(clock_->wall_now());
       c.controls = d.script->update(s);
+      c.lights = d.lights;
     } else {
       c.controls = human_.controls;
       c.lights = human_.lights;

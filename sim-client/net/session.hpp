@@ -98,6 +98,7 @@ class SimSession {
     bool answered = false;
     bool ever_attached = false;  ///< on an earlier connection: a refusal now may be our old one
     std::unique_ptr<ScriptedDriver> script;  ///< null: the human input drives
+    std::uint16_t lights = 0;  ///< a scripted vehicle's light switches (the scenario's "lights")
     std::uint64_t seq = 0;
   };
 

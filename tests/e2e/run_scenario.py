@@ -23,6 +23,10 @@ CASE is one of:
                    from another test PKI ("station": {"pki": "foreign"}; issue 20): neither
                    station's LDM, MQTT CAM topics or LCRW ever hold the other, each counts the
                    other's packets as untrusted_root in its status and says so in its log
+  own-stack        scenarios/own-stack-probe.json: a vehicle runs its-gn-probe --cam (a
+                   minimal stack that is not its-station) through the scenario's "station":
+                   {"command": [...]}; both its-stations must have its CAMs in their LDM (their
+                   MQTT in/cam topics) and it must have received CAMs of both (its log)
   scale            20 scripted vehicles on the ring of tests/e2e/gen_scale_scenario.py for 20 s
                    with tracing (issue 21): scripts/report must find records for every stage
                    from the client's input to the CAM received by the others' LDM and LCRW
@@ -54,6 +58,7 @@ CASES = {
     "latency": ("lcrw-three-vehicles.json", 30),
     "curve": ("lcrw-curve.json", 25),
     "reversing": ("lcrw-reversing.json", 25),
+    "own-stack": ("own-stack-probe.json", 20),
     "scale": (None, 20),  # the scenario is generated: SCALE_STATIONS on the ring
     "foreign-root": (None, 15),  # generated: lcrw-frontal with black from another PKI
 }
@@ -281,6 +286,27 @@ def run_case(args):
             failures.append(f"stations did not receive each other's CAMs ({sorted(cams)})")
         if any(w.get("event") == "raised" for _, w in warnings):
             failures.append("a warning was raised for vehicles in different lanes")
+    elif args.case == "own-stack":
+        # Our LDMs have the probe's CAMs; our stations hear each other too.
+        for topic in ("its/1001/in/cam/9001", "its/1002/in/cam/9001", "its/1001/in/cam/1002"):
+            if topic not in cams:
+                failures.append(f"no {topic}: our station did not take the other's CAMs "
+                                f"({sorted(cams)})")
+        # The probe received our CAMs: its log has rx lines naming our station IDs.
+        heard = {}
+        for log_file in sorted(out.glob("run-*/its-station-9001.log")):
+            for line in log_file.read_text(errors="replace").splitlines():
+                try:
+                    j = json.loads(line)
+                except json.JSONDecodeError:
+                    continue
+                if j.get("event") == "rx" and j.get("cam_station_id") is not None:
+                    heard[j["cam_station_id"]] = heard.get(j["cam_station_id"], 0) + 1
+        print(f"e2e own-stack: the probe decoded CAMs of {heard}")
+        for sid in (1001, 1002):
+            if heard.get(sid, 0) < 10:
+                failures.append(f"the probe decoded {heard.get(sid, 0)} CAMs of station {sid}, "
+                                "not >= 10")
     elif args.case in ("latency", "scale"):
         runs = sorted(out.glob("run-*"))
         if not runs:

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "common/scenario/loader.hpp"
+#include "common/wire/vehicle_state.hpp"
 
 namespace tb::scenario {
 namespace {
@@ -92,6 +93,17 @@ const BadCase kBadCases[] = {
      "spawn point (50, -4.5) is off the road (on no drivable lane of ../maps/straight-100.xodr)"},
     {"opendrive-spawn-builtin-form.json", "/vehicles/0/spawn/road",
      "missing required field \"road\""},
+    {"unknown-role.json", "/vehicles/0/role",
+     "\"ambulance\" is not one of \"default\", \"publicTransport\", \"specialTransport\", "
+     "\"dangerousGoods\", \"roadWork\", \"rescue\", \"emergency\", \"safetyCar\""},
+    {"dangerous-goods-without-role.json", "/vehicles/0/dangerous_goods",
+     "only for a vehicle with \"role\": \"dangerousGoods\""},
+    {"dangerous-goods-role-without-goods.json", "/vehicles/0/dangerous_goods",
+     "missing required field \"dangerous_goods\""},
+    {"unknown-dangerous-goods.json", "/vehicles/0/dangerous_goods",
+     "\"petrol\" is not a CDD DangerousGoodsBasic"},
+    {"unknown-light.json", "/vehicles/0/lights/1",
+     "\"blue_light\" is not one of \"low_beam\", \"high_beam\""},
 };
 
 TEST(ScenarioLoader, EveryBadFileGetsAnErrorNamingFilePathAndReason) {
@@ -217,6 +229,30 @@ TEST(ScenarioLoader, AStationMayComeFromAnotherPki) {
       EXPECT_EQ(e.path(), "/vehicles/1/station/pki") << e.what();
     }
   }
+}
+
+TEST(ScenarioLoader, ARoleWithItsLightsAndCargo) {
+  const Scenario s = parse(R"({
+    "name": "roles",
+    "map": {"type": "straight", "lanes": 2, "length": 500},
+    "origin": {"lat": 48.1, "lon": 11.5},
+    "vehicles": [{"id": "amb", "station_id": 7, "spawn": {"lane": 0, "s": 10},
+                  "role": "emergency", "lights": ["light_bar", "siren", "low_beam"]},
+                 {"id": "tank", "station_id": 8, "spawn": {"lane": 1, "s": 10},
+                  "role": "dangerousGoods", "dangerous_goods": "flammableLiquids"},
+                 {"id": "cab", "station_id": 9, "spawn": {"lane": 0, "s": 40}, "role": "taxi"},
+                 {"id": "car", "station_id": 10, "spawn": {"lane": 1, "s": 40}}]
+  })",
+                           "inline.json");
+  EXPECT_EQ(s.vehicles[0].role, VehicleRole::kEmergency);
+  EXPECT_EQ(s.vehicles[0].lights, wire::kLightBar | wire::kSiren | wire::kLowBeam);
+  EXPECT_FALSE(s.vehicles[0].dangerous_goods);
+  EXPECT_EQ(s.vehicles[1].role, VehicleRole::kDangerousGoods);
+  EXPECT_EQ(s.vehicles[1].dangerous_goods, 9);
+  EXPECT_EQ(s.vehicles[1].lights, 0);
+  EXPECT_EQ(s.vehicles[2].role, VehicleRole::kTaxi);
+  EXPECT_EQ(static_cast<int>(s.vehicles[2].role), 12);  // the CDD value
+  EXPECT_EQ(s.vehicles[3].role, VehicleRole::kDefault);
 }
 
 TEST(ScenarioLoader, ReadsEveryKindOfSection) {

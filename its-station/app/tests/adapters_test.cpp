@@ -19,6 +19,12 @@ using namespace std::chrono_literals;
 
 const geodesy::LocalFrame kFrame{{48.0, 11.0, 500.0}};
 
+facilities::DenConfig den_config(std::uint32_t id) {
+  facilities::DenConfig c;
+  c.station_id = id;
+  return c;
+}
+
 struct Station {
   Station(clock::ManualRuntime& rt, std::uint32_t id, link::MacAddress mac)
       : link(mac),
@@ -28,15 +34,16 @@ struct Station {
         sender(btp),
         ldm(rt),
         ca(rt, position, nullptr, sender, ldm, ca_config(id)),
-        den(rt, sender, ldm, {id, 5, 1000.0}),
+        den(rt, sender, ldm, den_config(id)),
         port(den, 100ms, 1s) {
     btp.register_port(facilities::kBtpPortCam,
                       [this](const btp::Indication& ind, std::span<const std::uint8_t> p) {
                         ca.receive(p, ind.gn->rx_time);
                       });
-    btp.register_port(
-        facilities::kBtpPortDenm,
-        [this](const btp::Indication&, std::span<const std::uint8_t> p) { den.receive(p); });
+    btp.register_port(facilities::kBtpPortDenm,
+                      [this](const btp::Indication& ind, std::span<const std::uint8_t> p) {
+                        den.receive(p, den_reception(ind));
+                      });
   }
   static facilities::CaConfig ca_config(std::uint32_t id) {
     facilities::CaConfig c;
@@ -141,6 +148,7 @@ TEST_F(TwoStations, DenmFromTheAppPortIsGeoBroadcastAndCancelled) {
   r.detection_time = rt.wall_now();
   r.relevance_distance = apps::RelevanceDistance::kLessThan100m;
   r.validity_duration = std::chrono::seconds{10};
+  r.traffic_class = 0;  // as LCRW asks
   auto id = a->port.trigger(r);
   ASSERT_TRUE(id);
   const auto* e = b->ldm.event({id->originating_station_id, id->sequence_number});
@@ -207,7 +215,7 @@ namespace {
 TEST(Adapters, NeighbourYawRateAndCurvatureFromTheCam) {
   facilities::Neighbour n;
   n.history.emplace_back();
-  auto& hf = n.last_cam.cam.camParameters.highFrequencyContainer;
+  auto& hf = (*messages::vehicle_hf(n.last_cam.cam.camParameters));
   hf.yawRate.yawRateValue = 764;     // 7.64 °/s
   hf.curvature.curvatureValue = 67;  // 0.0067 m⁻¹, radius 149 m
   auto k = neighbour_kinematics(n);

@@ -61,6 +61,9 @@ struct DenEventRequest {
   std::chrono::seconds validity_duration{600};
   /// CDD InformationQuality, 0 (unavailable) … 7 (highest).
   std::uint8_t information_quality = 0;
+  /// GN traffic class ID: 1 for DENMs, 0 for time-critical warnings (the C-ITS service
+  /// profiles; see the facilities' DenRequest::traffic_class).
+  std::uint8_t traffic_class = 1;
 };
 
 /// Implemented over the facilities' DEN service (EN 302 637-3 application requests

@@ -36,6 +36,9 @@ DenEventRequest LcrwDenmTrigger::request_for(const LcrwWarning& w,
                                       ? RelevanceTrafficDirection::kUpstreamTraffic
                                       : RelevanceTrafficDirection::kAllTrafficDirections;
   r.validity_duration = cfg_.validity_duration;
+  // A longitudinal collision risk is as time-critical as an emergency electronic brake light:
+  // traffic class 0 (the C-ITS service profiles give EEBL 0, other DENMs 1).
+  r.traffic_class = 0;
   return r;
 }
 

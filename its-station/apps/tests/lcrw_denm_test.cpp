@@ -75,6 +75,7 @@ TEST_F(LcrwDenmTest, RaisedWarningTriggersCollisionRiskDenmAtOwnPosition) {
   EXPECT_NEAR(p.north, 50.0, 0.01);
   EXPECT_EQ(r.relevance_distance, RelevanceDistance::kLessThan100m);
   EXPECT_EQ(r.relevance_traffic_direction, RelevanceTrafficDirection::kAllTrafficDirections);
+  EXPECT_EQ(r.traffic_class, 0);  // time-critical, as the emergency electronic brake light
   EXPECT_EQ(r.detection_time, warning(WarningEvent::kRaised, Severity::kWarning, 80).updated_at);
   EXPECT_EQ(t.open_events().size(), 1u);
 }

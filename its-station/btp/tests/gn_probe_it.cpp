@@ -103,6 +103,26 @@ TEST_F(VethPair, ProbeGeoBroadcastsAcrossTheLink) {
   expect_received(rx, "GBC circle", 2, tx_ready["address"]);
 }
 
+TEST_F(VethPair, ProbeSendsCamsAndNamesTheCamsItHears) {
+  Child rx{in_ns(*b_, "--receive-count 3 --duration-s 20 --position 48.15 -1.6 --cam 88")};
+  ASSERT_EQ(rx.next()["event"], "ready");
+  Child tx{in_ns(*a_,
+                 "--send shb --count 3 --interval-ms 20 --position 48.1501 -1.6 --speed 12.5 "
+                 "--heading 271 --cam 77")};
+  EXPECT_EQ(tx.wait(), 0);
+  for (int i = 0; i < 3; ++i) {
+    const json j = rx.next();
+    ASSERT_TRUE(j.is_object()) << "line " << i;
+    EXPECT_EQ(j["event"], "rx");
+    EXPECT_EQ(j["cam_station_id"], 77) << j.dump();  // a CAM it decoded, of station 77
+    EXPECT_GT(j["length"].get<int>(), 30);
+  }
+  EXPECT_EQ(rx.next()["event"], "summary");
+  EXPECT_EQ(rx.wait(), 0);
+  Child no_position{in_ns(*a_, "--send shb --cam 5")};
+  EXPECT_EQ(no_position.wait(), 2);
+}
+
 TEST_F(VethPair, ProbeExitCodesNameTheProblem) {
   // No interface of that name in the namespace: 1, and the message names it.
   EXPECT_EQ(std::system(("ip netns exec " + a_->name() + " " + probe() +

@@ -1,7 +1,11 @@
 // its-gn-probe: sends and receives GeoNetworking/BTP-B packets on a station's radio interface
 // with the stack of its_link/its_geonet/its_btp. For checking a radio (hwsim in OCB mode or the
 // veth stand-in) end to end, in tests and by hand. Received packets are printed as JSON lines.
+// With --cam it is a minimal ITS station of its own (GN, BTP, a CAM of a fixed position, no CA
+// service rules, no LDM): the "bring your own stack" test runs it in a vehicle's place.
 
+#include <algorithm>
+#include <cmath>
 #include <csignal>
 #include <cstdint>
 #include <iostream>
@@ -22,6 +26,7 @@
 #include "its-station/btp/dispatcher.hpp"
 #include "its-station/link/capturing_link.hpp"
 #include "its-station/link/packet_socket_link.hpp"
+#include "its-station/messages/cam.hpp"
 
 namespace {
 
@@ -47,7 +52,34 @@ struct Options {
   double duration_s = 0.0;
   std::string pcap;
   int station_type = static_cast<int>(geonet::StationType::kPassengerCar);
+  std::int64_t cam_station_id = -1;  // -1: the payload is a sequence number, not a CAM
 };
+
+/// ms since 2004-01-01T00:00:00 UTC (CDD TimestampIts, V1.3.1: UTC) of @p t.
+std::int64_t timestamp_its(tb::clock::WallTime t) {
+  return tb::clock::to_unix_ns(t) / 1'000'000 - 1'072'915'200'000;
+}
+
+/// A CAM of a station standing at @p o.position with @p o.speed_mps and @p o.heading_deg, the
+/// fields the probe does not know unavailable.
+messages::Cam probe_cam(const Options& o, tb::clock::WallTime now) {
+  messages::Cam cam;
+  cam.header.stationID = static_cast<messages::StationID>(o.cam_station_id);
+  cam.cam.generationDeltaTime =
+      static_cast<messages::GenerationDeltaTime>(timestamp_its(now) % 65536);
+  auto& p = cam.cam.camParameters;
+  p.basicContainer.stationType = static_cast<messages::StationType>(o.station_type);
+  p.basicContainer.referencePosition.latitude =
+      static_cast<messages::Latitude>(std::lround(o.position[0] * 1e7));
+  p.basicContainer.referencePosition.longitude =
+      static_cast<messages::Longitude>(std::lround(o.position[1] * 1e7));
+  auto& hf = *messages::vehicle_hf(p);
+  hf.heading.headingValue = static_cast<messages::HeadingValue>(
+      std::lround(std::fmod(std::fmod(o.heading_deg, 360.0) + 360.0, 360.0) * 10.0) % 3600);
+  hf.speed.speedValue =
+      static_cast<messages::SpeedValue>(std::clamp(std::lround(o.speed_mps * 100.0), 0L, 16382L));
+  return cam;
+}
 
 void print(const json& j) {
   std::cout << j.dump() << std::endl;
@@ -81,6 +113,10 @@ int main(int argc, char** argv) {
   app.add_option("--pcap", o.pcap, "write sent and received frames to this pcap file");
   app.add_option("--station-type", o.station_type, "GN address station type (5 = car)")
       ->check(CLI::Range(0, 31));
+  app.add_option("--cam", o.cam_station_id,
+                 "send CAMs of this station ID (UPER, EN 302 637-2) as the payload instead of a "
+                 "sequence number, and print the station ID of every CAM received")
+      ->check(CLI::Range(std::int64_t{0}, std::int64_t{4294967295}));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -161,7 +197,12 @@ int main(int argc, char** argv) {
     tb::ByteReader r{p};
     const auto seq = r.be<std::uint32_t>();
     const auto& gn = *ind.gn;
+    json cam_id = nullptr;
+    if (o.cam_station_id >= 0)
+      if (const auto cam = messages::decode_cam(p))
+        cam_id = cam->header.stationID;
     print({{"event", "rx"},
+           {"cam_station_id", cam_id},
            {"type", geonet::to_string(gn.packet_type)},
            {"source", link::to_string(gn.source.mid)},
            {"sender", link::to_string(gn.sender)},
@@ -186,11 +227,22 @@ int main(int argc, char** argv) {
         geonet::make_geo_area(geonet::AreaShape::kCircle, {o.area[0], o.area[1]}, o.area[2]),
         static_cast<std::uint8_t>(o.hops));
   std::function<void()> send_next = [&] {
-    std::array<std::uint8_t, 8> payload{};
-    tb::ByteWriter w{payload};
-    w.be<std::uint32_t>(static_cast<std::uint32_t>(sent));
+    std::array<std::uint8_t, messages::kCamMaxEncodedSize> payload{};
+    std::size_t length = 8;
+    if (o.cam_station_id >= 0) {
+      const auto n = messages::encode(probe_cam(o, rt.wall_now()), payload);
+      if (!n) {
+        spdlog::error("cannot encode the CAM: {}", asn1::to_string(n.error()));
+        io.stop();
+        return;
+      }
+      length = *n;
+    } else {
+      tb::ByteWriter w{std::span(payload).first(8)};
+      w.be<std::uint32_t>(static_cast<std::uint32_t>(sent));
+    }
     stamp();
-    const auto confirm = btp.send_b(request, o.port, 0, payload);
+    const auto confirm = btp.send_b(request, o.port, 0, std::span(payload).first(length));
     print({{"event", "tx"}, {"seq", sent}, {"confirm", geonet::to_string(confirm)}});
     ++sent;
     if (finished()) {

@@ -16,6 +16,7 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <variant>
 
 #include "common/geodesy/local_frame.hpp"
 #include "its-station/facilities/ca_service.hpp"
@@ -46,12 +47,14 @@ std::ostream& operator<<(std::ostream& os, const CamAt& c) {
 
 class CaHarness {
  public:
-  explicit CaHarness(scenario::CamPolicy policy = {}) {
+  explicit CaHarness(scenario::CamPolicy policy = {},
+                     messages::VehicleRole role = messages::VehicleRole::default_) {
     CaConfig cfg;
     cfg.station_id = 1001;
     cfg.policy = policy;
     cfg.vehicle_length_m = 4.255;
     cfg.vehicle_width_m = 1.799;
+    cfg.vehicle_role = role;
     ca = std::make_unique<CaService>(rt, position, &vehicle, sender, ldm, cfg);
     ca->on_sent([this](const messages::Cam& cam, CamTrigger why, const PositionFix& fix) {
       cams.push_back({ms_now(), why});
@@ -172,9 +175,9 @@ TEST(CaService, BrakingTriggersOnSpeedChange) {
                                         {4400, CamTrigger::kTime},
                                         {5400, CamTrigger::kTime}}));
   // Each CAM carries the speed of the fix of its own instant.
-  EXPECT_EQ(h.sent[3].cam.camParameters.highFrequencyContainer.speed.speedValue, 240);
-  EXPECT_EQ(h.sent[4].cam.camParameters.highFrequencyContainer.speed.speedValue, 180);
-  EXPECT_EQ(h.sent[7].cam.camParameters.highFrequencyContainer.speed.speedValue, 0);
+  EXPECT_EQ(messages::vehicle_hf(h.sent[3].cam.camParameters)->speed.speedValue, 240);
+  EXPECT_EQ(messages::vehicle_hf(h.sent[4].cam.camParameters)->speed.speedValue, 180);
+  EXPECT_EQ(messages::vehicle_hf(h.sent[7].cam.camParameters)->speed.speedValue, 0);
 }
 
 TEST(CaService, TurningTriggersOnHeadingChangeAcrossNorth) {
@@ -205,7 +208,7 @@ TEST(CaService, TurningTriggersOnHeadingChangeAcrossNorth) {
                                         {4800, CamTrigger::kTime},
                                         {5200, CamTrigger::kTime},
                                         {6200, CamTrigger::kTime}}));
-  EXPECT_EQ(h.sent[7].cam.camParameters.highFrequencyContainer.heading.headingValue, 180);
+  EXPECT_EQ(messages::vehicle_hf(h.sent[7].cam.camParameters)->heading.headingValue, 180);
 }
 
 TEST(CaService, FixedPolicySendsAtItsPeriodWhateverTheDynamics) {
@@ -253,6 +256,87 @@ TEST(CaService, CamNamesItsFixAndCarriesLowFrequencyEvery500ms) {
   }
 }
 
+TEST(CaService, AnEmergencyVehicleSendsItsContainerEvery500msWithTheStatesLightBarAndSiren) {
+  CaHarness h({}, messages::VehicleRole::emergency);
+  VehicleData d;
+  d.light_bar = true;
+  d.siren = false;
+  h.vehicle.inject(d);
+  h.drive([](double t) { return Motion{15.0 * t, 0.0, 90.0, 15.0}; }, 2.0);
+  // The same clock as the LF container (clause 6.1.3): CAMs at 0, 300, …, 1800 ms → the
+  // special-vehicle container at 0, 600, 1200, 1800.
+  std::vector<std::int64_t> special;
+  for (std::size_t i = 0; i < h.sent.size(); ++i) {
+    const auto& p = h.sent[i].cam.camParameters;
+    if (!p.specialVehicleContainer)
+      continue;
+    special.push_back(h.cams[i].ms);
+    const auto* e = std::get_if<messages::EmergencyContainer>(&*p.specialVehicleContainer);
+    ASSERT_NE(e, nullptr);
+    EXPECT_EQ(e->lightBarSirenInUse, messages::light_bar_siren::kLightBarActivated);
+    EXPECT_FALSE(e->incidentIndication);
+    EXPECT_FALSE(e->emergencyPriority);
+  }
+  EXPECT_EQ(special, (std::vector<std::int64_t>{0, 600, 1200, 1800}));
+  ASSERT_TRUE(h.sent[0].cam.camParameters.lowFrequencyContainer);
+  EXPECT_EQ(h.sent[0].cam.camParameters.lowFrequencyContainer->vehicleRole,
+            messages::VehicleRole::emergency);
+  // What went on the air decodes to it.
+  auto decoded = messages::decode_cam(h.sender.packets[0].payload);
+  ASSERT_TRUE(decoded) << asn1::to_string(decoded.error());
+  EXPECT_EQ(*decoded, h.sent[0]);
+}
+
+TEST(CaService, EveryRoleGetsItsOwnContainerOrNone) {
+  namespace m = messages;
+  CaConfig cfg;
+  VehicleData both;
+  both.light_bar = true;
+  both.siren = true;
+  const m::LightBarSirenInUse on =
+      m::light_bar_siren::kLightBarActivated | m::light_bar_siren::kSirenActivated;
+  auto with = [&](m::VehicleRole r, const VehicleData* d) {
+    cfg.vehicle_role = r;
+    return special_vehicle_container(cfg, d);
+  };
+  // The CHOICE index of each role's container is its role value less one (B.2.x).
+  for (int role = 1; role <= 7; ++role) {
+    const auto c = with(static_cast<m::VehicleRole>(role), &both);
+    ASSERT_TRUE(c) << role;
+    EXPECT_EQ(c->index(), static_cast<std::size_t>(role - 1)) << role;
+  }
+  EXPECT_EQ(std::get<m::SpecialTransportContainer>(*with(m::VehicleRole::specialTransport, &both))
+                .lightBarSirenInUse,
+            on);
+  EXPECT_EQ(std::get<m::RoadWorksContainerBasic>(*with(m::VehicleRole::roadWork, &both))
+                .lightBarSirenInUse,
+            on);
+  EXPECT_EQ(std::get<m::RescueContainer>(*with(m::VehicleRole::rescue, &both)).lightBarSirenInUse,
+            on);
+  EXPECT_EQ(
+      std::get<m::SafetyCarContainer>(*with(m::VehicleRole::safetyCar, &both)).lightBarSirenInUse,
+      on);
+  // No vehicle data, or a bus without the signals: both off.
+  EXPECT_EQ(std::get<m::RescueContainer>(*with(m::VehicleRole::rescue, nullptr)).lightBarSirenInUse,
+            0);
+  const VehicleData unknown;
+  EXPECT_EQ(
+      std::get<m::RescueContainer>(*with(m::VehicleRole::rescue, &unknown)).lightBarSirenInUse, 0);
+  cfg.dangerous_goods = 9;  // flammableLiquids
+  EXPECT_EQ(std::get<m::DangerousGoodsContainer>(*with(m::VehicleRole::dangerousGoods, nullptr))
+                .dangerousGoodsBasic,
+            9);
+  for (m::VehicleRole r :
+       {m::VehicleRole::default_, m::VehicleRole::agriculture, m::VehicleRole::commercial,
+        m::VehicleRole::military, m::VehicleRole::roadOperator, m::VehicleRole::taxi})
+    EXPECT_FALSE(with(r, &both)) << static_cast<int>(r);
+  // A plain car's CAMs never carry one.
+  CaHarness h;
+  h.drive([](double t) { return Motion{15.0 * t, 0.0, 90.0, 15.0}; }, 1.0);
+  for (const auto& cam : h.sent)
+    EXPECT_FALSE(cam.cam.camParameters.specialVehicleContainer);
+}
+
 TEST(CaService, EncodedCamDecodesToWhatWasBuilt) {
   CaHarness h;
   messages::Cam seen;
@@ -265,13 +349,15 @@ TEST(CaService, EncodedCamDecodesToWhatWasBuilt) {
                                .brake_pedal = true,
                                .gas_pedal = false,
                                .reversing = false,
-                               .exterior_lights = lights::kLowBeam | lights::kLeftTurnSignal});
+                               .exterior_lights = lights::kLowBeam | lights::kLeftTurnSignal,
+                               .light_bar = std::nullopt,
+                               .siren = std::nullopt});
   h.drive([](double t) { return Motion{15.0 * t, 0.0, 90.0, 15.0}; }, 0.0);
   ASSERT_EQ(h.sender.packets.size(), 1u);
   auto decoded = messages::decode_cam(h.sender.packets[0].payload);
   ASSERT_TRUE(decoded) << asn1::to_string(decoded.error());
   EXPECT_EQ(*decoded, h.sent[0]);
-  const auto& hf = decoded->cam.camParameters.highFrequencyContainer;
+  const auto& hf = *messages::vehicle_hf(decoded->cam.camParameters);
   EXPECT_EQ(hf.heading.headingValue, 900);
   EXPECT_EQ(hf.heading.headingConfidence, 10);
   EXPECT_EQ(hf.speed.speedValue, 1500);

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include <map>
 #include <string>
 
@@ -22,8 +24,8 @@ const can::Database& database() {
 
 /// Encodes a frame of @p message as the CAN feeder does: signals, alive counter, CRC.
 can::CanFrame frame(const std::string& message, const std::map<std::string, double>& values,
-                    int counter) {
-  const auto* m = database().find_message(message);
+                    int counter, const can::Database& db = database()) {
+  const auto* m = db.find_message(message);
   can::CanFrame f;
   f.can_id = m->id;
   f.len = static_cast<std::uint8_t>(m->dlc);
@@ -84,6 +86,31 @@ TEST(CanVehicleDecoder, ReverseAndHazard) {
   EXPECT_NEAR(*d.state().speed_mps, -2.0, 1e-9);
   EXPECT_TRUE(*d.state().reversing);
   EXPECT_EQ(*d.state().exterior_lights, lights::kLeftTurnSignal | lights::kRightTurnSignal);
+}
+
+TEST(CanVehicleDecoder, LightBarAndSirenWhereTheDbcHasThem) {
+  auto d = decoder();
+  d.apply(frame("Lights", {{"LightBar", 1}, {"Siren", 0}, {"LowBeam", 1}}, 1), {});
+  EXPECT_TRUE(*d.state().light_bar);
+  EXPECT_FALSE(*d.state().siren);
+  d.apply(frame("Lights", {{"Siren", 1}}, 2), {});
+  EXPECT_FALSE(*d.state().light_bar);
+  EXPECT_TRUE(*d.state().siren);
+
+  // A DBC of a car without them (vehicle.dbc less the two signals): decoded, and unknown.
+  std::ifstream in(TESTBED_VEHICLE_DBC);
+  std::string text, line;
+  while (std::getline(in, line))
+    if (line.find("LightBar") == std::string::npos && line.find("Siren") == std::string::npos)
+      text += line + "\n";
+  auto db = can::Database::parse(text, "no-light-bar.dbc");
+  ASSERT_TRUE(db) << db.error().message();
+  auto plain = CanVehicleDecoder::create(*db);
+  ASSERT_TRUE(plain);
+  EXPECT_EQ(plain->apply(frame("Lights", {{"LowBeam", 1}}, 3, *db), {}), CanFrameResult::kAccepted);
+  EXPECT_EQ(*plain->state().exterior_lights, lights::kLowBeam);
+  EXPECT_FALSE(plain->state().light_bar);
+  EXPECT_FALSE(plain->state().siren);
 }
 
 TEST(CanVehicleDecoder, BadChecksumIsCountedAndDropped) {

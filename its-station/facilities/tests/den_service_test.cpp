@@ -17,30 +17,59 @@ using namespace std::chrono_literals;
 using testing::RecordingSender;
 using testing::SentPacket;
 
+/// Inside the relevance area unless told otherwise.
+struct SwitchableLocator final : AreaLocator {
+  bool inside(const GeoArea&) const override { return in; }
+  bool in = true;
+};
+
+DenConfig config_for(messages::StationID id, bool kaf) {
+  DenConfig c;
+  c.station_id = id;
+  c.keep_alive_forwarding = kaf;
+  // T_Forwarding's random part, fixed per station so that the test knows who forwards first.
+  c.kaf_jitter = [id] { return std::chrono::milliseconds{id % 100}; };
+  return c;
+}
+
 struct Station {
-  Station(clock::ManualRuntime& rt, messages::StationID id)
-      : ldm(rt), den(rt, sender, ldm, DenConfig{id, messages::station_type::kPassengerCar}) {
+  Station(clock::ManualRuntime& rt, messages::StationID id, bool kaf)
+      : ldm(rt), den(rt, sender, ldm, config_for(id, kaf), &locator) {
     ldm.on_event([this](const Event& e, DenmOutcome o) {
       seen.push_back({e.denm.denm.management.actionID.sequenceNumber, o});
     });
   }
   RecordingSender sender;
+  SwitchableLocator locator;
   Ldm ldm;
   DenService den;
   std::vector<std::pair<int, DenmOutcome>> seen;
+  bool deaf = false;  ///< out of radio range: receives nothing
+  /// DENMs this station sent, decoded.
+  std::vector<messages::Denm> sent() const {
+    std::vector<messages::Denm> out;
+    for (const auto& p : sender.packets)
+      if (auto d = messages::decode_denm(p.payload))
+        out.push_back(*d);
+    return out;
+  }
 };
 
+/// Three stations (101, 202, 303) on a medium that delivers every DENM to every other station,
+/// with the GeoBroadcast's area and traffic class; keep-alive forwarding off unless kaf().
 class DenTest : public ::testing::Test {
  protected:
-  void SetUp() override {
+  void SetUp() override { make(false); }
+  void make(bool kaf) {
+    stations.clear();
     for (messages::StationID id : {101u, 202u, 303u})
-      stations.push_back(std::make_unique<Station>(rt, id));
+      stations.push_back(std::make_unique<Station>(rt, id, kaf));
     for (auto& s : stations) {
       Station* from = s.get();
       s->sender.forward = [this, from](const SentPacket& p) {
         for (auto& to : stations)
-          if (to.get() != from)
-            to->den.receive(p.payload);
+          if (to.get() != from && !to->deaf)
+            to->den.receive(p.payload, DenmReception{p.area, p.traffic_class});
       };
     }
   }
@@ -123,7 +152,7 @@ TEST_F(DenTest, UpdateReplacesAndCancellationRemoves) {
   EXPECT_EQ(a().den.originated(), 0u);
   EXPECT_EQ(b().seen,
             (std::vector<std::pair<int, DenmOutcome>>{
-                {0, DenmOutcome::kNew}, {0, DenmOutcome::kUpdate}, {0, DenmOutcome::kTerminated}}));
+                {0, DenmOutcome::kNew}, {0, DenmOutcome::kUpdate}, {0, DenmOutcome::kCancelled}}));
   EXPECT_FALSE(a().den.update(*id, req));
   EXPECT_EQ(a().den.terminate(*id).error(), DenError::kUnknownAction);
 }
@@ -157,7 +186,7 @@ TEST_F(DenTest, NegationByAnotherStationRemovesTheEventEverywhere) {
   EXPECT_EQ(a().sender.packets.size(), n);
   EXPECT_EQ(a().den.originated(), 0u);
   EXPECT_EQ(c().seen, (std::vector<std::pair<int, DenmOutcome>>{{0, DenmOutcome::kNew},
-                                                                {0, DenmOutcome::kTerminated}}));
+                                                                {0, DenmOutcome::kNegated}}));
 }
 
 TEST_F(DenTest, SequenceNumbersIdentifyEventsAndValidityExpires) {
@@ -230,13 +259,171 @@ TEST_F(DenTest, ASignedDenmNeedsItsCauseCodesSspBit) {
   ASSERT_TRUE(id);
   const auto payload = a().sender.packets[0].payload;
   const std::array<std::uint8_t, 4> no_collision_risk{0x01, 0xff, 0xff, 0xfb};
-  b().den.receive(payload, std::span<const std::uint8_t>(no_collision_risk));
+  b().den.receive(payload, {.ssp = std::span<const std::uint8_t>(no_collision_risk)});
   EXPECT_EQ(b().den.counters().not_permitted, 1u);
   EXPECT_EQ(b().ldm.event(*id), nullptr);
   const std::array<std::uint8_t, 4> all{0x01, 0xff, 0xff, 0xff};  // its-pki's
-  b().den.receive(payload, std::span<const std::uint8_t>(all));
+  b().den.receive(payload, {.ssp = std::span<const std::uint8_t>(all)});
   EXPECT_NE(b().ldm.event(*id), nullptr);
   EXPECT_EQ(b().den.counters().received, 1u);
+}
+
+TEST_F(DenTest, TrafficClassComesFromTheRequest) {
+  auto r = collision_risk();
+  r.repetition_interval.reset();
+  ASSERT_TRUE(a().den.trigger(r));
+  EXPECT_EQ(a().sender.packets.back().traffic_class, kDenmTrafficClassDefault);
+  r.traffic_class = kDenmTrafficClassTimeCritical;
+  const auto id = a().den.trigger(r);
+  ASSERT_TRUE(id);
+  EXPECT_EQ(a().sender.packets.back().traffic_class, 0);
+  // A negation is no time-critical warning: the default class.
+  ASSERT_TRUE(b().den.terminate(*id));
+  EXPECT_EQ(b().sender.packets.back().traffic_class, kDenmTrafficClassDefault);
+}
+
+// Keep-alive forwarding (EN 302 637-3 clause 8.2.2; TS 102 869-2 TP/DEN/KAFW). A repeats its
+// event every 100 ms for 1 s (transmissionInterval 100); T_Forwarding is then
+// 2 × 100 ms + the station's jitter (config_for: B 2 ms, C 3 ms).
+TEST_F(DenTest, KeepAliveForwardingCarriesASilentOriginatorsEvent) {
+  make(true);
+  const auto id = a().den.trigger(collision_risk());
+  ASSERT_TRUE(id);
+  const messages::Denm original = a().sent().front();
+  // While A repeats, every repetition restarts B's and C's timers: nobody forwards.
+  rt.advance(1000ms);
+  EXPECT_EQ(b().den.counters().forwarded, 0u);
+  EXPECT_EQ(c().den.counters().forwarded, 0u);
+  EXPECT_EQ(b().den.keeping_alive(), 1u);
+  // A's last DENM left at 1000 ms. B's timer runs out first (1202 ms); its forwarding restarts
+  // C's, so B alone keeps the event alive, every 202 ms.
+  rt.advance(201ms);
+  EXPECT_EQ(b().den.counters().forwarded, 0u);
+  rt.advance(1ms);
+  EXPECT_EQ(b().den.counters().forwarded, 1u);
+  rt.advance(798ms);  // 2000 ms: forwardings at 1202, 1404, 1606, 1808
+  EXPECT_EQ(b().den.counters().forwarded, 4u);
+  EXPECT_EQ(c().den.counters().forwarded, 0u);
+  // What B sends is A's DENM with B's header: action ID, referenceTime, every container as A
+  // sent them (BV-04 … BV-08), into A's area with A's traffic class.
+  const auto fwd = b().sent();
+  ASSERT_EQ(fwd.size(), 4u);
+  messages::Denm expected = original;
+  expected.header.stationID = 202;
+  for (const auto& d : fwd)
+    EXPECT_EQ(d, expected);
+  EXPECT_EQ(b().sender.packets.back().area, a().sender.packets.front().area);
+  EXPECT_EQ(b().sender.packets.back().traffic_class, a().sender.packets.front().traffic_class);
+  // A hears its own event from B and keeps out of it; C's copy stays the one A sent.
+  EXPECT_EQ(a().den.counters().own_heard, 4u);
+  EXPECT_EQ(a().ldm.event(*id), nullptr);
+  EXPECT_EQ(c().seen, (std::vector<std::pair<int, DenmOutcome>>{{0, DenmOutcome::kNew}}));
+  EXPECT_NE(c().ldm.event(*id), nullptr);
+
+  // B leaves the relevance area (BV-10): it stops at its next expiry (2010 ms); C's timer, last
+  // restarted by B at 1808 ms, then runs out at 2011 ms, and C carries on every 203 ms.
+  b().locator.in = false;
+  rt.advance(10ms);
+  EXPECT_EQ(b().den.counters().forwarded, 4u);
+  EXPECT_EQ(b().den.keeping_alive(), 0u);
+  rt.advance(1ms);
+  EXPECT_EQ(c().den.counters().forwarded, 1u);
+  EXPECT_EQ(c().sent().back().header.stationID, 303u);
+
+  // The validity (10 s from detection at 0) ends forwarding (BV-09): the last timer is cut to
+  // the end of the validity, which sends nothing.
+  rt.advance(8000ms);
+  const auto at_10s = c().den.counters().forwarded;
+  EXPECT_EQ(at_10s, 40u);  // 2011 + 203 k ≤ 10000 ms: k = 0 … 39
+  rt.advance(2000ms);
+  EXPECT_EQ(c().den.counters().forwarded, at_10s);
+  EXPECT_EQ(c().den.keeping_alive(), 0u);
+}
+
+TEST_F(DenTest, NoKeepAliveWithoutTransmissionIntervalOrBeyondTheValidity) {
+  make(true);
+  auto r = collision_risk();
+  r.repetition_interval.reset();  // sent once, no transmissionInterval (BV-11)
+  ASSERT_TRUE(a().den.trigger(r));
+  EXPECT_EQ(b().den.keeping_alive(), 0u);
+  rt.advance(5s);
+  EXPECT_EQ(b().den.counters().forwarded + c().den.counters().forwarded, 0u);
+
+  // T_Forwarding = min(2 × 1000 ms + jitter, validity left): a DENM valid for 1 s is not
+  // forwarded at all (TI-03, BV-09).
+  r.repetition_interval = 1000ms;
+  r.repetition_duration = 0ms;
+  r.validity_s = 1;
+  ASSERT_TRUE(a().den.trigger(r));
+  EXPECT_EQ(b().den.keeping_alive(), 1u);
+  rt.advance(1100ms);
+  EXPECT_EQ(b().den.counters().forwarded + c().den.counters().forwarded, 0u);
+  EXPECT_EQ(b().den.keeping_alive(), 0u);
+}
+
+TEST_F(DenTest, AnOlderVersionDoesNotRestartTheForwardingTimer) {
+  make(true);
+  c().deaf = true;  // B alone keeps A's event alive
+  auto r = collision_risk();
+  r.repetition_duration = 0ms;  // A sends once, with transmissionInterval 100
+  const auto id = a().den.trigger(r);
+  ASSERT_TRUE(id);
+  const messages::Denm first = a().sent().front();
+  rt.advance(50ms);
+  // An update at 50 ms ...
+  ASSERT_TRUE(a().den.update(*id, r));
+  const messages::Denm second = a().sent().back();
+  ASSERT_GT(second.denm.management.referenceTime, first.denm.management.referenceTime);
+  // ... then a late copy of the first version, from a third station, at 100 ms: older than
+  // what B holds, so no sign that anyone keeps the event alive (BV-02).
+  rt.advance(50ms);
+  messages::Denm late = first;
+  late.header.stationID = 404;
+  b().den.receive(*messages::encode(late));
+  EXPECT_EQ(b().den.counters().dropped, 1u);
+  // B forwards the second version 202 ms after it arrived (at 252 ms), not after the late one.
+  rt.advance(151ms);
+  EXPECT_EQ(b().den.counters().forwarded, 0u);
+  rt.advance(1ms);
+  ASSERT_EQ(b().den.counters().forwarded, 1u);
+  EXPECT_EQ(b().sent().back().denm.management.referenceTime, second.denm.management.referenceTime);
+}
+
+TEST_F(DenTest, AForwardedTerminationKeepsItsTermination) {
+  make(true);
+  c().deaf = true;
+  auto r = collision_risk();
+  r.repetition_duration = 300ms;
+  const auto id = a().den.trigger(r);
+  ASSERT_TRUE(id);
+  rt.advance(150ms);
+  ASSERT_TRUE(a().den.terminate(*id));  // cancellation, repeated until 300 ms
+  EXPECT_EQ(b().ldm.event(*id), nullptr);
+  rt.advance(1s);
+  ASSERT_GT(b().den.counters().forwarded, 0u);
+  const auto fwd = b().sent().back();
+  EXPECT_EQ(fwd.denm.management.termination, messages::Termination::isCancellation);
+  EXPECT_EQ(fwd.header.stationID, 202u);
+  // The originator hears its cancellation kept alive and stays out of it.
+  EXPECT_GT(a().den.counters().own_heard, 0u);
+}
+
+TEST_F(DenTest, ForwardingTimerJitterIsWithinTheStandardsRange) {
+  // Without an injected jitter: 2 × transmissionInterval + a uniform draw in [0, 150 ms].
+  RecordingSender sender;
+  Ldm ldm(rt);
+  DenConfig cfg;
+  cfg.station_id = 555;
+  DenService den(rt, sender, ldm, cfg);
+  auto r = collision_risk();
+  r.repetition_duration = 0ms;
+  r.repetition_interval = 500ms;
+  ASSERT_TRUE(a().den.trigger(r));
+  den.receive(a().sender.packets.back().payload);
+  rt.advance(999ms);
+  EXPECT_EQ(den.counters().forwarded, 0u);
+  rt.advance(151ms);
+  EXPECT_EQ(den.counters().forwarded, 1u);
 }
 
 TEST_F(DenTest, GarbageIsCountedAndDropped) {

@@ -21,7 +21,8 @@ class NullSender final : public fac::MessageSender {
     return fac::SendResult::kSent;
   }
   fac::SendResult send_geobroadcast(std::uint16_t, const fac::GeoArea&,
-                                    std::span<const std::uint8_t>, std::uint32_t) override {
+                                    std::span<const std::uint8_t>, std::uint32_t,
+                                    std::uint8_t) override {
     return fac::SendResult::kSent;
   }
   std::vector<std::uint8_t> last;
@@ -80,7 +81,9 @@ void BM_FixToCamBytes(benchmark::State& state) {
                   .brake_pedal = false,
                   .gas_pedal = true,
                   .reversing = false,
-                  .exterior_lights = fac::lights::kLowBeam});
+                  .exterior_lights = fac::lights::kLowBeam,
+                  .light_bar = std::nullopt,
+                  .siren = std::nullopt});
   double x = 0.0;
   position.inject(fix_at(rt, x));
   ca.start();

@@ -15,8 +15,8 @@ messages::Cam cam_from(messages::StationID id, double lat, double lon, double sp
   auto& rp = c.cam.camParameters.basicContainer.referencePosition;
   rp.latitude = cdd::latitude(lat);
   rp.longitude = cdd::longitude(lon);
-  c.cam.camParameters.highFrequencyContainer.speed.speedValue = cdd::speed_value(speed);
-  c.cam.camParameters.highFrequencyContainer.heading.headingValue = 450;
+  (*messages::vehicle_hf(c.cam.camParameters)).speed.speedValue = cdd::speed_value(speed);
+  (*messages::vehicle_hf(c.cam.camParameters)).heading.headingValue = 450;
   return c;
 }
 
@@ -72,7 +72,7 @@ TEST(Ldm, ReverseDriveGivesNegativeSpeed) {
   clock::ManualRuntime rt;
   Ldm ldm(rt);
   auto c = cam_from(7, 48.0, 11.0, 2.0);
-  c.cam.camParameters.highFrequencyContainer.driveDirection = messages::DriveDirection::backward;
+  (*messages::vehicle_hf(c.cam.camParameters)).driveDirection = messages::DriveDirection::backward;
   ldm.add_cam(c, rt.wall_now());
   EXPECT_NEAR(*ldm.neighbour(7)->latest().speed_mps, -2.0, 1e-9);
 }
@@ -89,7 +89,7 @@ TEST(Ldm, DenmReceivingRules) {
 
   auto term = denm_from(rt, 5, 1, 20);
   term.denm.management.termination = messages::Termination::isCancellation;
-  EXPECT_EQ(ldm.add_denm(term), DenmOutcome::kTerminated);
+  EXPECT_EQ(ldm.add_denm(term), DenmOutcome::kCancelled);
   EXPECT_EQ(ldm.event({5, 1}), nullptr);
   // A late repetition of the event (older reference time) cannot bring it back.
   EXPECT_EQ(ldm.add_denm(denm_from(rt, 5, 1, 10)), DenmOutcome::kOutdated);
@@ -105,6 +105,98 @@ TEST(Ldm, DenmReceivingRules) {
 
   rt.advance(5s);
   EXPECT_TRUE(ldm.active_events().empty());
+}
+
+// The rules, one at a time, as TS 102 869-2 TP/DEN/MSRV checks them.
+TEST(Ldm, DenmVersionsAreOrderedByReferenceThenDetectionTime) {
+  clock::ManualRuntime rt;
+  Ldm ldm(rt);
+  std::vector<DenmOutcome> heard;
+  ldm.on_event([&](const Event&, DenmOutcome o) { heard.push_back(o); });
+  auto v = denm_from(rt, 5, 1, 0);
+  EXPECT_EQ(ldm.add_denm(v), DenmOutcome::kNew);  // MSRV/BV-01
+  // Same referenceTime, later detectionTime: newer (MSRV/BV-07); earlier or equal: dropped
+  // (MSRV/BO-06).
+  auto later = v;
+  later.denm.management.detectionTime += 5;
+  EXPECT_EQ(ldm.add_denm(later), DenmOutcome::kUpdate);
+  auto earlier = v;
+  earlier.denm.management.detectionTime -= 5;
+  EXPECT_EQ(ldm.add_denm(earlier), DenmOutcome::kOutdated);
+  EXPECT_EQ(ldm.add_denm(later), DenmOutcome::kRepetition);
+  // Newer referenceTime wins even with an older detectionTime (MSRV/BV-02); older loses
+  // (MSRV/BO-05).
+  auto newer = v;
+  newer.denm.management.referenceTime += 1;
+  newer.denm.management.detectionTime -= 100;
+  EXPECT_EQ(ldm.add_denm(newer), DenmOutcome::kUpdate);
+  auto older = later;
+  older.denm.management.referenceTime -= 1;
+  older.denm.management.detectionTime += 100;
+  EXPECT_EQ(ldm.add_denm(older), DenmOutcome::kOutdated);
+  EXPECT_EQ(ldm.event({5, 1})->denm, newer);
+  // Applications hear of the accepted ones only.
+  EXPECT_EQ(heard, (std::vector<DenmOutcome>{DenmOutcome::kNew, DenmOutcome::kUpdate,
+                                             DenmOutcome::kUpdate}));
+}
+
+TEST(Ldm, CancellationEndsAnEventForGoodNegationUntilTheOriginatorSpeaksAgain) {
+  clock::ManualRuntime rt;
+  Ldm ldm(rt);
+  // Terminations of events we never held are dropped (MSRV/BO-03, BO-04).
+  auto stray = denm_from(rt, 7, 1, 0);
+  stray.denm.management.termination = messages::Termination::isCancellation;
+  EXPECT_EQ(ldm.add_denm(stray), DenmOutcome::kUnknownTermination);
+  EXPECT_EQ(ldm.any_event({7, 1}), nullptr);
+
+  // Negation by another station: keeps the event's referenceTime, a later detectionTime.
+  const auto event = denm_from(rt, 5, 1, 0);
+  ASSERT_EQ(ldm.add_denm(event), DenmOutcome::kNew);
+  auto negation = event;
+  negation.header.stationID = 9;
+  negation.denm.management.termination = messages::Termination::isNegation;
+  negation.denm.management.detectionTime += 50;
+  EXPECT_EQ(ldm.add_denm(negation), DenmOutcome::kNegated);
+  EXPECT_EQ(ldm.event({5, 1}), nullptr);
+  ASSERT_NE(ldm.any_event({5, 1}), nullptr);
+  EXPECT_TRUE(ldm.any_event({5, 1})->terminated);
+  // Its repetitions, and a later negation by a third station, change nothing.
+  EXPECT_EQ(ldm.add_denm(negation), DenmOutcome::kRepetition);
+  auto second = negation;
+  second.header.stationID = 10;
+  second.denm.management.detectionTime += 10;
+  EXPECT_EQ(ldm.add_denm(second), DenmOutcome::kRepetition);
+  // A late repetition of the negated version stays dropped ...
+  EXPECT_EQ(ldm.add_denm(event), DenmOutcome::kOutdated);
+  // ... but the originator's newer version brings the event back: it still sees it.
+  auto update = event;
+  update.denm.management.referenceTime += 100;
+  update.denm.management.detectionTime += 100;
+  EXPECT_EQ(ldm.add_denm(update), DenmOutcome::kUpdate);
+  EXPECT_NE(ldm.event({5, 1}), nullptr);
+
+  // The originator's cancellation is final: nothing but its own repetitions follows.
+  auto cancel = update;
+  cancel.denm.management.termination = messages::Termination::isCancellation;
+  cancel.denm.management.referenceTime += 100;
+  EXPECT_EQ(ldm.add_denm(cancel), DenmOutcome::kCancelled);
+  auto after = cancel;
+  after.denm.management.termination.reset();
+  after.denm.management.referenceTime += 100;
+  EXPECT_EQ(ldm.add_denm(after), DenmOutcome::kOutdated);
+  auto cancel_again = cancel;
+  cancel_again.denm.management.referenceTime += 200;
+  EXPECT_EQ(ldm.add_denm(cancel_again), DenmOutcome::kRepetition);
+  // A negation after the cancellation turns it into a negation for the record.
+  auto negate_cancelled = cancel_again;
+  negate_cancelled.denm.management.termination = messages::Termination::isNegation;
+  negate_cancelled.denm.management.detectionTime += 1;
+  EXPECT_EQ(ldm.add_denm(negate_cancelled), DenmOutcome::kNegated);
+  EXPECT_TRUE(ldm.active_events().empty());
+
+  // Tombstones last as long as the validity would have.
+  rt.advance(6s);
+  EXPECT_EQ(ldm.any_event({5, 1}), nullptr);
 }
 
 }  // namespace

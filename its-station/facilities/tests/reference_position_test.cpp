@@ -114,7 +114,7 @@ TEST(OrientationFromCourse, ReversingTurnsTheCourseIntoTheOrientation) {
   // The CAM says so: heading north (CDD 0.1°), driving backward.
   CaConfig cfg;
   const auto cam = build_cam(cfg, f, &*c.vehicle.current(), nullptr);
-  const auto& hf = cam.cam.camParameters.highFrequencyContainer;
+  const auto& hf = (*messages::vehicle_hf(cam.cam.camParameters));
   EXPECT_EQ(hf.heading.headingValue, 0);
   EXPECT_EQ(hf.driveDirection, messages::DriveDirection::backward);
   // The reference point (front centre) is 2 m north of the centre antenna, not 2 m south.

@@ -16,21 +16,22 @@ struct SentPacket {
   std::optional<GeoArea> area;  ///< set for GeoBroadcast
   std::vector<std::uint8_t> payload;
   std::uint32_t lifetime_ms = 0;
+  std::uint8_t traffic_class = 0;
 };
 
 /// Records every packet; optionally forwards it (to a medium).
 class RecordingSender final : public MessageSender {
  public:
   SendResult send_single_hop(std::uint16_t port, std::span<const std::uint8_t> p) override {
-    packets.push_back({port, std::nullopt, {p.begin(), p.end()}, 0});
+    packets.push_back({port, std::nullopt, {p.begin(), p.end()}, 0, 2});
     if (forward)
       forward(packets.back());
     return result;
   }
   SendResult send_geobroadcast(std::uint16_t port, const GeoArea& area,
-                               std::span<const std::uint8_t> p,
-                               std::uint32_t lifetime_ms) override {
-    packets.push_back({port, area, {p.begin(), p.end()}, lifetime_ms});
+                               std::span<const std::uint8_t> p, std::uint32_t lifetime_ms,
+                               std::uint8_t traffic_class) override {
+    packets.push_back({port, area, {p.begin(), p.end()}, lifetime_ms, traffic_class});
     if (forward)
       forward(packets.back());
     return result;

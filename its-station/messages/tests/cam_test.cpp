@@ -87,7 +87,7 @@ struct OutOfRange {
 
 TEST(Cam, EncoderRejectsEveryFieldOutsideItsConstraintNamingIt) {
   auto hf = [](Cam& c) -> BasicVehicleContainerHighFrequency& {
-    return c.cam.camParameters.highFrequencyContainer;
+    return (*vehicle_hf(c.cam.camParameters));
   };
   auto pos = [](Cam& c) -> ReferencePosition& {
     return c.cam.camParameters.basicContainer.referencePosition;
@@ -254,12 +254,11 @@ TEST(Cam, ProtocolVersion1UsesTheVersion1Dictionary) {
   // CDD version 1: CurvatureValue (-30000..30001) in 16 bits instead of (-1023..1023) in 11,
   // and no extension bit in CenDsrcTollingZone.
   Cam v2 = samples::cam_hf();
-  v2.cam.camParameters.highFrequencyContainer.cenDsrcTollingZone =
+  (*vehicle_hf(v2.cam.camParameters)).cenDsrcTollingZone =
       CenDsrcTollingZone{410255000, 289742000, 77};
   Cam v1 = v2;
   v1.header.protocolVersion = kProtocolVersion1;
-  v1.cam.camParameters.highFrequencyContainer.curvature.curvatureValue =
-      kCurvatureValueUnavailableV1;
+  (*vehicle_hf(v1.cam.camParameters)).curvature.curvatureValue = kCurvatureValueUnavailableV1;
   expect_round_trip(v1);
   const std::string b1 = to_bits(must_encode(v1));
   const std::string b2 = to_bits(must_encode(v2));
@@ -269,9 +268,9 @@ TEST(Cam, ProtocolVersion1UsesTheVersion1Dictionary) {
   EXPECT_EQ(b1.substr(301, 21), b2.substr(296, 21));
   EXPECT_EQ(b1.substr(327, 1 + 31 + 32 + 27), b2.substr(322 + 1, 1 + 31 + 32 + 27));
 
-  v1.cam.camParameters.highFrequencyContainer.curvature.curvatureValue = -30000;
+  (*vehicle_hf(v1.cam.camParameters)).curvature.curvatureValue = -30000;
   expect_round_trip(v1);
-  v1.cam.camParameters.highFrequencyContainer.curvature.curvatureValue = -30001;
+  (*vehicle_hf(v1.cam.camParameters)).curvature.curvatureValue = -30001;
   auto bad = encode(v1);
   ASSERT_FALSE(bad);
   EXPECT_STREQ(bad.error().field, "curvatureValue");
@@ -358,20 +357,27 @@ TEST(Cam, SpecialVehicleContainerRangesAndChoices) {
   auto ext = decode_cam(with_bits(rescue, 322, 1, 1));
   ASSERT_FALSE(ext);
   EXPECT_EQ(ext.error().code, Error::kUnknownExtension);
-  // CDD version 1's ClosedLanes is another type: refused both ways.
+  // CDD version 1's ClosedLanes: {hardShoulderStatus OPTIONAL, drivingLaneStatus (SIZE(1..14)),
+  // ...}, held as the outer hard shoulder and a driving-lane status that must be present.
   Cam v1 = samples::cams_special_vehicle()[3];
   v1.header.protocolVersion = kProtocolVersion1;
-  auto enc_v1 = encode(v1);
-  ASSERT_FALSE(enc_v1);
-  EXPECT_EQ(enc_v1.error().code, Error::kUnsupported);
-  std::get<RoadWorksContainerBasic>(*v1.cam.camParameters.specialVehicleContainer)
-      .closedLanes.reset();
+  auto inner = encode(v1);  // the sample has an inner hard shoulder, which v1 cannot carry
+  ASSERT_FALSE(inner);
+  EXPECT_EQ(inner.error().code, Error::kValueOutOfRange);
+  EXPECT_STREQ(inner.error().field, "innerhardShoulderStatus");
+  auto& rw = std::get<RoadWorksContainerBasic>(*v1.cam.camParameters.specialVehicleContainer);
+  rw.closedLanes = ClosedLanes{std::nullopt, HardShoulderStatus::closed,
+                               DrivingLaneStatus{0b10000000000001, 14}};
   expect_round_trip(v1);
-  // v1 HF ends at bit 327 (curvature 5 bits wider); CHOICE 4 bits; closedLanes presence at 332.
-  auto dec_v1 = decode_cam(with_bits(must_encode(v1), 332, 1, 1));
-  ASSERT_FALSE(dec_v1);
-  EXPECT_EQ(dec_v1.error().code, Error::kUnsupported);
-  EXPECT_STREQ(dec_v1.error().field, "closedLanes");
+  // v1 HF ends at bit 327 (curvature 5 bits wider); CHOICE 4 bits; sub cause? lanes? 2 bits;
+  // roadworksSubCauseCode 8; lightBarSirenInUse 2: closedLanes starts at 343.
+  const std::string bits = to_bits(must_encode(v1));
+  EXPECT_EQ(bits.substr(343, 1 + 1 + 2 + 4 + 14),
+            std::string("0") + "1" + "01" + bits_of(14 - 1, 4) + "10000000000001");
+  rw.closedLanes->drivingLaneStatus.reset();
+  auto no_lanes = encode(v1);
+  ASSERT_FALSE(no_lanes);
+  EXPECT_STREQ(no_lanes.error().field, "drivingLaneStatus");
 }
 
 TEST(Cam, DecoderRejectsValuesOutsideTheirConstraint) {
@@ -416,17 +422,99 @@ TEST(Cam, DecoderRejectsValuesOutsideTheirConstraint) {
   EXPECT_STREQ(big.error().field, "pathHistory");
 }
 
+TEST(Cam, RoadSideUnitContainerRoundTripsInBothVersionsAndChecksItsRanges) {
+  expect_round_trip(samples::cam_rsu());
+  Cam none = samples::cam_rsu();
+  std::get<RSUContainerHighFrequency>(none.cam.camParameters.highFrequencyContainer)
+      .protectedCommunicationZonesRSU.reset();
+  expect_round_trip(none);
+  EXPECT_EQ(vehicle_hf(none.cam.camParameters), nullptr);
+  // Sixteen zones, every field at its upper bound, with the low-frequency and special-vehicle
+  // containers: still within kCamMaxEncodedSize.
+  Cam big = samples::cam_at_bounds(true);
+  big.cam.camParameters.specialVehicleContainer = PublicTransportContainer{
+      true,
+      PtActivation{255, {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20}}};
+  RSUContainerHighFrequency rsu;
+  for (int i = 0; i < 16; ++i)
+    rsu.protectedCommunicationZonesRSU.emplace().push_back(
+        ProtectedCommunicationZone{ProtectedZoneType::temporaryCenDsrcTolling, kTimestampItsMax,
+                                   900000001, 1800000001, 255, 134217727});
+  big.cam.camParameters.highFrequencyContainer = rsu;
+  expect_round_trip(big);
+  EXPECT_LE(must_encode(big).size(), kCamMaxEncodedSize);
+
+  // Version 1: no extension marker in ProtectedCommunicationZone, no temporary zones.
+  Cam v1 = samples::cam_rsu();
+  v1.header.protocolVersion = kProtocolVersion1;
+  auto temporary = encode(v1);
+  ASSERT_FALSE(temporary);
+  EXPECT_STREQ(temporary.error().field, "protectedZoneType");
+  auto& zones = *std::get<RSUContainerHighFrequency>(v1.cam.camParameters.highFrequencyContainer)
+                     .protectedCommunicationZonesRSU;
+  zones[1].protectedZoneType = ProtectedZoneType::permanentCenDsrcTolling;
+  expect_round_trip(v1);
+  // Zone 1 starts at bit 207 (golden table of cam_hf, then 2 + 2 + 4 bits): v1 has no ext bit,
+  // so the three presence bits and the type's extension bit come first.
+  EXPECT_EQ(to_bits(must_encode(v1)).substr(207, 4), "1110");
+
+  struct Case {
+    const char* field;
+    void (*spoil)(ProtectedCommunicationZone&);
+  };
+  const Case cases[] = {
+      {"protectedZoneRadius", [](ProtectedCommunicationZone& z) { z.protectedZoneRadius = 0; }},
+      {"protectedZoneID", [](ProtectedCommunicationZone& z) { z.protectedZoneID = 134217728; }},
+      {"expiryTime", [](ProtectedCommunicationZone& z) { z.expiryTime = kTimestampItsMax + 1; }},
+      {"protectedZoneLatitude",
+       [](ProtectedCommunicationZone& z) { z.protectedZoneLatitude = 900000002; }},
+      {"protectedZoneType",
+       [](ProtectedCommunicationZone& z) { z.protectedZoneType = ProtectedZoneType{2}; }},
+  };
+  for (const Case& c : cases) {
+    Cam cam = samples::cam_rsu();
+    c.spoil((*std::get<RSUContainerHighFrequency>(cam.cam.camParameters.highFrequencyContainer)
+                  .protectedCommunicationZonesRSU)[0]);
+    auto r = encode(cam);
+    ASSERT_FALSE(r) << c.field;
+    EXPECT_EQ(r.error().code, Error::kValueOutOfRange) << c.field;
+    EXPECT_STREQ(r.error().field, c.field);
+  }
+  Cam empty = samples::cam_rsu();
+  std::get<RSUContainerHighFrequency>(empty.cam.camParameters.highFrequencyContainer)
+      .protectedCommunicationZonesRSU.emplace();
+  auto e = encode(empty);
+  ASSERT_FALSE(e);
+  EXPECT_EQ(e.error().code, Error::kSizeOutOfRange);
+
+  // Decoding: a ProtectedZoneType extension beyond the one known, a radius extension, and
+  // every truncation.
+  const Bytes golden = must_encode(samples::cam_rsu());
+  const std::string bits = to_bits(golden);
+  // Zone 2's type: after zone 1 (1 + 3 + 1 + 42 + 31 + 32 + 9 + 27 = 146 bits from 207), ext 0
+  // and three presence bits: bit 357 is the type's extension bit, 358.. its index.
+  ASSERT_EQ(bits.substr(357, 8), "10000000");
+  auto other = decode_cam(with_bits(golden, 358, 7, 1));
+  ASSERT_FALSE(other);
+  EXPECT_EQ(other.error().code, Error::kUnknownExtension);
+  EXPECT_STREQ(other.error().field, "protectedZoneType");
+  // Zone 1's radius extension bit: 207 + 1 + 3 + 1 + 42 + 31 + 32 = 317.
+  auto radius = decode_cam(with_bits(golden, 317, 1, 1));
+  ASSERT_FALSE(radius);
+  EXPECT_STREQ(radius.error().field, "protectedZoneRadius");
+  for (std::size_t n = 0; n < golden.size(); ++n) {
+    auto r = decode_cam(std::span<const std::uint8_t>(golden).first(n));
+    ASSERT_FALSE(r) << n;
+    EXPECT_EQ(r.error().code, Error::kTruncated) << n;
+  }
+}
+
 TEST(Cam, DecoderRejectsExtensionsItCannotHold) {
   const Bytes hf = must_encode(samples::cam_hf());
   auto hf_ext = decode_cam(with_bits(hf, 199, 1, 1));
   ASSERT_FALSE(hf_ext);
   EXPECT_EQ(hf_ext.error().code, Error::kUnknownExtension);
   EXPECT_STREQ(hf_ext.error().field, "highFrequencyContainer");
-
-  auto rsu = decode_cam(with_bits(hf, 200, 1, 1));
-  ASSERT_FALSE(rsu);
-  EXPECT_EQ(rsu.error().code, Error::kUnsupported);
-  EXPECT_STREQ(rsu.error().field, "rsuContainerHighFrequency");
 
   auto mode = decode_cam(with_bits(hf, 299, 1, 1));
   ASSERT_FALSE(mode);
@@ -488,7 +576,7 @@ TEST(Cam, RandomValidMessagesRoundTrip) {
                                     static_cast<HeadingValue>(in(0, 3601))};
     rp.altitude = {static_cast<AltitudeValue>(in(-100000, 800001)),
                    static_cast<AltitudeConfidence>(in(0, 15))};
-    auto& hf = p.highFrequencyContainer;
+    auto& hf = *vehicle_hf(p);
     hf.heading = {static_cast<HeadingValue>(in(0, 3601)),
                   static_cast<HeadingConfidence>(in(1, 127))};
     hf.speed = {static_cast<SpeedValue>(in(0, 16383)), static_cast<SpeedConfidence>(in(1, 127))};

@@ -116,8 +116,7 @@ TEST(Denm, EncoderRejectsOutOfRangeAndEmptySequences) {
 }
 
 TEST(Denm, ProtocolVersion1CauseCodesHaveNoExtensionBit) {
-  Denm v1 = samples::denm_at_bounds(true);
-  v1.header.protocolVersion = kProtocolVersion1;
+  Denm v1 = samples::as_version1(samples::denm_at_bounds(true));
   expect_round_trip(v1);
   Denm v2 = samples::denm_collision_risk();
   v1 = v2;
@@ -189,23 +188,217 @@ TEST(Denm, DecoderRejectsCamsOtherVersionsAndBadValues) {
   EXPECT_EQ(trailing.error().code, Error::kTrailingData);
 }
 
-TEST(Denm, AlacarteMembersNotImplementedAreNamed) {
+Denm with_alacarte() {
   Denm d = samples::denm_collision_risk();
-  d.denm.alacarte.emplace();
-  const std::string bits = to_bits(must_encode(d));
-  // The alacarte container starts right after the location container (bit 555 in the golden
-  // table): extension bit, then the six presence bits.
-  const std::size_t at = 555;
-  ASSERT_EQ(bits.substr(at, 7), "0000000");
-  const std::pair<std::size_t, const char*> members[] = {
-      {2, "impactReduction"}, {4, "roadWorks"}, {6, "stationaryVehicle"}};
-  for (auto [offset, name] : members) {
-    std::string spoilt = bits;
-    spoilt[at + offset] = '1';
-    auto r = decode_denm(from_bits(spoilt));
-    ASSERT_FALSE(r) << name;
-    EXPECT_EQ(r.error().code, Error::kUnsupported);
-    EXPECT_STREQ(r.error().field, name);
+  d.denm.alacarte = samples::alacarte_full();
+  return d;
+}
+
+TEST(Denm, EveryAlacarteMemberRoundTripsInBothVersions) {
+  expect_round_trip(with_alacarte());
+  // Each member alone, and the container empty.
+  const AlacarteContainer full = samples::alacarte_full();
+  for (int member = 0; member < 7; ++member) {
+    Denm d = samples::denm_collision_risk();
+    AlacarteContainer& a = d.denm.alacarte.emplace();
+    if (member == 0)
+      a.lanePosition = full.lanePosition;
+    if (member == 1)
+      a.impactReduction = full.impactReduction;
+    if (member == 2)
+      a.externalTemperature = full.externalTemperature;
+    if (member == 3)
+      a.roadWorks = full.roadWorks;
+    if (member == 4)
+      a.positioningSolution = full.positioningSolution;
+    if (member == 5)
+      a.stationaryVehicle = full.stationaryVehicle;
+    expect_round_trip(d);
+  }
+  // The unavailable defaults of ImpactReductionContainer are valid values.
+  Denm d = samples::denm_collision_risk();
+  d.denm.alacarte.emplace().impactReduction.emplace();
+  expect_round_trip(d);
+
+  // protocolVersion 1: ClosedLanes {hardShoulderStatus, drivingLaneStatus (SIZE(1..14)), ...},
+  // DangerousGoodsExtended without extension marker and with an IA5String phoneNumber,
+  // CauseCode without extension marker.
+  Denm v1 = with_alacarte();
+  v1.header.protocolVersion = kProtocolVersion1;
+  expect_round_trip(v1);
+  // v1's DangerousGoodsExtended: no extension bit before the three presence bits, and the
+  // phone number as an IA5String SIZE(1..24) (5-bit length, 7 bits a character).
+  auto ia5 = [](const char* t) {
+    std::string b;
+    for (; *t != '\0'; ++t)
+      b += bits_of(static_cast<unsigned char>(*t), 7);
+    return b;
+  };
+  const std::string goods_v1 = "111" + bits_of(9, 5) + bits_of(1203, 14) + "010" + bits_of(2, 5) +
+                               ia5("3YE") + bits_of(2, 5) + ia5("112") + bits_of(7, 8) +
+                               bits_of(0xC3, 8);
+  const std::string goods_v2 = "0" + goods_v1.substr(0, 3 + 5 + 14 + 3 + 5 + 21) + bits_of(2, 4) +
+                               bits_of(2, 4) + bits_of(2, 4) + bits_of(3, 4) + bits_of(7, 8) +
+                               bits_of(0xC3, 8);
+  const std::string b1 = to_bits(must_encode(v1));
+  const std::string b2 = to_bits(must_encode(with_alacarte()));
+  EXPECT_NE(b1.find(goods_v1), std::string::npos);
+  EXPECT_EQ(b1.find(goods_v2), std::string::npos);
+  EXPECT_NE(b2.find(goods_v2), std::string::npos);
+  // v1's outer hard shoulder and 14-bit driving-lane status.
+  v1.denm.alacarte->roadWorks->closedLanes->drivingLaneStatus = DrivingLaneStatus{0x3FFF, 14};
+  expect_round_trip(v1);
+  Denm v1_bad = v1;
+  v1_bad.denm.alacarte->roadWorks->closedLanes->innerhardShoulderStatus =
+      HardShoulderStatus::closed;
+  auto inner = encode(v1_bad);
+  ASSERT_FALSE(inner);
+  EXPECT_STREQ(inner.error().field, "innerhardShoulderStatus");
+  // A version-1 phone number may hold any IA5 character and 24 of them.
+  v1.denm.alacarte->stationaryVehicle->carryingDangerousGoods->phoneNumber =
+      char_string<24>("+49 (89) 1234-5678 ext 9");
+  expect_round_trip(v1);
+  Denm v2 = with_alacarte();
+  v2.denm.alacarte->stationaryVehicle->carryingDangerousGoods->phoneNumber =
+      char_string<24>("+49 89");
+  auto plus = encode(v2);
+  ASSERT_FALSE(plus);
+  EXPECT_STREQ(plus.error().field, "phoneNumber");
+}
+
+TEST(Denm, AlacarteEncoderRejectsValuesAndSizesOutsideTheConstraints) {
+  struct Case {
+    const char* field;
+    void (*spoil)(AlacarteContainer&);
+    Error code;
+  };
+  const Case cases[] = {
+      {"heightLonCarrLeft", [](AlacarteContainer& a) { a.impactReduction->heightLonCarrLeft = 0; },
+       Error::kValueOutOfRange},
+      {"posCentMass", [](AlacarteContainer& a) { a.impactReduction->posCentMass = 64; },
+       Error::kValueOutOfRange},
+      {"vehicleMass", [](AlacarteContainer& a) { a.impactReduction->vehicleMass = 1025; },
+       Error::kValueOutOfRange},
+      {"positionOfOccupants",
+       [](AlacarteContainer& a) { a.impactReduction->positionOfOccupants = 1u << 20; },
+       Error::kValueOutOfRange},
+      {"positionOfPillars", [](AlacarteContainer& a) { a.impactReduction->positionOfPillars = {}; },
+       Error::kSizeOutOfRange},
+      {"posPillar", [](AlacarteContainer& a) { a.impactReduction->positionOfPillars = {31}; },
+       Error::kValueOutOfRange},
+      {"restriction", [](AlacarteContainer& a) { a.roadWorks->restriction.emplace(); },
+       Error::kSizeOutOfRange},
+      {"recommendedPath", [](AlacarteContainer& a) { a.roadWorks->recommendedPath.emplace(); },
+       Error::kSizeOutOfRange},
+      {"referenceDenms", [](AlacarteContainer& a) { a.roadWorks->referenceDenms.emplace(); },
+       Error::kSizeOutOfRange},
+      {"speedLimit", [](AlacarteContainer& a) { a.roadWorks->speedLimit = 0; },
+       Error::kValueOutOfRange},
+      {"drivingLaneStatus",
+       [](AlacarteContainer& a) {
+         a.roadWorks->closedLanes->drivingLaneStatus = {0, 14};
+       },
+       Error::kValueOutOfRange},
+      {"numberOfOccupants",
+       [](AlacarteContainer& a) { a.stationaryVehicle->numberOfOccupants = 128; },
+       Error::kValueOutOfRange},
+      {"unNumber",
+       [](AlacarteContainer& a) { a.stationaryVehicle->carryingDangerousGoods->unNumber = 10000; },
+       Error::kValueOutOfRange},
+      {"emergencyActionCode",
+       [](AlacarteContainer& a) {
+         a.stationaryVehicle->carryingDangerousGoods->emergencyActionCode.emplace();
+       },
+       Error::kSizeOutOfRange},
+      {"emergencyActionCode",
+       [](AlacarteContainer& a) {
+         a.stationaryVehicle->carryingDangerousGoods->emergencyActionCode = char_string<24>("\xE9");
+       },
+       Error::kValueOutOfRange},
+      {"phoneNumber",
+       [](AlacarteContainer& a) {
+         a.stationaryVehicle->carryingDangerousGoods->phoneNumber =
+             char_string<24>("12345678901234567");  // 17 digits: SIZE(1..16)
+       },
+       Error::kSizeOutOfRange},
+      {"companyName",
+       [](AlacarteContainer& a) {
+         a.stationaryVehicle->carryingDangerousGoods->companyName = {0xC3};  // cut sequence
+       },
+       Error::kValueOutOfRange},
+      {"companyName",
+       [](AlacarteContainer& a) {
+         auto& c = a.stationaryVehicle->carryingDangerousGoods->companyName.emplace();
+         for (int i = 0; i < 25; ++i)
+           c.push_back('x');
+       },
+       Error::kSizeOutOfRange},
+      {"vDS",
+       [](AlacarteContainer& a) {
+         a.stationaryVehicle->vehicleIdentification->vDS = char_string<6>("ZZZ1K");
+       },
+       Error::kSizeOutOfRange},
+      {"energyStorageType",
+       [](AlacarteContainer& a) { a.stationaryVehicle->energyStorageType = 128; },
+       Error::kValueOutOfRange},
+      {"dangerousGoodsType",
+       [](AlacarteContainer& a) {
+         a.stationaryVehicle->carryingDangerousGoods->dangerousGoodsType = 20;
+       },
+       Error::kValueOutOfRange},
+  };
+  for (const Case& c : cases) {
+    Denm d = with_alacarte();
+    c.spoil(*d.denm.alacarte);
+    auto r = encode(d);
+    ASSERT_FALSE(r) << c.field;
+    EXPECT_EQ(r.error().code, c.code) << c.field << ": " << asn1::to_string(r.error());
+    EXPECT_STREQ(r.error().field, c.field);
+  }
+}
+
+// Offsets into with_alacarte()'s encoding, from the golden table in golden_test.cpp: the
+// container starts at bit 555, positionOfPillars after its 7 head bits, lanePosition (4) and
+// the four carrier fields (7 bits each).
+constexpr std::size_t kAlacarte = 555;
+constexpr std::size_t kPillarsExt = kAlacarte + 7 + 4 + 4 * 7;
+
+TEST(Denm, AlacarteDecoderRejectsExtensionsBadCharactersAndEveryTruncation) {
+  const Bytes bytes = must_encode(with_alacarte());
+  const std::string bits = to_bits(bytes);
+  // positionOfPillars SIZE(1..3, ...) with its extension bit set: a size this type cannot hold.
+  ASSERT_EQ(bits.substr(kPillarsExt, 3), "001");
+  auto pillars = decode_denm(with_bits(bytes, kPillarsExt, 1, 1));
+  ASSERT_FALSE(pillars);
+  EXPECT_EQ(pillars.error().code, Error::kUnknownExtension);
+  EXPECT_STREQ(pillars.error().field, "positionOfPillars");
+
+  // The StationaryVehicleContainer's head: six presence bits, lessThan2Minutes, stationaryCause.
+  const std::string sv_head = "111111" + bits_of(1, 2) + "0" + bits_of(94, 8) + bits_of(2, 8);
+  const std::size_t sv = bits.find(sv_head);
+  ASSERT_NE(sv, std::string::npos);
+  ASSERT_EQ(sv, bits.rfind(sv_head));
+  // The phone number's first digit (index 2, '1') made 15: not in " 0123456789".
+  // stationarySince 2, stationaryCause 17, DGE ext + 3 presence, type 5, unNumber 14, 3 flags,
+  // emergencyActionCode 5 + 21: the phone number's length at sv + 6 + 2 + 17 + 4 + 5 + 14 + 3 + 26.
+  const std::size_t phone = sv + 6 + 2 + 17 + 4 + 5 + 14 + 3 + 26;
+  ASSERT_EQ(bits.substr(phone, 8), bits_of(2, 4) + bits_of(2, 4));
+  auto digit = decode_denm(with_bits(bytes, phone + 4, 4, 15));
+  ASSERT_FALSE(digit);
+  EXPECT_EQ(digit.error().code, Error::kValueOutOfRange);
+  EXPECT_STREQ(digit.error().field, "phoneNumber");
+  // The company name's first octet (0xC3, a lead byte) made a continuation byte: not UTF-8.
+  const std::size_t company = phone + 4 + 12;
+  ASSERT_EQ(bits.substr(company, 16), bits_of(7, 8) + bits_of(0xC3, 8));
+  auto utf8 = decode_denm(with_bits(bytes, company + 8, 8, 0x96));
+  ASSERT_FALSE(utf8);
+  EXPECT_EQ(utf8.error().code, Error::kValueOutOfRange);
+  EXPECT_STREQ(utf8.error().field, "companyName");
+
+  for (std::size_t n = 0; n < bytes.size(); ++n) {
+    auto r = decode_denm(std::span<const std::uint8_t>(bytes).first(n));
+    ASSERT_FALSE(r) << n;
+    EXPECT_EQ(r.error().code, Error::kTruncated) << n << ": " << asn1::to_string(r.error());
   }
 }
 

@@ -13,6 +13,7 @@
 
 #include "its-station/messages/cam.hpp"
 #include "its-station/messages/denm.hpp"
+#include "its-station/messages/tests/bits.hpp"
 #include "its-station/messages/tests/samples.hpp"
 
 namespace tb::its::messages {
@@ -230,6 +231,132 @@ TEST(Golden, DenmEncodesToTheWorkedOutBytes) {
   auto denm = decode_denm(kDenmGolden);
   ASSERT_TRUE(denm) << asn1::to_string(denm.error());
   EXPECT_EQ(*denm, samples::denm_collision_risk());
+}
+
+// The containers added since, worked out the same way but written as bit strings, one line per
+// component: bits_of(v, w) is v in w bits, a constrained value already less its lower bound.
+using testing::bits_of;
+using testing::to_bits;
+
+// ReferencePosition samples::istanbul(): latitude, longitude, ellipse, altitude.
+std::string istanbul_bits() {
+  return bits_of(410255000 + 900000000, 31) + bits_of(289742000 + 1800000000LL, 32) +
+         bits_of(500, 12) + bits_of(300, 12) + bits_of(900, 12) + bits_of(4000 + 100000, 20) +
+         bits_of(7, 4);
+}
+
+std::string ia5(const char* s) {
+  std::string b;
+  for (; *s != '\0'; ++s)
+    b += bits_of(static_cast<unsigned char>(*s), 7);  // X.691 30.5.4: 7 bits, the code itself
+  return b;
+}
+
+TEST(Golden, DenmAlacarteContainerEncodesToTheWorkedOutBits) {
+  Denm d = samples::denm_collision_risk();
+  d.denm.alacarte = samples::alacarte_full();
+  const std::string alacarte =
+      std::string("0") +   // AlacarteContainer ext
+      "111111" +           // lanePosition? impactReduction? externalTemperature?
+                           // roadWorks? positioningSolution? stationaryVehicle?
+      bits_of(2 + 1, 4) +  // lanePosition 2 in (-1..14)
+      // ImpactReductionContainer: no extension marker, no OPTIONAL components
+      bits_of(40 - 1, 7) +       // heightLonCarrLeft 40 in (1..100)
+      bits_of(41 - 1, 7) +       // heightLonCarrRight 41 in (1..100)
+      bits_of(50 - 1, 7) +       // posLonCarrLeft 50 in (1..127)
+      bits_of(51 - 1, 7) +       // posLonCarrRight 51 in (1..127)
+      "0" + bits_of(2 - 1, 2) +  // positionOfPillars SIZE(1..3, ...): root, size 2
+      bits_of(10 - 1, 5) +       //   PosPillar 10 in (1..30)
+      bits_of(25 - 1, 5) +       //   PosPillar 25
+      bits_of(20 - 1, 6) +       // posCentMass 20 in (1..63)
+      bits_of(27 - 1, 7) +       // wheelBaseVehicle 27 in (1..127)
+      bits_of(30 - 1, 8) +       // turningRadius 30 in (1..255)
+      bits_of(9 - 1, 5) +        // posFrontAx 9 in (1..20)
+      "11000100000000000000" +   // positionOfOccupants SIZE(20): bits 0, 1, 5, bit 0 first
+      bits_of(15 - 1, 10) +      // vehicleMass 15 in (1..1024)
+      "0" +                      // requestResponseIndication request (index 0 of 2)
+      bits_of(-5 + 60, 7) +      // externalTemperature -5 in (-60..67)
+      // RoadWorksContainerExtended: no extension marker, nine OPTIONAL components, all present
+      "111111111" + "10" +             // lightBarSirenInUse SIZE(2): lightBarActivated (bit 0)
+      "0" + "011" +                    // closedLanes ext; inner? outer? drivingLaneStatus?
+      "01" +                           //   outerhardShoulderStatus closed (index 1 of 3)
+      bits_of(2 - 1, 4) + "01" +       //   drivingLaneStatus SIZE(1..13): 2 bits, bit 1 set
+      "0" + bits_of(2 - 1, 2) +        // restriction SIZE(1..3, ...): root, size 2
+      bits_of(8, 8) + bits_of(6, 8) +  //   heavyTruck (8), bus (6)
+      bits_of(60 - 1, 8) +             // speedLimit 60 in (1..255)
+      "0" + bits_of(3, 8) + bits_of(1, 8) +     // incidentIndication: ext, roadworks (3), 1
+      bits_of(1 - 1, 6) +                       // recommendedPath SIZE(1..40): 1 point
+      istanbul_bits() +                         //   ReferencePosition
+      bits_of(100 + 131071, 18) +               // startingPointSpeedLimit: deltaLatitude 100
+      bits_of(-200 + 131071, 18) +              //   deltaLongitude -200
+      bits_of(0 + 12700, 15) +                  //   deltaAltitude 0
+      "0" + bits_of(2, 2) +                     // trafficFlowRule: ext, passToRight (index 2 of 4)
+      "0" + bits_of(1 - 1, 3) +                 // referenceDenms SIZE(1..8, ...): root, size 1
+      bits_of(1234567, 32) + bits_of(42, 16) +  //   ActionID
+      "0" + bits_of(2, 3) +                     // positioningSolution: ext, dGNSS (index 2 of 6)
+      // StationaryVehicleContainer: no extension marker, six OPTIONAL components, all present
+      "111111" + bits_of(1, 2) +              // stationarySince lessThan2Minutes (index 1 of 4)
+      "0" + bits_of(94, 8) + bits_of(2, 8) +  // stationaryCause: ext, stationaryVehicle, 2
+      // DangerousGoodsExtended: ext, then emergencyActionCode? phoneNumber? companyName?
+      "0" + "111" + bits_of(9, 5) +     //   dangerousGoodsType flammableLiquids (index 9 of 20)
+      bits_of(1203, 14) +               //   unNumber 1203 in (0..9999)
+      "0" + "1" + "0" +                 //   elevatedTemperature, tunnelsRestricted, limitedQuantity
+      bits_of(3 - 1, 5) + ia5("3YE") +  // emergencyActionCode IA5String SIZE(1..24)
+      // phoneNumber NumericString SIZE(1..16): 3 characters, 4 bits each, the index in
+      // " 0123456789" (X.691 30.5.4): '1' is 2, '2' is 3
+      bits_of(3 - 1, 4) + bits_of(2, 4) + bits_of(2, 4) + bits_of(3, 4) +
+      // companyName UTF8String: not PER-visible, an 8-bit octet count (X.691 11.9.3.6), then
+      // the octets of "Ölwerk"
+      bits_of(7, 8) + bits_of(0xC3, 8) + bits_of(0x96, 8) + bits_of('l', 8) + bits_of('w', 8) +
+      bits_of('e', 8) + bits_of('r', 8) + bits_of('k', 8) +
+      bits_of(2, 7) +                   // numberOfOccupants 2 in (0..127)
+      "0" + "11" +                      // vehicleIdentification ext, wMInumber? vDS?
+      bits_of(3 - 1, 2) + ia5("WVW") +  //   wMInumber IA5String SIZE(1..3)
+      ia5("ZZZ1KZ") +                   //   vDS IA5String SIZE(6): no length
+      "0000100";                        // energyStorageType SIZE(7): diesel (bit 4)
+
+  auto bytes = encode(d);
+  ASSERT_TRUE(bytes) << asn1::to_string(bytes.error());
+  const std::string got = to_bits(*bytes);
+  const std::string golden = to_bits(kDenmGolden);
+  // The golden DENM with its alacarte presence bit (50) set, then the container at bit 555.
+  std::string want = golden.substr(0, 555);
+  want[50] = '1';
+  want += alacarte;
+  want += std::string((8 - want.size() % 8) % 8, '0');
+  EXPECT_EQ(got, want);
+  auto back = decode_denm(*bytes);
+  ASSERT_TRUE(back) << asn1::to_string(back.error());
+  EXPECT_EQ(*back, d);
+}
+
+TEST(Golden, RoadSideUnitCamEncodesToTheWorkedOutBits) {
+  const std::string want_body =
+      bits_of(2, 8) + bits_of(2, 8) + bits_of(5550001, 32) +  // ItsPduHeader
+      bits_of(12345, 16) +                                    // generationDeltaTime
+      "000" +                 // camParameters ext, lowFrequency?, specialVehicle?
+      "0" + bits_of(15, 8) +  // basicContainer ext, stationType roadSideUnit (15)
+      istanbul_bits() +       // referencePosition
+      "0" + "1" +             // highFrequencyContainer: ext, rsuContainerHighFrequency (1)
+      "0" + "1" +             // RSUContainerHighFrequency ext, zones?
+      bits_of(2 - 1, 4) +     // protectedCommunicationZonesRSU SIZE(1..16): 2 zones
+      // zone 1: ext, expiryTime? radius? id?, type (one root value: no index bits)
+      "0" + "111" + "0" + bits_of(694224000000ULL, 42) +  // expiryTime in (0..4398046511103)
+      bits_of(410260000 + 900000000, 31) +                // protectedZoneLatitude
+      bits_of(289750000 + 1800000000LL, 32) +             // protectedZoneLongitude
+      "0" + bits_of(50 - 1, 8) +                          // protectedZoneRadius 50 in (1..255, ...)
+      bits_of(12345, 27) +                                // protectedZoneID in (0..134217727)
+      // zone 2: ext, none of the optionals; temporaryCenDsrcTolling is the first extension
+      // value: extension bit 1, then index 0 as a normally small number (X.691 14.3, 11.6)
+      "0" + "000" + "1" + "0000000" + bits_of(410270000 + 900000000, 31) +
+      bits_of(289760000 + 1800000000LL, 32);
+  auto bytes = encode(samples::cam_rsu());
+  ASSERT_TRUE(bytes) << asn1::to_string(bytes.error());
+  const std::string want = want_body + std::string((8 - want_body.size() % 8) % 8, '0');
+  EXPECT_EQ(to_bits(*bytes), want);
+  auto back = decode_cam(*bytes);
+  ASSERT_TRUE(back) << asn1::to_string(back.error());
+  EXPECT_EQ(*back, samples::cam_rsu());
 }
 
 }  // namespace

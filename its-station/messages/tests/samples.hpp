@@ -56,11 +56,10 @@ inline Cam cam_lf() {
       kSemiAxisLengthUnavailable, kSemiAxisLengthOutOfRange, kHeadingValueUnavailable};
   p.basicContainer.referencePosition.altitude = {-100000, AltitudeConfidence::unavailable};
   p.highFrequencyContainer = passenger_car_hf();
-  p.highFrequencyContainer.accelerationControl =
+  vehicle_hf(p)->accelerationControl =
       acceleration_control::kBrakePedalEngaged | acceleration_control::kAccEngaged;
-  p.highFrequencyContainer.steeringWheelAngle = SteeringWheelAngle{-20, 2};
-  p.highFrequencyContainer.lateralAcceleration =
-      LateralAcceleration{-12, kAccelerationConfidenceUnavailable};
+  vehicle_hf(p)->steeringWheelAngle = SteeringWheelAngle{-20, 2};
+  vehicle_hf(p)->lateralAcceleration = LateralAcceleration{-12, kAccelerationConfidenceUnavailable};
   BasicVehicleContainerLowFrequency& lf = p.lowFrequencyContainer.emplace();
   lf.vehicleRole = VehicleRole::default_;
   lf.exteriorLights = exterior_lights::kLowBeamHeadlightsOn | exterior_lights::kLeftTurnSignalOn;
@@ -134,6 +133,73 @@ inline Denm denm_collision_risk() {
   return d;
 }
 
+/// A road-side unit's CAM: the RSU high-frequency container with two protected zones, one
+/// with every optional component, one temporary (the extension value of ProtectedZoneType).
+inline Cam cam_rsu() {
+  Cam cam = cam_hf();
+  cam.header.stationID = 5550001;
+  cam.cam.camParameters.basicContainer.stationType = station_type::kRoadSideUnit;
+  RSUContainerHighFrequency rsu;
+  auto& zones = rsu.protectedCommunicationZonesRSU.emplace();
+  zones.push_back(ProtectedCommunicationZone{ProtectedZoneType::permanentCenDsrcTolling,
+                                             694224000000, 410260000, 289750000, 50, 12345});
+  zones.push_back(ProtectedCommunicationZone{ProtectedZoneType::temporaryCenDsrcTolling,
+                                             std::nullopt, 410270000, 289760000, std::nullopt,
+                                             std::nullopt});
+  cam.cam.camParameters.highFrequencyContainer = rsu;
+  return cam;
+}
+
+/// The à-la-carte container with every member and every optional component present (values
+/// of the golden table in denm_test.cpp).
+inline AlacarteContainer alacarte_full() {
+  AlacarteContainer a;
+  a.lanePosition = 2;
+  ImpactReductionContainer& ir = a.impactReduction.emplace();
+  ir.heightLonCarrLeft = 40;
+  ir.heightLonCarrRight = 41;
+  ir.posLonCarrLeft = 50;
+  ir.posLonCarrRight = 51;
+  ir.positionOfPillars = {10, 25};
+  ir.posCentMass = 20;
+  ir.wheelBaseVehicle = 27;
+  ir.turningRadius = 30;
+  ir.posFrontAx = 9;
+  ir.positionOfOccupants = (1u << 0) | (1u << 1) | (1u << 5);  // row 1 left and right, row 2 left
+  ir.vehicleMass = 15;
+  ir.requestResponseIndication = RequestResponseIndication::request;
+  a.externalTemperature = -5;
+  RoadWorksContainerExtended& rw = a.roadWorks.emplace();
+  rw.lightBarSirenInUse = light_bar_siren::kLightBarActivated;
+  rw.closedLanes =
+      ClosedLanes{std::nullopt, HardShoulderStatus::closed, DrivingLaneStatus{0b10, 2}};
+  rw.restriction = RestrictedTypes{station_type::kHeavyTruck, station_type::kBus};
+  rw.speedLimit = 60;
+  rw.incidentIndication = CauseCode{cause_code::kRoadworks, 1};
+  rw.recommendedPath = ItineraryPath{istanbul()};
+  rw.startingPointSpeedLimit = DeltaReferencePosition{100, -200, 0};
+  rw.trafficFlowRule = TrafficRule::passToRight;
+  rw.referenceDenms = ReferenceDenms{ActionID{1234567, 42}};
+  a.positioningSolution = PositioningSolutionType::dGNSS;
+  StationaryVehicleContainer& sv = a.stationaryVehicle.emplace();
+  sv.stationarySince = StationarySince::lessThan2Minutes;
+  sv.stationaryCause = CauseCode{cause_code::kStationaryVehicle, 2};
+  DangerousGoodsExtended& g = sv.carryingDangerousGoods.emplace();
+  g.dangerousGoodsType = 9;  // flammableLiquids
+  g.unNumber = 1203;
+  g.tunnelsRestricted = true;
+  g.emergencyActionCode = char_string<24>("3YE");
+  g.phoneNumber = char_string<24>("112");
+  const char* company = "\xC3\x96lwerk";  // "Ölwerk": 6 characters in 7 octets
+  g.companyName.emplace();
+  for (const char* c = company; *c != '\0'; ++c)
+    g.companyName->push_back(static_cast<std::uint8_t>(*c));
+  sv.numberOfOccupants = 2;
+  sv.vehicleIdentification = VehicleIdentification{char_string<3>("WVW"), char_string<6>("ZZZ1KZ")};
+  sv.energyStorageType = 1u << 4;  // diesel
+  return a;
+}
+
 /// Every CAM field present, at its lower (or upper) bound; the upper one has 40 path points.
 inline Cam cam_at_bounds(bool upper) {
   Cam cam = cam_hf();
@@ -148,7 +214,7 @@ inline Cam cam_at_bounds(bool upper) {
                                 {800001, AltitudeConfidence::unavailable}}
             : ReferencePosition{
                   -900000000, -1800000000, {0, 0, 0}, {-100000, AltitudeConfidence::alt_000_01}};
-  BasicVehicleContainerHighFrequency& hf = p.highFrequencyContainer;
+  BasicVehicleContainerHighFrequency& hf = *vehicle_hf(p);
   hf.heading = upper ? Heading{3601, 127} : Heading{0, 1};
   hf.speed = upper ? Speed{16383, 127} : Speed{0, 1};
   hf.driveDirection = upper ? DriveDirection::unavailable : DriveDirection::forward;
@@ -227,6 +293,67 @@ inline Denm denm_at_bounds(bool upper) {
   a.externalTemperature = static_cast<Temperature>(upper ? 67 : -60);
   a.positioningSolution =
       upper ? PositioningSolutionType::dR : PositioningSolutionType::noPositioningSolution;
+  // Every à-la-carte member, at the ends of its ranges and sizes.
+  ImpactReductionContainer& ir = a.impactReduction.emplace();
+  ir.heightLonCarrLeft = ir.heightLonCarrRight = static_cast<HeightLonCarr>(upper ? 100 : 1);
+  ir.posLonCarrLeft = ir.posLonCarrRight = static_cast<PosLonCarr>(upper ? 127 : 1);
+  ir.positionOfPillars = upper ? PositionOfPillars{30, 30, 30} : PositionOfPillars{1};
+  ir.posCentMass = static_cast<PosCentMass>(upper ? 63 : 1);
+  ir.wheelBaseVehicle = static_cast<WheelBaseVehicle>(upper ? 127 : 1);
+  ir.turningRadius = static_cast<TurningRadius>(upper ? 255 : 1);
+  ir.posFrontAx = static_cast<PosFrontAx>(upper ? 20 : 1);
+  ir.positionOfOccupants = upper ? 0xFFFFF : 0;
+  ir.vehicleMass = static_cast<VehicleMass>(upper ? 1024 : 1);
+  ir.requestResponseIndication =
+      upper ? RequestResponseIndication::response : RequestResponseIndication::request;
+  RoadWorksContainerExtended& rw = a.roadWorks.emplace();
+  rw.lightBarSirenInUse = static_cast<LightBarSirenInUse>(upper ? 3 : 0);
+  rw.closedLanes =
+      ClosedLanes{HardShoulderStatus::availableForDriving, HardShoulderStatus::availableForStopping,
+                  DrivingLaneStatus{static_cast<std::uint16_t>(upper ? 0x1FFF : 0),
+                                    static_cast<std::uint8_t>(upper ? 13 : 1)}};
+  rw.restriction = upper ? RestrictedTypes{255, 255, 255} : RestrictedTypes{0};
+  rw.speedLimit = static_cast<SpeedLimit>(upper ? 255 : 1);
+  rw.incidentIndication = CauseCode{static_cast<CauseCodeType>(upper ? 255 : 0),
+                                    static_cast<SubCauseCodeType>(upper ? 255 : 0)};
+  ItineraryPath& path = rw.recommendedPath.emplace();
+  for (std::size_t i = 0; i < (upper ? 40u : 1u); ++i)
+    path.push_back(m.eventPosition);
+  rw.startingPointSpeedLimit = upper ? DeltaReferencePosition{131072, 131072, 12800}
+                                     : DeltaReferencePosition{-131071, -131071, -12700};
+  rw.trafficFlowRule = upper ? TrafficRule::passToLeft : TrafficRule::noPassing;
+  ReferenceDenms& refs = rw.referenceDenms.emplace();
+  for (std::size_t i = 0; i < (upper ? 8u : 1u); ++i)
+    refs.push_back(m.actionID);
+  StationaryVehicleContainer& sv = a.stationaryVehicle.emplace();
+  sv.stationarySince =
+      upper ? StationarySince::equalOrGreater15Minutes : StationarySince::lessThan1Minute;
+  sv.stationaryCause = s.eventType;
+  DangerousGoodsExtended& g = sv.carryingDangerousGoods.emplace();
+  g.dangerousGoodsType = static_cast<DangerousGoodsBasic>(upper ? 19 : 0);
+  g.unNumber = static_cast<std::uint16_t>(upper ? 9999 : 0);
+  g.elevatedTemperature = g.tunnelsRestricted = g.limitedQuantity = upper;
+  g.emergencyActionCode =
+      upper ? char_string<24>("~~~~~~~~~~~~~~~~~~~~~~~~") : char_string<24>(" ");
+  g.phoneNumber = upper ? char_string<24>("9999999999999999") : char_string<24>(" ");
+  auto& company = g.companyName.emplace();
+  for (std::size_t i = 0; i < (upper ? 24u : 1u); ++i)
+    for (std::uint8_t b : {0xF0, 0x9F, 0x9A, 0x97})  // U+1F697 AUTOMOBILE, 4 octets
+      company.push_back(b);
+  sv.numberOfOccupants = static_cast<NumberOfOccupants>(upper ? 127 : 0);
+  sv.vehicleIdentification =
+      VehicleIdentification{upper ? char_string<3>("ZZZ") : char_string<3>("A"),
+                            char_string<6>(upper ? "~~~~~~" : "      ")};
+  sv.energyStorageType = static_cast<EnergyStorageType>(upper ? 0x7F : 0);
+  return d;
+}
+
+/// @p d as protocolVersion 1: the same but for what CDD version 1 cannot carry (an inner hard
+/// shoulder; its ClosedLanes has one hard shoulder only).
+inline Denm as_version1(Denm d) {
+  d.header.protocolVersion = kProtocolVersion1;
+  if (d.denm.alacarte && d.denm.alacarte->roadWorks && d.denm.alacarte->roadWorks->closedLanes)
+    d.denm.alacarte->roadWorks->closedLanes->innerhardShoulderStatus.reset();
   return d;
 }
 

@@ -21,11 +21,11 @@ bool write(const std::filesystem::path& path, const std::vector<std::uint8_t>& b
 
 }  // namespace
 
-template <typename M>
-M as_version1(M m) {
+tb::its::messages::Cam as_version1(tb::its::messages::Cam m) {
   m.header.protocolVersion = tb::its::messages::kProtocolVersion1;
   return m;
 }
+using tb::its::messages::samples::as_version1;
 
 int main(int argc, char** argv) {
   using namespace tb::its::messages;
@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
   const std::filesystem::path root = argv[1];
   const std::pair<const char*, Cam> cams[] = {
       {"cam_hf.uper", samples::cam_hf()},
+      {"cam_rsu.uper", samples::cam_rsu()},
       {"cam_lf.uper", samples::cam_lf()},
       {"cam_path20.uper", samples::cam_with_path(20)},
       {"cam_upper.uper", samples::cam_at_bounds(true)},
@@ -43,7 +44,7 @@ int main(int argc, char** argv) {
       {"cam_v1.uper",
        [] {
          Cam c = as_version1(samples::cam_at_bounds(true));
-         c.cam.camParameters.highFrequencyContainer.curvature.curvatureValue = -30000;
+         (*vehicle_hf(c.cam.camParameters)).curvature.curvatureValue = -30000;
          return c;
        }()},
   };
@@ -52,6 +53,13 @@ int main(int argc, char** argv) {
       {"denm_upper.uper", samples::denm_at_bounds(true)},
       {"denm_lower.uper", samples::denm_at_bounds(false)},
       {"denm_v1.uper", as_version1(samples::denm_collision_risk())},
+      {"denm_v1_upper.uper", as_version1(samples::denm_at_bounds(true))},
+      {"denm_alacarte.uper",
+       [] {
+         Denm d = samples::denm_collision_risk();
+         d.denm.alacarte = samples::alacarte_full();
+         return d;
+       }()},
   };
   bool ok = true;
   for (const auto& [name, cam] : cams) {

@@ -119,6 +119,19 @@ class Program {
   pid_t pid_ = -1;
 };
 
+/// Polls @p done until it holds or @p timeout has passed; whether it held. A loaded two-core
+/// machine may be slow, so the tests wait on the condition, never a fixed time.
+template <typename Pred>
+bool wait_until(Pred done, std::chrono::milliseconds timeout = 10s) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (!done()) {
+    if (std::chrono::steady_clock::now() > deadline)
+      return false;
+    std::this_thread::sleep_for(5ms);
+  }
+  return true;
+}
+
 std::string read_file(const fs::path& p) {
   std::ifstream in(p);
   std::stringstream ss;
@@ -218,12 +231,22 @@ TEST_F(NetworkEmulatorIt, FeedsStationsAndSurvivesOneWithoutReceiver) {
     const auto s = batch({1001, 1002}, ms);  // one tick's states in one datagram
     sender.send_to(listen_port, s.data(), s.size());
     if (ms % 100 == 0) {
-      std::this_thread::sleep_for(5ms);  // let the emulator and the kernel keep up
-      drain();
+      // Pace the sender by the emulator: wait for this 100 ms epoch's NMEA sentence.
+      const auto epochs = static_cast<std::size_t>(ms / 100);
+      ASSERT_TRUE(wait_until([&] {
+        drain();
+        return nmea.size() >= epochs;
+      })) << "epoch "
+          << epochs << " never came; " << read_file(log);
     }
   }
-  std::this_thread::sleep_for(300ms);
-  drain();
+  // Everything sent must come out; wait for it (a deadline, not a fixed time).
+  const bool all = wait_until([&] {
+    drain();
+    return nmea.size() >= 14 && frames_a[256] >= 150 && frames_a[512] >= 15 &&
+           frames_b[256] >= 149 && forwarded >= 2u * 149 + 1;
+  });
+  EXPECT_TRUE(all) << read_file(log);
 
   // Station 1001: an epoch per 100 ms of sim time (0 was read above), all its CAN messages.
   EXPECT_EQ(nmea.size(), 14u);
@@ -277,7 +300,9 @@ TEST_F(NetworkEmulatorIt, CanTransportIsDetectedAndSaidOnce) {
   const fs::path log = dir_ / "auto.log";
   {
     Program emu({"--scenario", (dir_ / "scenario.json").string(), "--listen", "127.0.0.1:0"}, log);
-    std::this_thread::sleep_for(500ms);
+    EXPECT_TRUE(wait_until([&] {
+      return read_file(log).find("CAN transport:") != std::string::npos;
+    })) << read_file(log);
     EXPECT_EQ(emu.wait_exit(true), 0);
   }
   const std::string text = read_file(log);

@@ -43,7 +43,7 @@ wire::VehicleState state(std::int64_t sim_ms) {
   s.controls.brake = 0.0f;
   s.gear = 3;
   s.engine_rpm = 2500.0f;
-  s.lights = wire::kLowBeam | wire::kIndicatorLeft;
+  s.lights = wire::kLowBeam | wire::kIndicatorLeft | wire::kLightBar;
   return s;
 }
 
@@ -187,6 +187,8 @@ TEST(CanFeeder, FramesCarryTheStatesValues) {
   EXPECT_EQ(value(by_name["Lights"], "Lights", "IndicatorRight"), 0.0);
   EXPECT_EQ(value(by_name["Lights"], "Lights", "LowBeam"), 1.0);
   EXPECT_EQ(value(by_name["Lights"], "Lights", "BrakeLights"), 0.0);
+  EXPECT_EQ(value(by_name["Lights"], "Lights", "LightBar"), 1.0);
+  EXPECT_EQ(value(by_name["Lights"], "Lights", "Siren"), 0.0);
   EXPECT_EQ(by_name["Steering"].len, 4);
   EXPECT_EQ(by_name["Lights"].len, 3);
 }

@@ -67,6 +67,12 @@ TEST(KeyboardDriver, TogglesAndHeldKeys) {
   EXPECT_EQ(k.command().lights, wire::kHazard | wire::kLowBeam);
   k.press(Key::kHazard);
   EXPECT_EQ(k.command().lights, wire::kLowBeam);
+  // A special vehicle's light bar and siren, each on its own key.
+  k.press(Key::kLightBar);
+  k.press(Key::kSiren);
+  EXPECT_EQ(k.command().lights, wire::kLowBeam | wire::kLightBar | wire::kSiren);
+  k.press(Key::kSiren);
+  EXPECT_EQ(k.command().lights, wire::kLowBeam | wire::kLightBar);
 
   EXPECT_FALSE(k.help_shown());
   k.press(Key::kHelp);

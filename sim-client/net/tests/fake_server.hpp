@@ -16,6 +16,7 @@ inline const char* kScenarioJson = R"({
   "vehicles": [
     { "id": "me", "station_id": 1001, "spawn": { "lane": 0, "s": 10 }, "driver": "human" },
     { "id": "tl", "station_id": 1002, "spawn": { "lane": 0, "s": 100 },
+      "role": "emergency", "lights": ["light_bar", "siren"],
       "driver": { "type": "timeline", "steps": [ { "t": 0, "throttle": 0.25, "steer": 0.5 } ] } },
     { "id": "lf", "station_id": 1003, "spawn": { "lane": 1, "s": 100 },
       "driver": { "type": "lane_follow", "speed_profile": [ { "t": 0, "speed": 10 } ] } }

@@ -95,6 +95,8 @@ TEST_F(SessionTest, HelloAttachControlsAndForwarding) {
   const auto& c1 = std::get<sim::ControlsMsg>(msgs[1]);
   EXPECT_FLOAT_EQ(c1.controls.throttle, 0.25f);  // the timeline's step
   EXPECT_FLOAT_EQ(c1.controls.steer, 0.5f);
+  // A scripted vehicle's lights are the scenario's switches: this one's light bar and siren.
+  EXPECT_EQ(c1.lights, wire::kLightBar | wire::kSiren);
   EXPECT_EQ(c1.input_ns, clock::to_unix_ns(clk.wall_now()));
   const auto& c2 = std::get<sim::ControlsMsg>(msgs[2]);
   EXPECT_EQ(c2.vehicle, 2);
