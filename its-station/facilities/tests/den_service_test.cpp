@@ -69,7 +69,8 @@ class DenTest : public ::testing::Test {
       s->sender.forward = [this, from](const SentPacket& p) {
         for (auto& to : stations)
           if (to.get() != from && !to->deaf)
-            to->den.receive(p.payload, DenmReception{p.area, p.traffic_class});
+            to->den.receive(p.payload, DenmReception{.destination_area = p.area,
+                                                      .traffic_class = p.traffic_class});
       };
     }
   }
