@@ -29,6 +29,12 @@ const std::vector<KeyHelp>& key_map_help() {
       {"L", "low beam"},
       {"K", "high beam"},
       {"F", "fog light"},
+      {"Tab", "next camera: chase, cockpit, top, orbit (3D view)"},
+      {"[ ]", "previous / next car to follow"},
+      {"PgUp PgDn, wheel", "zoom the orbit and top cameras"},
+      {"mouse drag", "turn the orbit camera"},
+      {"N", "V2X network overlay (with --mqtt)"},
+      {"F1", "frame rate"},
       {"H", "show / hide this help"},
       {"Esc", "quit"},
   };

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 #include <thread>
 
@@ -19,6 +20,7 @@
 #include "sim-client/app/client_app.hpp"
 #include "sim-client/app/tests/fake_sim_server.hpp"
 #include "sim-client/view/tests/png_reader.hpp"
+#include "sim-client/view3d/tests/xvfb.hpp"
 
 namespace tb::client {
 namespace {
@@ -248,6 +250,8 @@ TEST(SimClientProgram, ScreenshotUnderXvfb) {
                       "--vehicle",
                       "me",
                       "--no-forward",
+                      "--view",
+                      "topdown",
                       "--width",
                       "800",
                       "--height",
@@ -270,6 +274,95 @@ TEST(SimClientProgram, ScreenshotUnderXvfb) {
   EXPECT_GT(testing::distinct_colours(im), 5);
   // The own car ("me", #d02020 in the fake scenario) sits at the view's anchor.
   EXPECT_GT(testing::count_near(im, 400, 360, 40, 0xd0, 0x20, 0x20), 200);
+}
+
+// The 3D view by default where there is a display; --headless --screenshot works for every
+// camera (a hidden window: one GL context, no window on the screen).
+TEST(SimClientProgram, Headless3dScreenshotOfEveryCamera) {
+  testing::Xvfb xvfb;
+  if (!xvfb.running())
+    GTEST_SKIP() << "Xvfb did not start (scripts/install-deps installs xvfb)";
+  testing::FakeSimServer server;
+  std::vector<testing::Image> shots;
+  for (const char* camera : {"chase", "cockpit", "top", "orbit"}) {
+    SCOPED_TRACE(camera);
+    const std::string png = ::testing::TempDir() + "/simclient_3d_" + camera + ".png";
+    std::remove(png.c_str());
+    const auto r =
+        run({bin() + "/sim-client", "--server", "127.0.0.1:" + std::to_string(server.port()),
+             "--vehicle", "me", "--no-forward", "--headless", "--camera", camera, "--width", "640",
+             "--height", "360", "--screenshot", png, "--after", "0.8", "--duration", "1"},
+            60s, {{"ASAN_OPTIONS", "detect_leaks=0"}});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("3D view: OpenGL"), std::string::npos) << r.err;
+    testing::Image im;
+    ASSERT_TRUE(testing::read_png(png, im)) << r.err;
+    EXPECT_EQ(im.width, 640);
+    EXPECT_EQ(im.height, 360);
+    EXPECT_GT(testing::distinct_colours(im), 20);
+    // The own car ("me", #d02020, lit by the sun) is in the picture, except from its own
+    // driver's seat.
+    int red = 0;
+    for (int y = 0; y < im.height; ++y)
+      for (int x = 0; x < im.width; ++x) {
+        const auto* p = im.at(x, y);
+        red += p[0] > p[1] + 80 && p[0] > p[2] + 80;
+      }
+    if (std::string(camera) == "cockpit")
+      EXPECT_LT(red, 30);
+    else
+      EXPECT_GT(red, 100);
+    for (const auto& other : shots)
+      EXPECT_NE(other.rgba, im.rgba);
+    shots.push_back(im);
+  }
+}
+
+TEST(ClientApp, TabSwitchesTheCameraTheRenderThreadDraws) {
+  testing::Xvfb xvfb;
+  if (!xvfb.running())
+    GTEST_SKIP() << "Xvfb did not start (scripts/install-deps installs xvfb)";
+  testing::FakeSimServer server;
+  asio::io_context io;
+  AppOptions o;
+  o.server = "127.0.0.1:" + std::to_string(server.port());
+  o.forward = false;
+  o.session.vehicles = {"me"};
+  o.view = ViewKind::k3d;
+  o.width = 480;
+  o.height = 270;
+  std::mutex mu;
+  view3d::FrameStats last;
+  o.frame_observer = [&](const view3d::FrameStats& s) {
+    std::lock_guard l(mu);
+    last = s;
+  };
+  ClientApp app(io, o);
+  ASSERT_EQ(app.view(), ViewKind::k3d);
+  app.start();
+  const auto drawn = [&](view3d::CameraMode m) {
+    for (int i = 0; i < 250; ++i) {
+      pump(io, 20ms);
+      std::lock_guard l(mu);
+      if (last.camera == m && last.subject == 0)
+        return true;
+    }
+    return false;
+  };
+  ASSERT_TRUE(drawn(view3d::CameraMode::kChase));
+  for (auto m : {view3d::CameraMode::kCockpit, view3d::CameraMode::kTop, view3d::CameraMode::kOrbit,
+                 view3d::CameraMode::kChase}) {
+    push_key(SDL_SCANCODE_TAB, true);
+    push_key(SDL_SCANCODE_TAB, false);
+    EXPECT_TRUE(drawn(m)) << "camera " << view3d::to_string(m);
+  }
+  // The driving keys still drive while the view has its own.
+  push_key(SDL_SCANCODE_W, true);
+  for (int i = 0; i < 150 && server.last_controls(0)->controls.throttle < 1.0f; ++i)
+    pump(io, 20ms);
+  EXPECT_FLOAT_EQ(server.last_controls(0)->controls.throttle, 1.0f);
+  push_key(SDL_SCANCODE_W, false);
+  app.stop(0);
 }
 
 }  // namespace
