@@ -232,7 +232,7 @@ void DriverView::render(const FrameInput& in, double dt_s) {
   }
 
   overlay_->update(in);
-  hud_->update(in, width_, height_, mirror());
+  hud_->update(in, subject, width_, height_, mirror());
   viewer_->frame();
 }
 

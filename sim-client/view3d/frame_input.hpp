@@ -44,7 +44,7 @@ struct World {
 /// What the keys and the mouse chose (view_controls.hpp).
 struct ViewChoice {
   CameraMode camera = CameraMode::kChase;
-  int target = -1;                    ///< vehicle the camera follows (Welcome index); -1: none yet
+  int target = -1;  ///< vehicle picked with [ ] (Welcome index); -1: the own car, else the first
   bool overlay = false;               ///< the V2X network over the world
   bool show_fps = false;              ///< frame rate line
   bool help = false;                  ///< key map

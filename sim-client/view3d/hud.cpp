@@ -270,14 +270,16 @@ void Hud::dashboard(const wire::VehicleState& s, float k, int width, int height)
        13 * k, beams ? kBlue : osg::Vec4(0.25f, 0.25f, 0.28f, 1), Align::CENTER_BASE_LINE);
 }
 
-void Hud::warning(const FrameInput& in, float k, int width, int height, const Rect* mirror) {
+void Hud::warning(const FrameInput& in, int subject, float k, int width, int height,
+                  const Rect* mirror) {
   banner_.clear();
   if (!in.v2x_enabled)
     return;
-  const int subject = in.own >= 0 ? in.own : in.choice.target;
-  if (!in.world || subject < 0 || static_cast<std::size_t>(subject) >= in.world->vehicles.size())
+  // The driver's own HMI, whichever car the camera shows; the followed car's when watching.
+  const int warned = in.own >= 0 ? in.own : subject;
+  if (!in.world || warned < 0 || static_cast<std::size_t>(warned) >= in.world->vehicles.size())
     return;
-  const std::uint32_t station = in.world->vehicles[static_cast<std::size_t>(subject)].station_id;
+  const std::uint32_t station = in.world->vehicles[static_cast<std::size_t>(warned)].station_id;
   const v2x::LcrwAlert* a = in.v2x.alert_for(station);
   if (a == nullptr)
     return;
@@ -286,7 +288,7 @@ void Hud::warning(const FrameInput& in, float k, int width, int height, const Re
   banner_ = fmt::format(
       "{} · {} · {} · {:.0f} m", critical ? "COLLISION WARNING – BRAKE" : "COLLISION WARNING",
       case_text(a->collision_case.empty() ? "collision" : a->collision_case), ttc, a->distance_m);
-  if (in.own < 0)
+  if (warned != in.own)
     banner_ = fmt::format("{}: {}", station, banner_);
   const float bw = std::min(820 * k, width - 40 * k), bh = 54 * k;
   // Under the mirror, or under the top-left lines when there is none.
@@ -323,7 +325,7 @@ void Hud::help(float k, int width, int height) {
   }
 }
 
-void Hud::update(const FrameInput& in, int width, int height, const Rect* mirror) {
+void Hud::update(const FrameInput& in, int subject, int width, int height, const Rect* mirror) {
   camera_->setProjectionMatrixAsOrtho2D(0, width, 0, height);
   camera_->setViewport(0, 0, width, height);
   for (auto& [key, slot] : texts_)
@@ -333,7 +335,6 @@ void Hud::update(const FrameInput& in, int width, int height, const Rect* mirror
   const float k = static_cast<float>(height) / 720.0f;
 
   const wire::VehicleState* s = nullptr;
-  const int subject = in.own >= 0 ? in.own : in.choice.target;
   if (subject >= 0 && static_cast<std::size_t>(subject) < in.vehicles.size())
     s = &in.vehicles[static_cast<std::size_t>(subject)];
   const VehicleLook* look =
@@ -365,7 +366,7 @@ void Hud::update(const FrameInput& in, int width, int height, const Rect* mirror
       dashboard(*s, k, width, height);
     telemetry(in, *s, k, width);
   }
-  warning(in, k, width, height, mirror);
+  warning(in, subject, k, width, height, mirror);
 
   // Bottom right: the links to the outside world.
   const float sy = in.choice.camera == CameraMode::kCockpit ? 160 * k : 12 * k;

@@ -52,8 +52,10 @@ class Hud {
   Hud();
   osg::Camera* camera() const { return camera_.get(); }
 
-  /// Lays the HUD out for this frame. @p mirror is the rear-view inset (framed), if shown.
-  void update(const FrameInput& in, int width, int height, const Rect* mirror);
+  /// Lays the HUD out for this frame: the instruments show @p subject (the car the camera
+  /// follows); the warning banner the own car's warnings (the subject's when watching).
+  /// @p mirror is the rear-view inset (framed), if shown.
+  void update(const FrameInput& in, int subject, int width, int height, const Rect* mirror);
 
   /// What the banner says now; empty when none is shown (tests).
   const std::string& banner() const { return banner_; }
@@ -67,7 +69,8 @@ class Hud {
             bool over = false);
   void telemetry(const FrameInput& in, const wire::VehicleState& s, float k, int width);
   void dashboard(const wire::VehicleState& s, float k, int width, int height);
-  void warning(const FrameInput& in, float k, int width, int height, const Rect* mirror);
+  void warning(const FrameInput& in, int subject, float k, int width, int height,
+               const Rect* mirror);
   void help(float k, int width, int height);
 
   osg::ref_ptr<osg::Camera> camera_;

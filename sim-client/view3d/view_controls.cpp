@@ -4,11 +4,6 @@
 
 namespace tb::client::view3d {
 
-void ViewControls::default_target(int index) {
-  if (choice_.target < 0 || choice_.target >= vehicles_)
-    choice_.target = index;
-}
-
 void ViewControls::zoom(double factor) {
   choice_.orbit_distance_m = std::clamp(choice_.orbit_distance_m * factor, 3.0, 2000.0);
   choice_.top_zoom = std::clamp(choice_.top_zoom / factor, 0.05, 20.0);
@@ -28,8 +23,9 @@ bool ViewControls::handle(const SDL_Event& e) {
         case SDL_SCANCODE_RIGHTBRACKET:
           if (vehicles_ > 0) {
             const int step = e.key.keysym.scancode == SDL_SCANCODE_RIGHTBRACKET ? 1 : -1;
-            choice_.target =
-                ((std::max(0, choice_.target) + step) % vehicles_ + vehicles_) % vehicles_;
+            const int from = choice_.target >= 0 && choice_.target < vehicles_ ? choice_.target
+                                                                               : std::max(0, own_);
+            choice_.target = ((from + step) % vehicles_ + vehicles_) % vehicles_;
           }
           return true;
         case SDL_SCANCODE_PAGEUP:

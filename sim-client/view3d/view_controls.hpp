@@ -18,14 +18,16 @@ class ViewControls {
   /// How many vehicles [ and ] cycle through.
   void set_vehicle_count(int n) { vehicles_ = n; }
   void set_help(bool shown) { choice_.help = shown; }
-  /// The car to follow when none was picked yet (the own car, or the first when watching).
-  void default_target(int index);
+  /// The car this client drives (-1 when watching): the cameras follow it until [ or ] picks
+  /// another, and the picking starts from it.
+  void set_own(int index) { own_ = index; }
   const ViewChoice& choice() const { return choice_; }
 
  private:
   void zoom(double factor);
   ViewChoice choice_;
   int vehicles_ = 0;
+  int own_ = -1;
 };
 
 }  // namespace tb::client::view3d

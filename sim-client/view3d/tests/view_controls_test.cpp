@@ -26,17 +26,18 @@ TEST(ViewControls, TabCyclesTheCamerasAndIgnoresKeyRepeat) {
   EXPECT_EQ(c.choice().camera, CameraMode::kChase);
 }
 
-TEST(ViewControls, BracketsPickTheCarWrappingRound) {
+TEST(ViewControls, BracketsPickTheCarFromTheOwnOneWrappingRound) {
   ViewControls c;
   c.set_vehicle_count(3);
-  c.default_target(1);
-  EXPECT_EQ(c.choice().target, 1);
+  c.set_own(1);
+  EXPECT_EQ(c.choice().target, -1);  // until a pick, the cameras follow the own car
   c.handle(key(SDL_SCANCODE_RIGHTBRACKET));
+  EXPECT_EQ(c.choice().target, 2);
   c.handle(key(SDL_SCANCODE_RIGHTBRACKET));
   EXPECT_EQ(c.choice().target, 0);
   c.handle(key(SDL_SCANCODE_LEFTBRACKET));
   EXPECT_EQ(c.choice().target, 2);
-  c.default_target(0);  // a picked target stays
+  c.set_own(0);  // a picked car stays picked
   EXPECT_EQ(c.choice().target, 2);
 }
 
