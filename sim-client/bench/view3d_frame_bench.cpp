@@ -21,6 +21,7 @@
 
 #include "common/map/opendrive/mesh.hpp"
 #include "common/map/opendrive/reader.hpp"
+#include "sim-client/bench/bench_stats.hpp"
 #include "sim-client/view/scene.hpp"
 #include "sim-client/view3d/driver_view.hpp"
 
@@ -28,6 +29,8 @@ namespace {
 
 using namespace tb;
 using namespace tb::client::view3d;
+using tb::client::bench::loadavg;
+using tb::client::bench::percentile;
 namespace odr = map::odr;
 
 /// A car driving round a lane's centre line (back and forth along the polyline).
@@ -58,21 +61,6 @@ struct Driver {
     return v;
   }
 };
-
-double percentile(std::vector<double> v, double p) {
-  std::sort(v.begin(), v.end());
-  const double idx = p * static_cast<double>(v.size() - 1);
-  const auto lo = static_cast<std::size_t>(std::floor(idx));
-  const auto hi = std::min(v.size() - 1, lo + 1);
-  return v[lo] + (v[hi] - v[lo]) * (idx - static_cast<double>(lo));
-}
-
-std::string loadavg() {
-  std::ifstream f("/proc/loadavg");
-  std::string a, b, c;
-  f >> a >> b >> c;
-  return a + " " + b + " " + c;
-}
 
 }  // namespace
 

@@ -39,25 +39,23 @@ struct Inbox {
   }
 };
 
-ClientConfig station(const Broker& b) {
+ClientConfig account(const Broker& b, const std::string& user, const std::string& password) {
   ClientConfig c;
   c.port = b.port();
-  c.client_id = "station-1001";
-  c.username = "station-1001";
-  c.password = b.password(1001);
+  c.client_id = user + "-test";
+  c.username = user;
+  c.password = password;
   c.reconnect_min_s = 1;
   c.reconnect_max_s = 1;
   return c;
 }
 
+ClientConfig station(const Broker& b) {
+  return account(b, "station-1001", b.password(1001));
+}
+
 ClientConfig reader(const Broker& b) {
-  ClientConfig c;
-  c.port = b.port();
-  c.client_id = "view-test";
-  c.username = "hmi";
-  c.password = "hmi";
-  c.reconnect_min_s = 1;
-  c.reconnect_max_s = 1;
+  ClientConfig c = account(b, "hmi", "hmi");
   c.subscriptions = {"its/1001/app/lcrw", "its/+/in/cam/+"};
   return c;
 }

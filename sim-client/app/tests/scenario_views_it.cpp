@@ -5,10 +5,6 @@
 // <build>/Testing/Temporary/driver-views/<scenario>.png.
 #include <gtest/gtest.h>
 
-#include <fcntl.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -19,6 +15,7 @@
 #include <vector>
 
 #include "common/scenario/loader.hpp"
+#include "sim-client/app/tests/run_program.hpp"
 #include "sim-client/app/tests/sim_server_process.hpp"
 #include "sim-client/view/tests/png_reader.hpp"
 #include "sim-client/view3d/tests/xvfb.hpp"
@@ -39,39 +36,6 @@ fs::path bin() {
   return b != nullptr ? fs::path(b) : fs::path("build/bin");
 }
 
-// Runs a program to its end (at most @p limit); returns the exit code, stderr in @p err.
-int run(std::vector<std::string> args, const std::string& err_file, std::chrono::seconds limit) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    const int e = open(err_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    dup2(e, 2);
-    dup2(e, 1);
-    setenv("ASAN_OPTIONS", "detect_leaks=0", 1);  // Mesa and D-Bus leak at exit, not we
-    std::vector<char*> argv;
-    for (auto& a : args)
-      argv.push_back(a.data());
-    argv.push_back(nullptr);
-    execv(argv[0], argv.data());
-    _exit(127);
-  }
-  const auto deadline = std::chrono::steady_clock::now() + limit;
-  int status = 0;
-  while (waitpid(pid, &status, WNOHANG) == 0) {
-    if (std::chrono::steady_clock::now() > deadline) {
-      kill(pid, SIGKILL);
-      waitpid(pid, &status, 0);
-      return -1;
-    }
-    std::this_thread::sleep_for(20ms);
-  }
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
-
 TEST(ScenarioViews, EveryShippedScenarioHasADriversViewInTheTestLog) {
   testing::Xvfb xvfb;
   if (!xvfb.running())
@@ -87,10 +51,10 @@ TEST(ScenarioViews, EveryShippedScenarioHasADriversViewInTheTestLog) {
   for (const fs::path& file : files) {
     SCOPED_TRACE(file.filename().string());
     const scenario::Scenario sc = scenario::load_file(file);
-    std::string who = sc.vehicles.front().id;
+    const scenario::Vehicle* who = &sc.vehicles.front();
     for (const auto& v : sc.vehicles)
       if (std::holds_alternative<scenario::HumanDriver>(v.driver)) {
-        who = v.id;
+        who = &v;
         break;
       }
     testing::SimServerProcess server(file.string());
@@ -100,18 +64,26 @@ TEST(ScenarioViews, EveryShippedScenarioHasADriversViewInTheTestLog) {
     const std::string png = (out / (file.stem().string() + ".png")).string();
     const std::string log = (out / (file.stem().string() + ".log")).string();
     fs::remove(png);
-    const int code = run(
+    const auto r = testing::run(
         {(bin() / "sim-client").string(), "--server", "127.0.0.1:" + std::to_string(server.port()),
-         "--vehicle", who, "--scripted", "--no-forward", "--headless", "--screenshot", png,
+         "--vehicle", who->id, "--scripted", "--no-forward", "--headless", "--screenshot", png,
          "--after", "2.5", "--duration", "2.6"},
-        log, 60s);
-    ASSERT_EQ(code, 0) << slurp(log);
+        60s, {{"ASAN_OPTIONS", "detect_leaks=0"}});  // Mesa and D-Bus leak at exit, not we
+    std::ofstream(log) << r.out << r.err;
+    ASSERT_EQ(r.code, 0) << r.err;
     testing::Image im;
-    ASSERT_TRUE(testing::read_png(png, im)) << slurp(log);
+    ASSERT_TRUE(testing::read_png(png, im)) << r.err;
     EXPECT_EQ(im.width, 1280);
     EXPECT_EQ(im.height, 720);
     EXPECT_GT(testing::distinct_colours(im), 30);
-    std::cout << "driver's view of " << file.filename().string() << " (" << who
+    // The chase camera follows that car: its colour (its roof, lit by the sun) is just below
+    // the middle of the picture.
+    const unsigned rgb = std::stoul(who->color.substr(1), nullptr, 16);
+    const int roof = testing::count_near(im, 640, 410, 60, static_cast<std::uint8_t>(rgb >> 16),
+                                         static_cast<std::uint8_t>(rgb >> 8),
+                                         static_cast<std::uint8_t>(rgb), 40);
+    EXPECT_GT(roof, 500) << who->id << " (" << who->color << ") is not where the camera looks";
+    std::cout << "driver's view of " << file.filename().string() << " (" << who->id
               << "): " << fs::canonical(png).string() << "\n";
   }
 }

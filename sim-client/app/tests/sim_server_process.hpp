@@ -17,6 +17,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <vector>
 
 namespace tb::client::testing {
 
@@ -43,13 +44,14 @@ class SimServerProcess {
   }
   SimServerProcess& operator=(SimServerProcess&&) = delete;
 
-  void start_text(const std::string& scenario_json) {
+  void start_text(const std::string& scenario_json, const std::vector<std::string>& extra = {}) {
     make_dir();
     std::ofstream(dir_ + "/scenario.json") << scenario_json;
-    start(dir_ + "/scenario.json");
+    start(dir_ + "/scenario.json", extra);
   }
 
-  void start(const std::string& scenario_file) {
+  /// @p extra: more options for sim-server (e.g. --trace FILE).
+  void start(const std::string& scenario_file, const std::vector<std::string>& extra = {}) {
     const char* b = std::getenv("TESTBED_BIN");
     exe_ = std::string(b != nullptr ? b : "build/bin") + "/sim-server";
     if (!std::filesystem::exists(exe_))
@@ -61,8 +63,14 @@ class SimServerProcess {
       const int fd = ::open(log_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
       dup2(fd, 1);
       dup2(fd, 2);
-      execl(exe_.c_str(), exe_.c_str(), "--scenario", scenario_file.c_str(), "--port", "0",
-            "--bind", "127.0.0.1", static_cast<char*>(nullptr));
+      std::vector<std::string> args = {exe_, "--scenario", scenario_file, "--port",
+                                       "0",  "--bind",     "127.0.0.1"};
+      args.insert(args.end(), extra.begin(), extra.end());
+      std::vector<char*> argv;
+      for (auto& a : args)
+        argv.push_back(a.data());
+      argv.push_back(nullptr);
+      execv(argv[0], argv.data());
       _exit(127);
     }
     const std::regex listening(R"(listening on [^ ]*:(\d+))");
