@@ -171,7 +171,7 @@ void Hud::text(const std::string& key, const std::string& s, float x, float y, f
     t.setAlignment(align);
 }
 
-void Hud::telemetry(const FrameInput& in, const wire::VehicleState& s, float k, int width) {
+void Hud::telemetry(const FrameInput& in, const wire::VehicleState& s, float k) {
   const bool cockpit = in.choice.camera == CameraMode::kCockpit;
   const float x0 = 12 * k, y0 = 10 * k, pw = 300 * k, ph = cockpit ? 70 * k : 160 * k;
   if (!cockpit) {
@@ -219,11 +219,9 @@ void Hud::telemetry(const FrameInput& in, const wire::VehicleState& s, float k, 
   back_.rect(std::min(mid, mid + steer * bw / 2), rows[2], std::abs(steer) * bw / 2 + 1, bh,
              kWhite);
   back_.rect(mid - 1, rows[2] - 2 * k, 2, bh + 4 * k, kAmber);
-  (void)width;
 }
 
-void Hud::dashboard(const wire::VehicleState& s, float k, int width, int height) {
-  (void)height;
+void Hud::dashboard(const wire::VehicleState& s, float k, int width) {
   const float h = 150 * k;
   back_.rect(0, 0, static_cast<float>(width), h, osg::Vec4(0.07f, 0.07f, 0.08f, 1.0f));
   back_.rect(0, h, static_cast<float>(width), 4 * k, osg::Vec4(0.2f, 0.2f, 0.22f, 1));
@@ -363,8 +361,8 @@ void Hud::update(const FrameInput& in, int subject, int width, int height, const
   }
   if (s != nullptr) {
     if (in.choice.camera == CameraMode::kCockpit)
-      dashboard(*s, k, width, height);
-    telemetry(in, *s, k, width);
+      dashboard(*s, k, width);
+    telemetry(in, *s, k);
   }
   warning(in, subject, k, width, height, mirror);
 

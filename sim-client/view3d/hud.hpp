@@ -67,8 +67,8 @@ class Hud {
   void text(const std::string& key, const std::string& s, float x, float y, float size,
             const osg::Vec4& colour, osgText::Text::AlignmentType align, Font f = Font::kRegular,
             bool over = false);
-  void telemetry(const FrameInput& in, const wire::VehicleState& s, float k, int width);
-  void dashboard(const wire::VehicleState& s, float k, int width, int height);
+  void telemetry(const FrameInput& in, const wire::VehicleState& s, float k);
+  void dashboard(const wire::VehicleState& s, float k, int width);
   void warning(const FrameInput& in, int subject, float k, int width, int height,
                const Rect* mirror);
   void help(float k, int width, int height);

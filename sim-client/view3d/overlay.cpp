@@ -43,6 +43,12 @@ void pyramid(osg::Vec3Array& v, osg::Vec4Array& c, const osg::Vec3& tip, float s
   }
 }
 
+/// Text glyphs are laid out again on every setText(): only when the text changes.
+void set_text(osgText::Text& t, const std::string& s) {
+  if (t.getText().createUTF8EncodedString() != s)
+    t.setText(s, osgText::String::ENCODING_UTF8);
+}
+
 }  // namespace
 
 V2xOverlay::V2xOverlay()
@@ -103,7 +109,7 @@ void V2xOverlay::update(const FrameInput& in) {
           osg::Vec3(static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]));
       const std::string key = fmt::format("car{}", look.station_id);
       osgText::Text* t = label(key);
-      t->setText(std::to_string(look.station_id));
+      set_text(*t, std::to_string(look.station_id));
       t->setPosition(at[look.station_id] + osg::Vec3(0, 0, look.height_m + 0.6f));
       t->setColor(osg::Vec4(1, 1, 1, 1));
       shown[key] = true;
@@ -149,7 +155,7 @@ void V2xOverlay::update(const FrameInput& in) {
                 osg::Vec4(1.0f, 0.5f, 0.0f, 0.95f), false);
         const std::string key = fmt::format("denm{}/{}", d.originator, d.sequence);
         osgText::Text* t = label(key);
-        t->setText(fmt::format("DENM {}/{}", d.cause, d.subcause));
+        set_text(*t, fmt::format("DENM {}/{}", d.cause, d.subcause));
         t->setPosition(base + osg::Vec3(0, 0, 2.9f));
         t->setColor(osg::Vec4(1.0f, 0.7f, 0.2f, 1));
         shown[key] = true;
@@ -159,7 +165,7 @@ void V2xOverlay::update(const FrameInput& in) {
   }
   for (auto& [key, t] : labels_)
     if (!shown.contains(key))
-      t->setText("");
+      set_text(*t, "");
   ld_->setCount(static_cast<GLsizei>(lv_->size()));
   sd_->setCount(static_cast<GLsizei>(sv_->size()));
   for (osg::Array* a : {static_cast<osg::Array*>(lv_.get()), static_cast<osg::Array*>(lc_.get()),

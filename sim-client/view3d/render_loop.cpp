@@ -213,6 +213,7 @@ void RenderLoop::run() {
       st.subject = view->subject();
       if (st.subject >= 0 && static_cast<std::size_t>(st.subject) < in.vehicles.size())
         st.subject_controls = in.vehicles[static_cast<std::size_t>(st.subject)].controls;
+      st.banner = view->hud().banner();
       observer_(st);
     }
     next += period;

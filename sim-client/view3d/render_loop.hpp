@@ -41,6 +41,7 @@ struct FrameStats {
   CameraMode camera = CameraMode::kChase;
   int subject = -1;
   wire::Controls subject_controls;  ///< as drawn (the HUD's bars)
+  std::string banner;               ///< the V2X warning banner's text; empty: none shown
 };
 
 class RenderLoop {

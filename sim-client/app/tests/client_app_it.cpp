@@ -18,6 +18,8 @@
 #include <boost/asio/ip/udp.hpp>
 
 #include "sim-client/app/client_app.hpp"
+#include "common/mqtt/mosquitto_client.hpp"
+#include "common/mqtt/tests/test_broker.hpp"
 #include "sim-client/app/tests/fake_sim_server.hpp"
 #include "sim-client/app/tests/run_program.hpp"
 #include "sim-client/view/tests/png_reader.hpp"
@@ -314,6 +316,70 @@ TEST(ClientApp, TabSwitchesTheCameraTheRenderThreadDraws) {
   EXPECT_FLOAT_EQ(server.last_controls(0)->controls.throttle, 1.0f);
   push_key(SDL_SCANCODE_W, false);
   app.stop(0);
+}
+
+// --mqtt end to end in the program: the view reads the broker as the hmi user and the banner
+// comes and goes with the own station's warning.
+TEST(ClientApp, MqttWarningBannerComesAndGoes) {
+  testing::Xvfb xvfb;
+  if (!xvfb.running())
+    GTEST_SKIP() << "Xvfb did not start (scripts/install-deps installs xvfb)";
+  mqtt::testing::Broker broker("1001,1002");
+  ASSERT_TRUE(broker.configured());
+  ASSERT_TRUE(broker.start()) << broker.log();
+  clock::SystemClock clk;
+  mqtt::ClientConfig sc;
+  sc.port = broker.port();
+  sc.client_id = sc.username = "station-1001";
+  sc.password = broker.password(1001);
+  mqtt::MosquittoClient station(clk, sc);
+  station.start();
+
+  testing::FakeSimServer server;
+  asio::io_context io;
+  AppOptions o;
+  o.server = "127.0.0.1:" + std::to_string(server.port());
+  o.forward = false;
+  o.session.vehicles = {"me"};  // station 1001
+  o.view = ViewKind::k3d;
+  o.width = 480;
+  o.height = 270;
+  o.mqtt = "127.0.0.1:" + std::to_string(broker.port());
+  std::mutex mu;
+  std::string banner;
+  o.frame_observer = [&](const view3d::FrameStats& s) {
+    std::lock_guard l(mu);
+    banner = s.banner;
+  };
+  ClientApp app(io, o);
+  app.start();
+  const auto shown = [&](auto pred) {
+    for (int i = 0; i < 400; ++i) {
+      pump(io, 20ms);
+      std::lock_guard l(mu);
+      if (pred(banner))
+        return true;
+    }
+    return false;
+  };
+  const std::string raised =
+      R"({"type":"lcrw_warning","message":{"station_id":1001,"other_station_id":1002,)"
+      R"("event":"raised","collision_case":"rear_end","severity":"critical","ttc_s":1.2,)"
+      R"("distance_m":14.0}})";
+  // Raised (and raised again while the view's subscription is being set up), then updated.
+  ASSERT_TRUE(shown([&](const std::string& b) {
+    station.publish("its/1001/app/lcrw", raised, mqtt::Qos::kAtLeastOnce, false);
+    return b.find("TTC 1.2 s") != std::string::npos;
+  })) << "banner: " << banner;
+  EXPECT_NE(banner.find("BRAKE"), std::string::npos) << banner;
+  EXPECT_NE(banner.find("rear end"), std::string::npos) << banner;
+  station.publish("its/1001/app/lcrw",
+                  R"({"type":"lcrw_warning","message":{"station_id":1001,"other_station_id":1002,)"
+                  R"("event":"cleared","clear_reason":"risk_ended"}})",
+                  mqtt::Qos::kAtLeastOnce, false);
+  EXPECT_TRUE(shown([](const std::string& b) { return b.empty(); })) << banner;
+  app.stop(0);
+  station.stop();
 }
 
 }  // namespace
