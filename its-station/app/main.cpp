@@ -26,11 +26,11 @@
 #include "common/clock/asio_runtime.hpp"
 #include "common/geodesy/local_frame.hpp"
 #include "common/map/scenario_map.hpp"
+#include "common/mqtt/mosquitto_client.hpp"
 #include "common/scenario/loader.hpp"
 #include "common/trace/tracer.hpp"
 #include "its-station/app/adapters.hpp"
 #include "its-station/apps/lcrw/lcrw_app.hpp"
-#include "its-station/apps/mqtt/mosquitto_client.hpp"
 #include "its-station/apps/mqtt/publisher.hpp"
 #include "its-station/btp/dispatcher.hpp"
 #include "its-station/facilities/ca_service.hpp"
@@ -281,10 +281,10 @@ int run(const Options& o) {
   });
 
   // MQTT.
-  std::unique_ptr<apps::mqtt::MosquittoClient> mqtt;
+  std::unique_ptr<tb::mqtt::MosquittoClient> mqtt;
   std::unique_ptr<apps::mqtt::StationPublisher> publisher;
   if (!o.mqtt_host.empty()) {
-    apps::mqtt::ClientConfig mc;
+    tb::mqtt::ClientConfig mc;
     mc.host = o.mqtt_host;
     mc.port = o.mqtt_port;
     mc.client_id = fmt::format("station-{}", o.station_id);
@@ -299,7 +299,7 @@ int run(const Options& o) {
     apps::mqtt::Topics topics(o.mqtt_prefix, o.station_id);
     mc.status_topic = topics.status();
     mc.publish_prefix = topics.root() + "/";
-    mqtt = std::make_unique<apps::mqtt::MosquittoClient>(runtime, mc);
+    mqtt = std::make_unique<tb::mqtt::MosquittoClient>(runtime, mc);
     publisher = std::make_unique<apps::mqtt::StationPublisher>(
         runtime, *mqtt, apps::mqtt::PublisherConfig{o.mqtt_prefix, o.station_id});
     publisher->set_tracer(&tb::trace::global());

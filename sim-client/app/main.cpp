@@ -48,7 +48,27 @@ int main(int argc, char** argv) {
   cli.add_option("--duration", duration, "quit after SECONDS")->check(CLI::Range(0.0, 1e9));
   cli.add_option("--width", o.width, "view width, pixels")->capture_default_str();
   cli.add_option("--height", o.height, "view height, pixels")->capture_default_str();
-  cli.add_option("--fps", o.fps, "view frame rate")->capture_default_str();
+  cli.add_option("--fps", o.fps, "view frame rate (at most)")->capture_default_str();
+  std::string view = "auto";
+  cli.add_option("--view", view,
+                 "3d (OpenSceneGraph), topdown (the 2D diagram) or auto: 3d when a display "
+                 "is there")
+      ->capture_default_str();
+  std::string camera;
+  cli.add_option("--camera", camera,
+                 "3D camera at start: chase, cockpit (or hood), top, orbit (Tab switches); "
+                 "default chase, orbit when watching");
+  cli.add_option("--fov", o.fov_deg, "horizontal field of view of the 3D view, degrees")
+      ->capture_default_str();
+  cli.add_flag("--fullscreen", o.fullscreen, "fill the screen");
+  bool no_vsync = false;
+  cli.add_flag("--no-vsync", no_vsync, "do not wait for the display's refresh to swap");
+  std::string mqtt;
+  cli.add_option("--mqtt", mqtt,
+                 "broker HOST[:PORT] to read the stations' V2X warnings, CAM links and DENMs "
+                 "from (port 1883 by default)");
+  cli.add_option("--mqtt-user", o.mqtt_user, "MQTT reader account")->capture_default_str();
+  cli.add_option("--mqtt-password", o.mqtt_password, "its password")->capture_default_str();
   std::string trace;
   cli.add_option("--trace", trace, "write trace records (JSON lines) to FILE");
   bool help_keys = false;
@@ -61,6 +81,22 @@ int main(int argc, char** argv) {
     return 0;
   }
   o.forward = !no_forward;
+  o.vsync = !no_vsync;
+  if (const auto v = parse_view(view)) {
+    o.view = *v;
+  } else {
+    fmt::print(stderr, "--view {}: expected 3d, topdown or auto\n", view);
+    return kExitUsage;
+  }
+  if (!camera.empty()) {
+    o.camera = tb::client::view3d::parse_camera(camera);
+    if (!o.camera) {
+      fmt::print(stderr, "--camera {}: expected chase, cockpit, hood, top or orbit\n", camera);
+      return kExitUsage;
+    }
+  }
+  if (!mqtt.empty())
+    o.mqtt = mqtt;
   if (!mapping.empty())
     o.mapping = mapping;
   if (!screenshot.empty())

@@ -30,6 +30,12 @@ const std::vector<KeyHelp>& key_map_help() {
       {"K", "high beam"},
       {"F", "fog light"},
       {"B / N", "light bar / siren (special vehicles)"},
+      {"Tab", "next camera: chase, cockpit, top, orbit (3D view)"},
+      {"[ ]", "previous / next car to follow"},
+      {"PgUp PgDn, wheel", "zoom the orbit and top cameras"},
+      {"mouse drag", "turn the orbit camera"},
+      {"N", "V2X network overlay (with --mqtt)"},
+      {"F1", "frame rate"},
       {"H", "show / hide this help"},
       {"Esc", "quit"},
   };

@@ -304,6 +304,9 @@ void SimSession::on_state(const sim::StateFrame& f) {
                                     {"input_ns", c.input_ns}});
     send_(sim::encode(c));
   }
+  // After the forwarded states and the controls: a view never delays t1 or t2.
+  if (frame_observer_)
+    frame_observer_(f);
 }
 
 std::vector<std::uint16_t> SimSession::driven() const {

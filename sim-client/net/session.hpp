@@ -83,12 +83,22 @@ class SimSession {
   std::shared_ptr<const map::ScenarioMap> shared_map() const { return map_; }
   /// The world's road network: what drivers and views read.
   const map::odr::RoadNetwork* network() const { return map_ ? &map_->network() : nullptr; }
+  /// The same, shared: a view on another thread keeps it while the session moves on to a new
+  /// world.
+  std::shared_ptr<const map::odr::RoadNetwork> shared_network() const {
+    return map_ ? std::shared_ptr<const map::odr::RoadNetwork>(map_, &map_->network()) : nullptr;
+  }
   const wire::sim::StateFrame* latest() const { return latest_ ? &*latest_ : nullptr; }
   /// Indices (Welcome order) of the vehicles this connection drives.
   std::vector<std::uint16_t> driven() const;
   /// Whether the vehicle at @p index is driven by the human input (not a script).
   bool human_driven(std::uint16_t index) const;
   std::uint64_t frames() const { return frames_; }
+  /// Called with every state frame as it arrives, after its states were forwarded and its
+  /// controls sent (the 3D view times arrivals for its interpolation).
+  void set_frame_observer(std::function<void(const wire::sim::StateFrame&)> f) {
+    frame_observer_ = std::move(f);
+  }
 
  private:
   struct Driven {
@@ -127,6 +137,7 @@ class SimSession {
   std::string fatal_;
   std::string last_error_;
   std::uint64_t frames_ = 0;
+  std::function<void(const wire::sim::StateFrame&)> frame_observer_;
 };
 
 std::string_view to_string(SimSession::Phase p);

@@ -143,6 +143,7 @@ RoadMesh road_mesh(const RoadNetwork& net, double eps) {
                 mesh.indices.insert(mesh.indices.end(), {t3[0], t3[1], t3[2]});
               }
               mesh.lanes.push_back({static_cast<int>(ri), lane.id});
+              mesh.sections.push_back(static_cast<std::uint32_t>(k));
             }
           }
         }

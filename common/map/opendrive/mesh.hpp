@@ -29,8 +29,10 @@ std::vector<Vertex> lane_centre(const Road& road, std::size_t section, int lane,
 /// the rest and views can colour by type.
 struct RoadMesh {
   std::vector<Vertex> vertices;
-  std::vector<std::uint32_t> indices;  ///< three per triangle, counter-clockwise seen from above
-  std::vector<LaneRef> lanes;          ///< one per triangle
+  std::vector<std::uint32_t> indices;   ///< three per triangle, counter-clockwise seen from above
+  std::vector<LaneRef> lanes;           ///< one per triangle
+  std::vector<std::uint32_t> sections;  ///< one per triangle: the lane section (views colour by
+                                        ///< the lane's type there)
   std::size_t triangles() const { return indices.size() / 3; }
 };
 

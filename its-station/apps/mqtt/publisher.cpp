@@ -10,18 +10,20 @@ constexpr std::string_view kOriginApplication = "on_board_application";
 constexpr auto kForgetSourceAfter = std::chrono::seconds{10};
 }  // namespace
 
-StationPublisher::StationPublisher(const clock::Clock& clock, MqttSink& sink, PublisherConfig cfg)
+StationPublisher::StationPublisher(const clock::Clock& clock, tb::mqtt::MqttSink& sink,
+                                   PublisherConfig cfg)
     : clock_(clock), sink_(sink), cfg_(std::move(cfg)), topics_(cfg_.prefix, cfg_.station_id) {}
 
 void StationPublisher::send(const std::string& topic, std::string_view type,
-                            std::string_view origin, nlohmann::json message, Qos qos, bool retain) {
+                            std::string_view origin, nlohmann::json message, tb::mqtt::Qos qos,
+                            bool retain) {
   sink_.publish(
       topic, envelope(type, origin, cfg_.station_id, clock_.wall_now(), std::move(message)).dump(),
       qos, retain);
 }
 
 void StationPublisher::publish_state(const StationState& s) {
-  send(topics_.state(), "state", kOriginSelf, state_message(s), Qos::kAtMostOnce, true);
+  send(topics_.state(), "state", kOriginSelf, state_message(s), tb::mqtt::Qos::kAtMostOnce, true);
 }
 
 bool StationPublisher::publish_cam(const ReceivedCam& c) {
@@ -36,7 +38,7 @@ bool StationPublisher::publish_cam(const ReceivedCam& c) {
     std::erase_if(last_cam_, [&](const auto& kv) { return now - kv.second > kForgetSourceAfter; });
   }
   const std::string topic = topics_.cam_in(c.station_id);
-  send(topic, "cam", kOriginRemote, cam_message(c), Qos::kAtMostOnce, false);
+  send(topic, "cam", kOriginRemote, cam_message(c), tb::mqtt::Qos::kAtMostOnce, false);
   if (tracer_ != nullptr) {
     tracer_->record("its.mqtt", {{"station", cfg_.station_id},
                                  {"topic", std::string_view{topic}},
@@ -48,16 +50,18 @@ bool StationPublisher::publish_cam(const ReceivedCam& c) {
 
 void StationPublisher::publish_denm_received(const DenmView& d) {
   send(topics_.denm_in(d.action_id.originating_station_id), "denm", kOriginRemote, denm_message(d),
-       Qos::kAtLeastOnce, false);
+       tb::mqtt::Qos::kAtLeastOnce, false);
 }
 
 void StationPublisher::publish_denm_sent(const DenmView& d) {
-  send(topics_.denm_out(), "denm", kOriginSelf, denm_message(d), Qos::kAtLeastOnce, false);
+  send(topics_.denm_out(), "denm", kOriginSelf, denm_message(d), tb::mqtt::Qos::kAtLeastOnce,
+       false);
 }
 
 void StationPublisher::publish_warning(const LcrwWarning& w) {
   const std::string topic = topics_.lcrw();
-  send(topic, "lcrw_warning", kOriginApplication, lcrw_message(w), Qos::kAtLeastOnce, false);
+  send(topic, "lcrw_warning", kOriginApplication, lcrw_message(w), tb::mqtt::Qos::kAtLeastOnce,
+       false);
   if (tracer_ != nullptr) {
     tracer_->record("its.mqtt", {{"station", cfg_.station_id},
                                  {"topic", std::string_view{topic}},

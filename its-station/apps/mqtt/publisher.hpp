@@ -6,10 +6,10 @@
 #include <map>
 
 #include "common/clock/clock.hpp"
+#include "common/mqtt/sink.hpp"
 #include "common/trace/tracer.hpp"
 #include "its-station/apps/lcrw/lcrw.hpp"
 #include "its-station/apps/mqtt/messages.hpp"
-#include "its-station/apps/mqtt/sink.hpp"
 
 namespace tb::its::apps::mqtt {
 
@@ -23,7 +23,7 @@ struct PublisherConfig {
 
 class StationPublisher {
  public:
-  StationPublisher(const clock::Clock& clock, MqttSink& sink, PublisherConfig cfg);
+  StationPublisher(const clock::Clock& clock, tb::mqtt::MqttSink& sink, PublisherConfig cfg);
 
   /// QoS 0, retained: a subscriber that arrives sees the latest state at once.
   void publish_state(const StationState& s);
@@ -44,10 +44,10 @@ class StationPublisher {
 
  private:
   void send(const std::string& topic, std::string_view type, std::string_view origin,
-            nlohmann::json message, Qos qos, bool retain);
+            nlohmann::json message, tb::mqtt::Qos qos, bool retain);
 
   const clock::Clock& clock_;
-  MqttSink& sink_;
+  tb::mqtt::MqttSink& sink_;
   PublisherConfig cfg_;
   Topics topics_;
   std::map<std::uint32_t, clock::SteadyTime> last_cam_;

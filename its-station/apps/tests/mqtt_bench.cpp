@@ -11,9 +11,9 @@ namespace {
 
 using namespace tb::its::apps;
 
-class NullSink : public MqttSink {
+class NullSink : public tb::mqtt::MqttSink {
  public:
-  void publish(std::string_view, std::string payload, Qos, bool) override {
+  void publish(std::string_view, std::string payload, tb::mqtt::Qos, bool) override {
     bytes += payload.size();
   }
   std::size_t bytes = 0;

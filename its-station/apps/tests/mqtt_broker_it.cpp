@@ -21,7 +21,8 @@
 #include <thread>
 #include <vector>
 
-#include "its-station/apps/mqtt/mosquitto_client.hpp"
+#include "common/mqtt/mosquitto_client.hpp"
+#include "common/mqtt/tests/test_broker.hpp"
 #include "its-station/apps/mqtt/publisher.hpp"
 
 namespace tb::its::apps::mqtt {
@@ -30,124 +31,9 @@ namespace {
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 using nlohmann::json;
-
-fs::path repo_root() {
-  const char* r = std::getenv("TESTBED_ROOT");
-  return r ? fs::path(r) : fs::current_path();
-}
-
-int free_port() {
-  const int s = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  socklen_t len = sizeof a;
-  if (::bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 ||
-      ::getsockname(s, reinterpret_cast<sockaddr*>(&a), &len) != 0) {
-    ::close(s);
-    return -1;
-  }
-  ::close(s);
-  return ntohs(a.sin_port);
-}
-
-bool port_open(int port) {
-  const int s = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_port = htons(static_cast<std::uint16_t>(port));
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  const bool ok = ::connect(s, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0;
-  ::close(s);
-  return ok;
-}
-
-template <typename Pred>
-bool wait_until(Pred pred, std::chrono::milliseconds timeout) {
-  const auto end = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < end) {
-    if (pred()) {
-      return true;
-    }
-    std::this_thread::sleep_for(20ms);
-  }
-  return pred();
-}
-
-/// A Mosquitto with the configuration gen-broker-config renders, in a temporary folder.
-class Broker {
- public:
-  explicit Broker(const std::string& stations) {
-    char tmpl[] = "/tmp/hmi-broker-XXXXXX";
-    dir_ = ::mkdtemp(tmpl);
-    // The broker drops root for the "mosquitto" user, which must read the folder and write
-    // the persistence file.
-    ::chmod(dir_.c_str(), 0777);
-    tcp_port_ = free_port();
-    ws_port_ = free_port();
-    const std::string cmd = (repo_root() / "docker/mosquitto/gen-broker-config").string() +
-                            " --stations " + stations + " --out " + dir_.string() +
-                            " --bind 127.0.0.1 --tcp-port " + std::to_string(tcp_port_) +
-                            " --ws-port " + std::to_string(ws_port_) + " --http-dir " +
-                            dir_.string() + " > " + (dir_ / "gen.log").string() + " 2>&1";
-    ok_ = std::system(cmd.c_str()) == 0;
-    // Sessions survive a broker restart, so that a subscriber misses nothing while the broker
-    // is away (the shipped configuration keeps none: the testbed needs no history).
-    std::ofstream(dir_ / "mosquitto.conf", std::ios::app)
-        << "\npersistence true\npersistence_location " << dir_.string() << "/\n";
-    const json creds = json::parse(std::ifstream(dir_ / "credentials.json"), nullptr, false);
-    creds_ = creds.is_discarded() ? json::object() : creds;
-  }
-  ~Broker() {
-    stop();
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  bool configured() const { return ok_; }
-  int port() const { return tcp_port_; }
-  std::string password(std::uint32_t station) const {
-    return creds_["stations"][std::to_string(station)]["password"].get<std::string>();
-  }
-
-  bool start() {
-    pid_ = ::fork();
-    if (pid_ == 0) {
-      const std::string log = (dir_ / "broker.log").string();
-      std::freopen(log.c_str(), "a", stderr);
-      std::freopen(log.c_str(), "a", stdout);
-      ::execlp("mosquitto", "mosquitto", "-c", (dir_ / "mosquitto.conf").c_str(), nullptr);
-      ::_exit(127);
-    }
-    return wait_until([&] { return port_open(tcp_port_); }, 5s);
-  }
-  void stop() {
-    if (pid_ <= 0) {
-      return;
-    }
-    ::kill(pid_, SIGTERM);
-    int status = 0;
-    for (int i = 0; i < 250 && ::waitpid(pid_, &status, WNOHANG) == 0; ++i) {
-      std::this_thread::sleep_for(20ms);
-    }
-    if (::waitpid(pid_, &status, WNOHANG) == 0) {
-      ::kill(pid_, SIGKILL);
-      ::waitpid(pid_, &status, 0);
-    }
-    pid_ = -1;
-  }
-  std::string log() const {
-    std::ifstream f(dir_ / "broker.log");
-    return std::string(std::istreambuf_iterator<char>(f), {});
-  }
-
- private:
-  fs::path dir_;
-  int tcp_port_ = -1;
-  int ws_port_ = -1;
-  pid_t pid_ = -1;
-  bool ok_ = false;
-  json creds_;
-};
+using tb::mqtt::testing::Broker;
+using tb::mqtt::testing::repo_root;
+using tb::mqtt::testing::wait_until;
 
 /// A plain libmosquitto client for the test's side: subscribes (and resubscribes after a
 /// reconnect) and records what arrives; publishes with MQTT v5 to see the broker's reason code.
@@ -357,10 +243,10 @@ TEST(BrokerConfig, RefusesAnonymousAndWrongPasswords) {
   EXPECT_NE(wrong.connect(), kReasonSuccess);
   // The station client reports the refusal (MQTT 3.1.1 CONNACK 5, not authorised).
   clock::SystemClock clk;
-  ClientConfig anon_cfg;
+  tb::mqtt::ClientConfig anon_cfg;
   anon_cfg.port = broker.port();
   anon_cfg.client_id = "anon-station";
-  MosquittoClient client(clk, anon_cfg);
+  tb::mqtt::MosquittoClient client(clk, anon_cfg);
   client.start();
   EXPECT_TRUE(wait_until([&] { return client.last_connack() >= 0; }, 5s));
   EXPECT_EQ(client.last_connack(), 5);
@@ -375,8 +261,8 @@ LcrwWarning warning(std::uint32_t other, double ttc) {
   return w;
 }
 
-ClientConfig station_config(const Broker& b, std::size_t capacity = 100) {
-  ClientConfig c;
+tb::mqtt::ClientConfig station_config(const Broker& b, std::size_t capacity = 100) {
+  tb::mqtt::ClientConfig c;
   c.port = b.port();
   c.client_id = "station-1001";
   c.username = "station-1001";
@@ -408,7 +294,7 @@ TEST(MosquittoClient, WarningsRaisedWhileBrokerIsDownArriveWhenItReturns) {
   ASSERT_EQ(hmi.connect(), kReasonSuccess);
 
   clock::SystemClock clk;
-  MosquittoClient client(clk, station_config(broker));
+  tb::mqtt::MosquittoClient client(clk, station_config(broker));
   StationPublisher pub(clk, client, PublisherConfig{"its", 1001});
   client.start();
   ASSERT_TRUE(wait_until([&] { return client.connected(); }, 5s));
@@ -448,7 +334,7 @@ TEST(MosquittoClient, BoundedQueueDropsOldestAndReportsTheCount) {
   broker.stop();
 
   clock::SystemClock clk;
-  MosquittoClient client(clk, station_config(broker, 3));
+  tb::mqtt::MosquittoClient client(clk, station_config(broker, 3));
   StationPublisher pub(clk, client, PublisherConfig{"its", 1001});
   client.start();
   for (int i = 0; i < 5; ++i) {
@@ -486,7 +372,7 @@ TEST(MosquittoClient, StopPublishesOfflineStatus) {
   ASSERT_TRUE(broker.start()) << broker.log();
   clock::SystemClock clk;
   {
-    MosquittoClient client(clk, station_config(broker));
+    tb::mqtt::MosquittoClient client(clk, station_config(broker));
     client.start();
     ASSERT_TRUE(wait_until([&] { return client.connected(); }, 5s));
     client.stop();

@@ -2,8 +2,8 @@
 
 #include <limits>
 
+#include "common/mqtt/outbox.hpp"
 #include "its-station/apps/mqtt/messages.hpp"
-#include "its-station/apps/mqtt/outbox.hpp"
 
 namespace tb::its::apps::mqtt {
 namespace {
@@ -160,15 +160,15 @@ TEST(LcrwMessage, WarningFieldsAndInfiniteTtcAsNull) {
 }
 
 TEST(Outbox, FifoAndDropsOldestWhenFull) {
-  Outbox box(3);
+  tb::mqtt::Outbox box(3);
   for (int i = 0; i < 5; ++i) {
-    const bool dropped = box.push(OutMessage{"t", std::to_string(i)});
+    const bool dropped = box.push(tb::mqtt::OutMessage{"t", std::to_string(i)});
     EXPECT_EQ(dropped, i >= 3);
   }
   EXPECT_EQ(box.size(), 3u);
   EXPECT_EQ(box.dropped(), 2u);
   EXPECT_EQ(box.pop()->payload, "2");
-  box.push_front(OutMessage{"t", "back"});
+  box.push_front(tb::mqtt::OutMessage{"t", "back"});
   EXPECT_EQ(box.pop()->payload, "back");
   EXPECT_EQ(box.pop()->payload, "3");
   EXPECT_EQ(box.pop()->payload, "4");

@@ -1,6 +1,6 @@
 #include "its-station/apps/mqtt/publisher.hpp"
 
-#include "its-station/apps/mqtt/mosquitto_client.hpp"
+#include "common/mqtt/mosquitto_client.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -18,13 +18,14 @@ using nlohmann::json;
 struct Sent {
   std::string topic;
   json payload;
-  Qos qos;
+  tb::mqtt::Qos qos;
   bool retain;
 };
 
-class RecordingSink : public MqttSink {
+class RecordingSink : public tb::mqtt::MqttSink {
  public:
-  void publish(std::string_view topic, std::string payload, Qos qos, bool retain) override {
+  void publish(std::string_view topic, std::string payload, tb::mqtt::Qos qos,
+               bool retain) override {
     sent.push_back(Sent{std::string(topic), json::parse(payload), qos, retain});
   }
   std::vector<Sent> sent;
@@ -51,7 +52,7 @@ TEST_F(PublisherTest, StateIsRetainedQos0UnderOwnPrefix) {
   pub.publish_state(s);
   ASSERT_EQ(sink.sent.size(), 1u);
   EXPECT_EQ(sink.sent[0].topic, "its/1001/state");
-  EXPECT_EQ(sink.sent[0].qos, Qos::kAtMostOnce);
+  EXPECT_EQ(sink.sent[0].qos, tb::mqtt::Qos::kAtMostOnce);
   EXPECT_TRUE(sink.sent[0].retain);
   EXPECT_EQ(sink.sent[0].payload["type"], "state");
   EXPECT_EQ(sink.sent[0].payload["source_uuid"], "station-1001");
@@ -72,7 +73,7 @@ TEST_F(PublisherTest, CamsAreRateLimitedPerSource) {
   ASSERT_EQ(sink.sent.size(), 3u);
   EXPECT_EQ(sink.sent[0].topic, "its/1001/in/cam/7");
   EXPECT_EQ(sink.sent[1].topic, "its/1001/in/cam/8");
-  EXPECT_EQ(sink.sent[0].qos, Qos::kAtMostOnce);
+  EXPECT_EQ(sink.sent[0].qos, tb::mqtt::Qos::kAtMostOnce);
   EXPECT_FALSE(sink.sent[0].retain);
   EXPECT_EQ(sink.sent[0].payload["origin"], "remote");
 }
@@ -99,7 +100,7 @@ TEST_F(PublisherTest, WarningsAreQos1AndNotRetained) {
   pub.publish_warning(w);
   ASSERT_EQ(sink.sent.size(), 1u);
   EXPECT_EQ(sink.sent[0].topic, "its/1001/app/lcrw");
-  EXPECT_EQ(sink.sent[0].qos, Qos::kAtLeastOnce);
+  EXPECT_EQ(sink.sent[0].qos, tb::mqtt::Qos::kAtLeastOnce);
   EXPECT_FALSE(sink.sent[0].retain);
   EXPECT_EQ(sink.sent[0].payload["type"], "lcrw_warning");
   EXPECT_DOUBLE_EQ(sink.sent[0].payload["message"]["ttc_s"].get<double>(), 2.5);
@@ -116,7 +117,7 @@ TEST_F(PublisherTest, DenmsByDirection) {
   EXPECT_EQ(sink.sent[0].payload["origin"], "remote");
   EXPECT_EQ(sink.sent[1].topic, "its/1001/out/denm");
   EXPECT_EQ(sink.sent[1].payload["origin"], "self");
-  EXPECT_EQ(sink.sent[1].qos, Qos::kAtLeastOnce);
+  EXPECT_EQ(sink.sent[1].qos, tb::mqtt::Qos::kAtLeastOnce);
 }
 
 }  // namespace
@@ -127,24 +128,24 @@ namespace {
 
 TEST(MosquittoClientPrefix, RefusesTopicsOutsideTheStationPrefix) {
   clock::ManualClock clk;
-  ClientConfig cfg;
+  tb::mqtt::ClientConfig cfg;
   cfg.publish_prefix = "its/1001/";
-  MosquittoClient client(clk, cfg);  // never started: no broker needed
-  client.publish("its/1002/app/lcrw", "{}", Qos::kAtLeastOnce, false);
-  client.publish("its/1001x/state", "{}", Qos::kAtMostOnce, false);
+  tb::mqtt::MosquittoClient client(clk, cfg);  // never started: no broker needed
+  client.publish("its/1002/app/lcrw", "{}", tb::mqtt::Qos::kAtLeastOnce, false);
+  client.publish("its/1001x/state", "{}", tb::mqtt::Qos::kAtMostOnce, false);
   EXPECT_EQ(client.refused(), 2u);
   EXPECT_EQ(client.pending(), 0u);
-  client.publish("its/1001/app/lcrw", "{}", Qos::kAtLeastOnce, false);
+  client.publish("its/1001/app/lcrw", "{}", tb::mqtt::Qos::kAtLeastOnce, false);
   EXPECT_EQ(client.refused(), 2u);
   EXPECT_EQ(client.pending(), 1u) << "queued until a broker is there";
 }
 
 TEST(MosquittoClientPrefix, StatusTopicMustBeUnderThePrefix) {
   clock::ManualClock clk;
-  ClientConfig cfg;
+  tb::mqtt::ClientConfig cfg;
   cfg.publish_prefix = "its/1001/";
   cfg.status_topic = "its/1002/status";
-  EXPECT_THROW(MosquittoClient(clk, cfg), MqttError);
+  EXPECT_THROW(tb::mqtt::MosquittoClient(clk, cfg), tb::mqtt::MqttError);
 }
 
 }  // namespace

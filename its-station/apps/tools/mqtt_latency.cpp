@@ -20,13 +20,13 @@
 #include <thread>
 #include <vector>
 
-#include "its-station/apps/mqtt/mosquitto_client.hpp"
+#include "common/mqtt/mosquitto_client.hpp"
 #include "its-station/apps/mqtt/publisher.hpp"
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
-using tb::its::apps::mqtt::MqttError;
+using tb::mqtt::MqttError;
 
 struct Receiver {
   std::mutex mu;
@@ -104,14 +104,14 @@ int main(int argc, char** argv) {
     mosquitto_loop_start(sub);
 
     tb::clock::SystemClock clk;
-    tb::its::apps::mqtt::ClientConfig cc;
+    tb::mqtt::ClientConfig cc;
     cc.port = port;
     cc.client_id = "station-" + std::to_string(station) + "-latency";
     cc.username = sc["username"];
     cc.password = sc["password"];
     cc.queue_capacity = static_cast<std::size_t>(count);
     cc.publish_prefix = "its/" + std::to_string(station) + "/";
-    tb::its::apps::mqtt::MosquittoClient client(clk, cc);
+    tb::mqtt::MosquittoClient client(clk, cc);
     tb::its::apps::mqtt::StationPublisher pub(clk, client, {"its", station});
     client.start();
     const auto ready_by = Clock::now() + std::chrono::seconds(5);

@@ -11,14 +11,19 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 #include <thread>
 
 #include <boost/asio/ip/udp.hpp>
 
 #include "sim-client/app/client_app.hpp"
+#include "common/mqtt/mosquitto_client.hpp"
+#include "common/mqtt/tests/test_broker.hpp"
 #include "sim-client/app/tests/fake_sim_server.hpp"
+#include "sim-client/app/tests/run_program.hpp"
 #include "sim-client/view/tests/png_reader.hpp"
+#include "sim-client/view3d/tests/xvfb.hpp"
 
 namespace tb::client {
 namespace {
@@ -26,62 +31,12 @@ namespace {
 namespace asio = boost::asio;
 namespace sim = wire::sim;
 using namespace std::chrono_literals;
+using testing::Result;
+using testing::run;
 
 std::string bin() {
   const char* b = std::getenv("TESTBED_BIN");
   return b != nullptr ? b : "build/bin";
-}
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
-
-// Runs a program with a time limit; output to temporary files.
-Result run(std::vector<std::string> args, std::chrono::seconds limit = 20s,
-           const std::vector<std::pair<std::string, std::string>>& env = {}) {
-  const std::string base = ::testing::TempDir() + "/simclient_it_" + std::to_string(getpid());
-  const std::string out = base + ".out", err = base + ".err";
-  const pid_t pid = fork();
-  if (pid == 0) {
-    const int o = open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int e = open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    dup2(o, 1);
-    dup2(e, 2);
-    for (const auto& [k, v] : env)
-      setenv(k.c_str(), v.c_str(), 1);
-    std::vector<char*> argv;
-    for (auto& a : args)
-      argv.push_back(a.data());
-    argv.push_back(nullptr);
-    execvp(argv[0], argv.data());
-    _exit(127);
-  }
-  Result r;
-  const auto deadline = std::chrono::steady_clock::now() + limit;
-  int status = 0;
-  while (waitpid(pid, &status, WNOHANG) == 0) {
-    if (std::chrono::steady_clock::now() > deadline) {
-      kill(pid, SIGKILL);
-      waitpid(pid, &status, 0);
-      r.err = "killed after the time limit\n";
-      break;
-    }
-    std::this_thread::sleep_for(20ms);
-  }
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = slurp(out);
-  r.err += slurp(err);
-  std::remove(out.c_str());
-  std::remove(err.c_str());
-  return r;
 }
 
 void push_key(SDL_Scancode code, bool down) {
@@ -248,6 +203,8 @@ TEST(SimClientProgram, ScreenshotUnderXvfb) {
                       "--vehicle",
                       "me",
                       "--no-forward",
+                      "--view",
+                      "topdown",
                       "--width",
                       "800",
                       "--height",
@@ -270,6 +227,159 @@ TEST(SimClientProgram, ScreenshotUnderXvfb) {
   EXPECT_GT(testing::distinct_colours(im), 5);
   // The own car ("me", #d02020 in the fake scenario) sits at the view's anchor.
   EXPECT_GT(testing::count_near(im, 400, 360, 40, 0xd0, 0x20, 0x20), 200);
+}
+
+// The 3D view by default where there is a display; --headless --screenshot works for every
+// camera (a hidden window: one GL context, no window on the screen).
+TEST(SimClientProgram, Headless3dScreenshotOfEveryCamera) {
+  testing::Xvfb xvfb;
+  if (!xvfb.running())
+    GTEST_SKIP() << "Xvfb did not start (scripts/install-deps installs xvfb)";
+  testing::FakeSimServer server;
+  std::vector<testing::Image> shots;
+  for (const char* camera : {"chase", "cockpit", "top", "orbit"}) {
+    SCOPED_TRACE(camera);
+    const std::string png = ::testing::TempDir() + "/simclient_3d_" + camera + ".png";
+    std::remove(png.c_str());
+    const auto r =
+        run({bin() + "/sim-client", "--server", "127.0.0.1:" + std::to_string(server.port()),
+             "--vehicle", "me", "--no-forward", "--headless", "--camera", camera, "--width", "640",
+             "--height", "360", "--screenshot", png, "--after", "0.8", "--duration", "1"},
+            60s, {{"ASAN_OPTIONS", "detect_leaks=0"}});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("3D view: OpenGL"), std::string::npos) << r.err;
+    testing::Image im;
+    ASSERT_TRUE(testing::read_png(png, im)) << r.err;
+    EXPECT_EQ(im.width, 640);
+    EXPECT_EQ(im.height, 360);
+    EXPECT_GT(testing::distinct_colours(im), 20);
+    // The own car ("me", #d02020, lit by the sun) is in the picture, except from its own
+    // driver's seat (above the dashboard, whose needles are red too).
+    int red = 0;
+    for (int y = 0; y < im.height * 3 / 4; ++y)
+      for (int x = 0; x < im.width; ++x) {
+        const auto* p = im.at(x, y);
+        red += p[0] > p[1] + 80 && p[0] > p[2] + 80;
+      }
+    if (std::string(camera) == "cockpit")
+      EXPECT_LT(red, 30);
+    else
+      EXPECT_GT(red, 100);
+    for (const auto& other : shots)
+      EXPECT_NE(other.rgba, im.rgba);
+    shots.push_back(im);
+  }
+}
+
+TEST(ClientApp, TabSwitchesTheCameraTheRenderThreadDraws) {
+  testing::Xvfb xvfb;
+  if (!xvfb.running())
+    GTEST_SKIP() << "Xvfb did not start (scripts/install-deps installs xvfb)";
+  testing::FakeSimServer server;
+  asio::io_context io;
+  AppOptions o;
+  o.server = "127.0.0.1:" + std::to_string(server.port());
+  o.forward = false;
+  o.session.vehicles = {"me"};
+  o.view = ViewKind::k3d;
+  o.width = 480;
+  o.height = 270;
+  std::mutex mu;
+  view3d::FrameStats last;
+  o.frame_observer = [&](const view3d::FrameStats& s) {
+    std::lock_guard l(mu);
+    last = s;
+  };
+  ClientApp app(io, o);
+  ASSERT_EQ(app.view(), ViewKind::k3d);
+  app.start();
+  const auto drawn = [&](view3d::CameraMode m) {
+    for (int i = 0; i < 250; ++i) {
+      pump(io, 20ms);
+      std::lock_guard l(mu);
+      if (last.camera == m && last.subject == 0)
+        return true;
+    }
+    return false;
+  };
+  ASSERT_TRUE(drawn(view3d::CameraMode::kChase));
+  for (auto m : {view3d::CameraMode::kCockpit, view3d::CameraMode::kTop, view3d::CameraMode::kOrbit,
+                 view3d::CameraMode::kChase}) {
+    push_key(SDL_SCANCODE_TAB, true);
+    push_key(SDL_SCANCODE_TAB, false);
+    EXPECT_TRUE(drawn(m)) << "camera " << view3d::to_string(m);
+  }
+  // The driving keys still drive while the view has its own.
+  push_key(SDL_SCANCODE_W, true);
+  for (int i = 0; i < 150 && server.last_controls(0)->controls.throttle < 1.0f; ++i)
+    pump(io, 20ms);
+  EXPECT_FLOAT_EQ(server.last_controls(0)->controls.throttle, 1.0f);
+  push_key(SDL_SCANCODE_W, false);
+  app.stop(0);
+}
+
+// --mqtt end to end in the program: the view reads the broker as the hmi user and the banner
+// comes and goes with the own station's warning.
+TEST(ClientApp, MqttWarningBannerComesAndGoes) {
+  testing::Xvfb xvfb;
+  if (!xvfb.running())
+    GTEST_SKIP() << "Xvfb did not start (scripts/install-deps installs xvfb)";
+  mqtt::testing::Broker broker("1001,1002");
+  ASSERT_TRUE(broker.configured());
+  ASSERT_TRUE(broker.start()) << broker.log();
+  clock::SystemClock clk;
+  mqtt::ClientConfig sc;
+  sc.port = broker.port();
+  sc.client_id = sc.username = "station-1001";
+  sc.password = broker.password(1001);
+  mqtt::MosquittoClient station(clk, sc);
+  station.start();
+
+  testing::FakeSimServer server;
+  asio::io_context io;
+  AppOptions o;
+  o.server = "127.0.0.1:" + std::to_string(server.port());
+  o.forward = false;
+  o.session.vehicles = {"me"};  // station 1001
+  o.view = ViewKind::k3d;
+  o.width = 480;
+  o.height = 270;
+  o.mqtt = "127.0.0.1:" + std::to_string(broker.port());
+  std::mutex mu;
+  std::string banner;
+  o.frame_observer = [&](const view3d::FrameStats& s) {
+    std::lock_guard l(mu);
+    banner = s.banner;
+  };
+  ClientApp app(io, o);
+  app.start();
+  const auto shown = [&](auto pred) {
+    for (int i = 0; i < 400; ++i) {
+      pump(io, 20ms);
+      std::lock_guard l(mu);
+      if (pred(banner))
+        return true;
+    }
+    return false;
+  };
+  const std::string raised =
+      R"({"type":"lcrw_warning","message":{"station_id":1001,"other_station_id":1002,)"
+      R"("event":"raised","collision_case":"rear_end","severity":"critical","ttc_s":1.2,)"
+      R"("distance_m":14.0}})";
+  // Raised (and raised again while the view's subscription is being set up), then updated.
+  ASSERT_TRUE(shown([&](const std::string& b) {
+    station.publish("its/1001/app/lcrw", raised, mqtt::Qos::kAtLeastOnce, false);
+    return b.find("TTC 1.2 s") != std::string::npos;
+  })) << "banner: " << banner;
+  EXPECT_NE(banner.find("BRAKE"), std::string::npos) << banner;
+  EXPECT_NE(banner.find("rear end"), std::string::npos) << banner;
+  station.publish("its/1001/app/lcrw",
+                  R"({"type":"lcrw_warning","message":{"station_id":1001,"other_station_id":1002,)"
+                  R"("event":"cleared","clear_reason":"risk_ended"}})",
+                  mqtt::Qos::kAtLeastOnce, false);
+  EXPECT_TRUE(shown([](const std::string& b) { return b.empty(); })) << banner;
+  app.stop(0);
+  station.stop();
 }
 
 }  // namespace

@@ -2,12 +2,6 @@
 // on the server's Bullet vehicle, and keyboard input reaching the server's physics.
 #include <gtest/gtest.h>
 
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <fcntl.h>
-
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -19,6 +13,7 @@
 #include <boost/asio/ip/udp.hpp>
 
 #include "sim-client/app/client_app.hpp"
+#include "sim-client/app/tests/sim_server_process.hpp"
 
 namespace tb::client {
 namespace {
@@ -39,76 +34,13 @@ constexpr const char* kScenario = R"({
   ]
 })";
 
-// The real sim-server on a free port, stopped with SIGTERM (then SIGKILL) at the end.
-class SimServerProcess {
- public:
-  SimServerProcess() {
-    const char* b = std::getenv("TESTBED_BIN");
-    exe_ = std::string(b != nullptr ? b : "build/bin") + "/sim-server";
-    if (!std::filesystem::exists(exe_))
-      return;
-    dir_ = ::testing::TempDir() + "/simclient_real_" + std::to_string(getpid());
-    std::filesystem::create_directories(dir_);
-    std::ofstream(dir_ + "/scenario.json") << kScenario;
-    log_ = dir_ + "/server.log";
-    pid_ = fork();
-    if (pid_ == 0) {
-      const int fd = ::open(log_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      dup2(fd, 1);
-      dup2(fd, 2);
-      const std::string scen = dir_ + "/scenario.json";
-      execl(exe_.c_str(), exe_.c_str(), "--scenario", scen.c_str(), "--port", "0", "--bind",
-            "127.0.0.1", static_cast<char*>(nullptr));
-      _exit(127);
-    }
-    const std::regex listening(R"(listening on [^ ]*:(\d+))");
-    for (int i = 0; i < 250 && port_ == 0; ++i) {
-      std::this_thread::sleep_for(20ms);
-      std::ifstream in(log_);
-      std::stringstream s;
-      s << in.rdbuf();
-      const std::string text = s.str();
-      std::smatch m;
-      if (std::regex_search(text, m, listening))
-        port_ = static_cast<std::uint16_t>(std::stoi(m[1]));
-    }
-  }
-  ~SimServerProcess() {
-    if (pid_ > 0) {
-      kill(pid_, SIGTERM);
-      int status = 0;
-      for (int i = 0; i < 100 && waitpid(pid_, &status, WNOHANG) == 0; ++i)
-        std::this_thread::sleep_for(20ms);
-      if (waitpid(pid_, &status, WNOHANG) == 0) {
-        kill(pid_, SIGKILL);
-        waitpid(pid_, &status, 0);
-      }
-    }
-    if (!dir_.empty())
-      std::filesystem::remove_all(dir_);
-  }
-  bool available() const { return std::filesystem::exists(exe_); }
-  std::uint16_t port() const { return port_; }
-  std::string log() const {
-    std::ifstream in(log_);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-  }
-
- private:
-  std::string exe_, dir_, log_;
-  pid_t pid_ = -1;
-  std::uint16_t port_ = 0;
-};
-
 void pump(asio::io_context& io, std::chrono::milliseconds d) {
   io.restart();
   io.run_for(d);
 }
 
 TEST(RealSimServer, LaneFollowerHoldsTargetSpeedInLaneAndKeysDriveTheCar) {
-  SimServerProcess server;
+  auto server = testing::SimServerProcess::with_text(kScenario);
   if (!server.available())
     GTEST_SKIP() << "no sim-server in $TESTBED_BIN";
   ASSERT_NE(server.port(), 0) << server.log();

@@ -52,6 +52,7 @@ TEST(RoadMesh, CoversEveryLaneCounterClockwiseWithTheLanesArea) {
     const RoadNetwork net = load_opendrive(e.path().string());
     const RoadMesh mesh = road_mesh(net, 0.02);
     ASSERT_EQ(mesh.lanes.size(), mesh.triangles());
+    ASSERT_EQ(mesh.sections.size(), mesh.triangles());
     const LaneLocator loc(net);
     double mesh_area = 0.0;
     std::size_t located = 0;
@@ -71,8 +72,13 @@ TEST(RoadMesh, CoversEveryLaneCounterClockwiseWithTheLanesArea) {
       const LaneRef want = mesh.lanes[i];
       const auto at = loc.locate((a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3,
                                  (a.z + b.z + c.z) / 3, std::span<const LaneRef>(&want, 1));
-      if (at && at->ref.road == want.road)
+      if (at && at->ref.road == want.road) {
         ++located;
+        // The triangle's section is the one its centroid lies in.
+        const LaneSection& ls = net.roads[want.road].sections.at(mesh.sections[i]);
+        EXPECT_GE(at->s, ls.s - 1e-6) << "triangle " << i;
+        EXPECT_LE(at->s, ls.s_end + 1e-6) << "triangle " << i;
+      }
     }
     double area = 0.0;
     for (const Road& r : net.roads)

@@ -7,9 +7,9 @@
 #include <optional>
 #include <string>
 
-#include "its-station/apps/mqtt/sink.hpp"
+#include "common/mqtt/sink.hpp"
 
-namespace tb::its::apps::mqtt {
+namespace tb::mqtt {
 
 struct OutMessage {
   std::string topic;
@@ -39,4 +39,4 @@ class Outbox {
   std::uint64_t dropped_ = 0;
 };
 
-}  // namespace tb::its::apps::mqtt
+}  // namespace tb::mqtt

@@ -1,5 +1,6 @@
 #pragma once
-/// @file An MQTT connection over libmosquitto, for the station's publishers.
+/// @file An MQTT connection over libmosquitto: the station's publishers write through it, and
+/// readers (sim-client's driver's view) subscribe with it.
 ///
 /// Threading: the network loop runs in a thread of this class that drives libmosquitto
 /// (mosquitto_loop_forever), not in the station's Asio loop. It makes the first connection
@@ -12,22 +13,30 @@
 /// libmosquitto only while connected, at most max_inflight unacknowledged at a time; handed
 /// messages are libmosquitto's to retransmit after a reconnect. QoS 0 messages (state, CAMs)
 /// are sent only while connected and otherwise discarded: a stale position is worth nothing.
+///
+/// Subscriptions: the topic filters in ClientConfig::subscriptions are (re)subscribed on every
+/// connection (the broker keeps no session for a clean client), and each message is handed to
+/// the message handler in the network thread.
 
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <mutex>
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <thread>
+#include <vector>
 
 #include "common/clock/clock.hpp"
-#include "its-station/apps/mqtt/outbox.hpp"
-#include "its-station/apps/mqtt/sink.hpp"
+#include "common/mqtt/outbox.hpp"
+#include "common/mqtt/sink.hpp"
 
 struct mosquitto;
+struct mosquitto_message;
 
-namespace tb::its::apps::mqtt {
+namespace tb::mqtt {
 
 struct ClientConfig {
   std::string host = "127.0.0.1";
@@ -45,7 +54,13 @@ struct ClientConfig {
   /// When set (e.g. "its/1001/"), topics outside it are refused here with an error, as the
   /// broker's ACL would refuse them silently.
   std::string publish_prefix;
+  /// Topic filters to subscribe to (with subscribe_qos) on every connection.
+  std::vector<std::string> subscriptions;
+  Qos subscribe_qos = Qos::kAtLeastOnce;
 };
+
+/// Called in the network thread for every message on a subscribed topic.
+using MessageHandler = std::function<void(std::string_view topic, std::string_view payload)>;
 
 class MqttError : public std::runtime_error {
  public:
@@ -60,6 +75,8 @@ class MosquittoClient final : public MqttSink {
   MosquittoClient(const MosquittoClient&) = delete;
   MosquittoClient& operator=(const MosquittoClient&) = delete;
 
+  /// Sets what receives the subscribed topics' messages; call before start().
+  void set_message_handler(MessageHandler handler);
   /// Starts the network thread and the first connection attempt; a broker that is down is
   /// retried in the background. @throws MqttError if the thread cannot start.
   void start();
@@ -85,6 +102,7 @@ class MosquittoClient final : public MqttSink {
   static void on_connect(struct mosquitto*, void* self, int rc);
   static void on_disconnect(struct mosquitto*, void* self, int rc);
   static void on_publish(struct mosquitto*, void* self, int mid);
+  static void on_message(struct mosquitto*, void* self, const struct mosquitto_message* m);
   void run();
   void flush_locked();
   std::string status_payload_locked(bool online) const;
@@ -94,6 +112,7 @@ class MosquittoClient final : public MqttSink {
   struct mosquitto* mosq_ = nullptr;
   mutable std::mutex mutex_;
   std::condition_variable acked_;
+  MessageHandler handler_;
   Outbox outbox_;
   std::set<int> inflight_;
   int status_mid_ = -1;
@@ -107,4 +126,4 @@ class MosquittoClient final : public MqttSink {
   int last_connack_ = -1;
 };
 
-}  // namespace tb::its::apps::mqtt
+}  // namespace tb::mqtt

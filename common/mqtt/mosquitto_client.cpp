@@ -1,4 +1,4 @@
-#include "its-station/apps/mqtt/mosquitto_client.hpp"
+#include "common/mqtt/mosquitto_client.hpp"
 
 #include <mosquitto.h>
 #include <spdlog/spdlog.h>
@@ -9,9 +9,7 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 
-#include "its-station/apps/mqtt/messages.hpp"
-
-namespace tb::its::apps::mqtt {
+namespace tb::mqtt {
 namespace {
 
 void init_library_once() {
@@ -37,6 +35,7 @@ MosquittoClient::MosquittoClient(const clock::Clock& clock, ClientConfig cfg)
   mosquitto_connect_callback_set(mosq_, &MosquittoClient::on_connect);
   mosquitto_disconnect_callback_set(mosq_, &MosquittoClient::on_disconnect);
   mosquitto_publish_callback_set(mosq_, &MosquittoClient::on_publish);
+  mosquitto_message_callback_set(mosq_, &MosquittoClient::on_message);
   mosquitto_threaded_set(mosq_, true);  // publish() comes from other threads
   // Warnings are small and urgent: no Nagle delay behind an unacknowledged segment.
   mosquitto_int_option(mosq_, MOSQ_OPT_TCP_NODELAY, 1);
@@ -65,6 +64,11 @@ MosquittoClient::MosquittoClient(const clock::Clock& clock, ClientConfig cfg)
 MosquittoClient::~MosquittoClient() {
   stop();
   mosquitto_destroy(mosq_);
+}
+
+void MosquittoClient::set_message_handler(MessageHandler handler) {
+  std::lock_guard lock(mutex_);
+  handler_ = std::move(handler);
 }
 
 void MosquittoClient::start() {
@@ -186,7 +190,9 @@ std::string MosquittoClient::status_payload_locked(bool online) const {
   return nlohmann::json{{"online", online},
                         {"dropped", outbox_.dropped()},
                         {"pending", outbox_.size() + inflight_.size()},
-                        {"timestamp", unix_ms(clock_.wall_now())}}
+                        {"timestamp", std::chrono::duration_cast<std::chrono::milliseconds>(
+                                          clock_.wall_now().time_since_epoch())
+                                          .count()}}
       .dump();
 }
 
@@ -208,7 +214,29 @@ void MosquittoClient::on_connect(struct mosquitto* mosq, void* self_ptr, int rc)
     mosquitto_publish(mosq, nullptr, self->cfg_.status_topic.c_str(), static_cast<int>(s.size()),
                       s.data(), 1, true);
   }
+  for (const auto& topic : self->cfg_.subscriptions) {
+    if (const int src = mosquitto_subscribe(mosq, nullptr, topic.c_str(),
+                                            static_cast<int>(self->cfg_.subscribe_qos));
+        src != MOSQ_ERR_SUCCESS) {
+      spdlog::error("mqtt: cannot subscribe to '{}': {}", topic, mosquitto_strerror(src));
+    }
+  }
   self->flush_locked();
+}
+
+void MosquittoClient::on_message(struct mosquitto*, void* self_ptr,
+                                 const struct mosquitto_message* m) {
+  auto* self = static_cast<MosquittoClient*>(self_ptr);
+  MessageHandler handler;
+  {
+    std::lock_guard lock(self->mutex_);
+    handler = self->handler_;
+  }
+  // Outside the lock: a handler may publish.
+  if (handler && m != nullptr && m->topic != nullptr) {
+    handler(m->topic, std::string_view(static_cast<const char*>(m->payload),
+                                       static_cast<std::size_t>(std::max(0, m->payloadlen))));
+  }
 }
 
 void MosquittoClient::on_disconnect(struct mosquitto*, void* self_ptr, int rc) {
@@ -258,4 +286,4 @@ int MosquittoClient::last_connack() const {
   return last_connack_;
 }
 
-}  // namespace tb::its::apps::mqtt
+}  // namespace tb::mqtt

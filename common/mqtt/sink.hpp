@@ -1,10 +1,10 @@
 #pragma once
-/// @file The narrow interface between the station's publishers and an MQTT connection.
+/// @file The narrow interface between publishers (the station's, tests') and an MQTT connection.
 
 #include <string>
 #include <string_view>
 
-namespace tb::its::apps {
+namespace tb::mqtt {
 
 enum class Qos : int { kAtMostOnce = 0, kAtLeastOnce = 1 };
 
@@ -16,4 +16,4 @@ class MqttSink {
   virtual void publish(std::string_view topic, std::string payload, Qos qos, bool retain) = 0;
 };
 
-}  // namespace tb::its::apps
+}  // namespace tb::mqtt

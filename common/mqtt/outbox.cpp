@@ -1,6 +1,6 @@
-#include "its-station/apps/mqtt/outbox.hpp"
+#include "common/mqtt/outbox.hpp"
 
-namespace tb::its::apps::mqtt {
+namespace tb::mqtt {
 
 bool Outbox::push(OutMessage m) {
   bool dropped = false;
@@ -22,4 +22,4 @@ std::optional<OutMessage> Outbox::pop() {
   return m;
 }
 
-}  // namespace tb::its::apps::mqtt
+}  // namespace tb::mqtt

@@ -1,0 +1,308 @@
+#include "sim-client/view3d/road_node.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <osg/BlendFunc>
+#include <osg/Depth>
+#include <osg/Geode>
+#include <osg/Geometry>
+#include <osg/Group>
+#include <osg/PolygonOffset>
+
+#include "common/map/opendrive/mesh.hpp"
+#include "sim-client/view3d/shapes.hpp"
+
+namespace tb::client::view3d {
+namespace {
+
+namespace odr = map::odr;
+
+struct Line {
+  double offset;  ///< lateral, m, along +t from the lane border
+  bool broken;
+};
+
+/// The lines of a road-mark type (OpenDRIVE 1.7, 11.8); empty for none, curb, grass, edge.
+std::vector<Line> lines_of(const std::string& type, double width) {
+  const double d = width;  // double lines: the gap between them is one line's width
+  if (type == "solid")
+    return {{0, false}};
+  if (type == "broken" || type == "botts dots")
+    return {{0, true}};
+  if (type == "solid solid")
+    return {{-d, false}, {d, false}};
+  if (type == "solid broken")
+    return {{-d, false}, {d, true}};
+  if (type == "broken solid")
+    return {{-d, true}, {d, false}};
+  if (type == "broken broken")
+    return {{-d, true}, {d, true}};
+  return {};
+}
+
+double reach_of(const odr::Road& road, std::size_t k) {
+  const odr::LaneSection& ls = road.sections[k];
+  double reach = 0.0;
+  for (double s : {ls.s, (ls.s + ls.s_end) / 2, ls.s_end}) {
+    const odr::LaneBorders b = road.borders(k, s);
+    reach = std::max(reach, std::fabs(b.center));
+    for (double v : b.left)
+      reach = std::max(reach, std::fabs(v));
+    for (double v : b.right)
+      reach = std::max(reach, std::fabs(v));
+  }
+  return reach + 1.0;
+}
+
+void add_lane_marks(const odr::Road& road, std::size_t k, const odr::Lane& lane, double eps,
+                    std::vector<MarkStrip>& out) {
+  const odr::LaneSection& ls = road.sections[k];
+  const double reach = reach_of(road, k);
+  for (std::size_t i = 0; i < lane.marks.size(); ++i) {
+    const odr::RoadMark& m = lane.marks[i];
+    const double s_a = std::clamp(ls.s + m.s_offset, ls.s, ls.s_end);
+    const double s_b = i + 1 < lane.marks.size()
+                           ? std::clamp(ls.s + lane.marks[i + 1].s_offset, s_a, ls.s_end)
+                           : ls.s_end;
+    if (s_b - s_a < 1e-3)
+      continue;
+    const double w = std::clamp(m.width, 0.05, 0.5);
+    // Botts' dots: squares a line width across, a metre apart.
+    const bool dots = m.type == "botts dots";
+    const double dash = dots ? w : std::max(0.1, m.line_length);
+    const double gap = dots ? 1.0 : std::max(0.0, m.space);
+    for (const Line& l : lines_of(m.type, w)) {
+      std::vector<std::pair<double, double>> spans;
+      if (!l.broken || gap <= 0.0) {
+        spans.emplace_back(s_a, s_b);
+      } else {
+        for (double x = s_a; x < s_b - 1e-3; x += dash + gap)
+          spans.emplace_back(x, std::min(x + dash, s_b));
+      }
+      for (const auto& [a, b] : spans) {
+        MarkStrip strip;
+        strip.colour = mark_colour(m.color);
+        for (double s : odr::sample_s(road, a, b, eps, reach)) {
+          const odr::LaneBorders bd = road.borders(k, s);
+          const double t = (lane.id == 0 ? bd.center : bd.outer(lane.id)) + l.offset;
+          const odr::SurfacePose p0 = road.surface(s, t + w / 2);
+          const odr::SurfacePose p1 = road.surface(s, t - w / 2);
+          strip.left.push_back({p0.x, p0.y, p0.z + kMarkLift});
+          strip.right.push_back({p1.x, p1.y, p1.z + kMarkLift});
+        }
+        if (strip.left.size() >= 2)
+          out.push_back(std::move(strip));
+      }
+    }
+  }
+}
+
+osg::ref_ptr<osg::Geometry> new_geometry() {
+  osg::ref_ptr<osg::Geometry> g = new osg::Geometry;
+  g->setUseDisplayList(false);
+  g->setUseVertexBufferObjects(true);
+  return g;
+}
+
+osg::ref_ptr<osg::Geode> surface_geode(const odr::RoadNetwork& net, RoadNodeStats* stats) {
+  const odr::RoadMesh mesh = odr::road_mesh(net, kRoadTolerance);
+  osg::ref_ptr<osg::Vec3Array> v = new osg::Vec3Array(mesh.vertices.size());
+  osg::ref_ptr<osg::Vec3Array> n = filled<osg::Vec3Array>(mesh.vertices.size(), osg::Vec3(0, 0, 0));
+  osg::ref_ptr<osg::Vec4Array> c =
+      filled<osg::Vec4Array>(mesh.vertices.size(), osg::Vec4(0.3f, 0.3f, 0.3f, 1.0f));
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    const auto& p = mesh.vertices[i];
+    (*v)[i].set(static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z));
+  }
+  osg::ref_ptr<osg::DrawElementsUInt> tris = new osg::DrawElementsUInt(GL_TRIANGLES);
+  tris->reserve(mesh.indices.size());
+  for (std::size_t t = 0; t < mesh.triangles(); ++t) {
+    const std::uint32_t a = mesh.indices[3 * t], b = mesh.indices[3 * t + 1],
+                        cc = mesh.indices[3 * t + 2];
+    tris->push_back(a);
+    tris->push_back(b);
+    tris->push_back(cc);
+    // Area-weighted normals, summed per vertex (a lane's strip shares its vertices).
+    const osg::Vec3 face = ((*v)[b] - (*v)[a]) ^ ((*v)[cc] - (*v)[a]);
+    for (auto idx : {a, b, cc})
+      (*n)[idx] += face;
+    const odr::LaneRef ref = mesh.lanes[t];
+    const odr::Lane* lane =
+        net.roads[static_cast<std::size_t>(ref.road)].sections[mesh.sections[t]].lane(ref.lane);
+    const auto rgb = lane_colour(lane != nullptr ? lane->type : std::string("none"));
+    for (auto idx : {a, b, cc})
+      (*c)[idx].set(rgb[0], rgb[1], rgb[2], 1.0f);
+  }
+  for (auto& nn : *n) {
+    if (nn.length2() < 1e-12f)
+      nn.set(0, 0, 1);
+    nn.normalize();
+  }
+  osg::ref_ptr<osg::Geometry> g = new_geometry();
+  g->setVertexArray(v);
+  g->setNormalArray(n, osg::Array::BIND_PER_VERTEX);
+  g->setColorArray(c, osg::Array::BIND_PER_VERTEX);
+  g->addPrimitiveSet(tris);
+  if (stats != nullptr)
+    stats->surface_triangles = mesh.triangles();
+  osg::ref_ptr<osg::Geode> geode = new osg::Geode;
+  geode->addDrawable(g);
+  return geode;
+}
+
+osg::ref_ptr<osg::Geode> marks_geode(const odr::RoadNetwork& net, RoadNodeStats* stats) {
+  osg::ref_ptr<osg::Vec3Array> v = new osg::Vec3Array;
+  osg::ref_ptr<osg::Vec4Array> c = new osg::Vec4Array;
+  osg::ref_ptr<osg::DrawElementsUInt> tris = new osg::DrawElementsUInt(GL_TRIANGLES);
+  // The centre of every strip as a line as well: a mark narrower than a pixel (far away, or
+  // from the top camera at 8 px/m) falls between the pixel centres as triangles and vanishes;
+  // a line always lights at least one pixel across.
+  osg::ref_ptr<osg::DrawElementsUInt> lines = new osg::DrawElementsUInt(GL_LINES);
+  for (const MarkStrip& s : lane_mark_strips(net, kRoadTolerance)) {
+    const auto base = static_cast<std::uint32_t>(v->size());
+    const osg::Vec4 colour(s.colour[0], s.colour[1], s.colour[2], 1.0f);
+    auto vec = [](const std::array<double, 3>& p) {
+      return osg::Vec3(static_cast<float>(p[0]), static_cast<float>(p[1]),
+                       static_cast<float>(p[2]));
+    };
+    for (std::size_t i = 0; i < s.left.size(); ++i) {
+      v->push_back(vec(s.left[i]));
+      v->push_back(vec(s.right[i]));
+      v->push_back((vec(s.left[i]) + vec(s.right[i])) * 0.5f);
+      for (int k = 0; k < 3; ++k)
+        c->push_back(colour);
+    }
+    for (std::uint32_t i = 0; i + 1 < s.left.size(); ++i) {
+      const std::uint32_t l0 = base + 3 * i, r0 = l0 + 1, m0 = l0 + 2, l1 = l0 + 3, r1 = l0 + 4,
+                          m1 = l0 + 5;
+      for (auto idx : {r0, r1, l1, r0, l1, l0})
+        tris->push_back(idx);
+      lines->push_back(m0);
+      lines->push_back(m1);
+    }
+  }
+  osg::ref_ptr<osg::Geometry> g = new_geometry();
+  g->setVertexArray(v);
+  g->setColorArray(c, osg::Array::BIND_PER_VERTEX);
+  g->setNormalArray(filled<osg::Vec3Array>(1, osg::Vec3(0, 0, 1)), osg::Array::BIND_OVERALL);
+  g->addPrimitiveSet(tris);
+  g->addPrimitiveSet(lines);
+  if (stats != nullptr)
+    stats->mark_triangles = tris->size() / 3;
+  osg::ref_ptr<osg::Geode> geode = new osg::Geode;
+  geode->addDrawable(g);
+  osg::StateSet* ss = geode->getOrCreateStateSet();
+  ss->setAttributeAndModes(new osg::PolygonOffset(-2.0f, -4.0f), osg::StateAttribute::ON);
+  ss->setMode(GL_POLYGON_OFFSET_LINE, osg::StateAttribute::ON);
+  ss->setRenderBinDetails(1, "RenderBin");
+  return geode;
+}
+
+osg::ref_ptr<osg::Geode> ground_geode(const odr::RoadNetwork& net) {
+  double x0 = std::numeric_limits<double>::max(), y0 = x0, z0 = x0;
+  double x1 = std::numeric_limits<double>::lowest(), y1 = x1;
+  for (const odr::Road& r : net.roads) {
+    for (double s = 0.0;; s = std::min(r.length, s + 10.0)) {
+      const odr::SurfacePose p = r.surface(s, 0.0);
+      x0 = std::min(x0, p.x);
+      y0 = std::min(y0, p.y);
+      z0 = std::min(z0, p.z);
+      x1 = std::max(x1, p.x);
+      y1 = std::max(y1, p.y);
+      if (s >= r.length)
+        break;
+    }
+  }
+  if (x0 > x1) {
+    x0 = y0 = -100.0;
+    x1 = y1 = 100.0;
+    z0 = 0.0;
+  }
+  // A grid, not one big quad: the fixed-function pipeline fogs per vertex, and a quad whose
+  // corners are all far away would be fogged all over. Cells alternate in shade a little.
+  constexpr double kMargin = 3000.0;  // beyond the fog's end
+  constexpr double kCell = 250.0;     // the fog (250 m to 2 km) interpolates well over it
+  const float z = static_cast<float>(z0 - 0.3);
+  const double gx0 = std::floor((x0 - kMargin) / kCell) * kCell;
+  const double gy0 = std::floor((y0 - kMargin) / kCell) * kCell;
+  const int nx = static_cast<int>(std::ceil((x1 + kMargin - gx0) / kCell));
+  const int ny = static_cast<int>(std::ceil((y1 + kMargin - gy0) / kCell));
+  MeshBuilder grid;
+  for (int i = 0; i < nx; ++i) {
+    for (int j = 0; j < ny; ++j) {
+      const auto ax = static_cast<float>(gx0 + i * kCell), ay = static_cast<float>(gy0 + j * kCell);
+      const auto bx = static_cast<float>(ax + kCell), by = static_cast<float>(ay + kCell);
+      const float shade = (i + j) % 2 == 0 ? 1.0f : 0.96f;
+      grid.quad({ax, ay, z}, {bx, ay, z}, {bx, by, z}, {ax, by, z},
+                osg::Vec4(0.33f * shade, 0.45f * shade, 0.24f * shade, 1.0f));
+    }
+  }
+  osg::ref_ptr<osg::Geometry> g = grid.build();
+  osg::ref_ptr<osg::Geode> geode = new osg::Geode;
+  geode->addDrawable(g);
+  osg::StateSet* ss = geode->getOrCreateStateSet();
+  ss->setAttributeAndModes(new osg::Depth(osg::Depth::LESS, 0.0, 1.0, false),
+                           osg::StateAttribute::ON);
+  ss->setRenderBinDetails(-1, "RenderBin");
+  return geode;
+}
+
+}  // namespace
+
+std::array<float, 3> lane_colour(const std::string& type) {
+  if (type == "shoulder" || type == "stop" || type == "parking")
+    return {0.42f, 0.42f, 0.41f};
+  if (type == "border" || type == "curb" || type == "median" || type == "restricted")
+    return {0.62f, 0.61f, 0.58f};
+  if (type == "sidewalk" || type == "walking")
+    return {0.70f, 0.67f, 0.62f};
+  if (type == "biking")
+    return {0.55f, 0.30f, 0.26f};
+  if (type == "none")
+    return {0.36f, 0.40f, 0.30f};
+  return {0.27f, 0.27f, 0.28f};  // driving, entry, exit, ramps, bidirectional, bus, taxi, HOV
+}
+
+std::array<float, 3> mark_colour(const std::string& colour) {
+  if (colour == "yellow")
+    return {0.95f, 0.78f, 0.10f};
+  if (colour == "blue")
+    return {0.15f, 0.35f, 0.90f};
+  if (colour == "green")
+    return {0.15f, 0.70f, 0.25f};
+  if (colour == "red")
+    return {0.85f, 0.10f, 0.10f};
+  if (colour == "orange")
+    return {0.95f, 0.50f, 0.10f};
+  return {0.95f, 0.95f, 0.95f};  // standard, white
+}
+
+std::vector<MarkStrip> lane_mark_strips(const map::odr::RoadNetwork& net, double eps) {
+  std::vector<MarkStrip> out;
+  for (const odr::Road& road : net.roads) {
+    if (road.junction_index >= 0)
+      continue;
+    for (std::size_t k = 0; k < road.sections.size(); ++k) {
+      const odr::LaneSection& ls = road.sections[k];
+      add_lane_marks(road, k, ls.center, eps, out);
+      for (const auto* side : {&ls.left, &ls.right})
+        for (const odr::Lane& lane : *side)
+          add_lane_marks(road, k, lane, eps, out);
+    }
+  }
+  return out;
+}
+
+osg::ref_ptr<osg::Node> make_road_node(const map::odr::RoadNetwork& net, RoadNodeStats* stats) {
+  osg::ref_ptr<osg::Group> g = new osg::Group;
+  g->setName("roads");
+  g->addChild(ground_geode(net));
+  g->addChild(surface_geode(net, stats));
+  g->addChild(marks_geode(net, stats));
+  return g;
+}
+
+}  // namespace tb::client::view3d
