@@ -12,10 +12,12 @@ namespace {
 
 /// Chord tolerance of the road surface, m.
 constexpr double kRoadEps = 0.02;
-/// The verge: drop at the road's edge, width and fall.
+/// The verge: drop at the road's edge, width and fall, and its mesh's spacing (rows outwards,
+/// samples along the road), fine enough that no lane slips between two clipped vertices.
 constexpr double kVergeDrop = 0.05;
-constexpr double kVergeWidth = 40.0;
+constexpr double kVergeWidth = 20.0;
 constexpr double kVergeFall = 0.04;
+constexpr double kVergeStep = 2.0;
 /// The plane under everything, below the lowest triangle.
 constexpr double kPlaneBelow = 1.0;
 constexpr double kPlaneCell = 50.0;
@@ -66,7 +68,7 @@ Ground::Ground(const map::ScenarioMap& map, double margin_m, bool mesh) : flat_(
       const auto& c = roads.vertices[roads.indices[3 * t + 2]];
       add_triangle({a.x, a.y, a.z}, {b.x, b.y, b.z}, {c.x, c.y, c.z});
     }
-    add_verges(net);
+    add_verges(map);
     plane_z_ = z0 - kVergeDrop - kVergeFall * kVergeWidth - kPlaneBelow;
   }
   indexed_ = triangles();
@@ -83,7 +85,16 @@ void Ground::add_triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
   indices_.insert(indices_.end(), {base, base + 1, base + 2});
 }
 
-void Ground::add_verges(const map::odr::RoadNetwork& net) {
+void Ground::add_verges(const map::ScenarioMap& map) {
+  const auto& net = map.network();
+  // The lowest lane surface under a point: a verge never rises above a lane (a neighbour
+  // road's verge would otherwise float over a road that climbs or falls faster than it).
+  const auto under_lanes = [&](Vec3 v) {
+    for (const auto& at : map.locator().locate_all(v.x, v.y))
+      v.z = std::min(v.z, at.z - kVergeDrop);
+    return v;
+  };
+  constexpr int kRows = static_cast<int>(kVergeWidth / kVergeStep);
   for (const auto& road : net.roads) {
     for (std::size_t k = 0; k < road.sections.size(); ++k) {
       const auto& ls = road.sections[k];
@@ -93,30 +104,38 @@ void Ground::add_verges(const map::odr::RoadNetwork& net) {
         reach = std::max({reach, std::fabs(outer_left(b)), std::fabs(outer_right(b))});
       }
       const std::vector<double> ss =
-          map::odr::sample_s(road, ls.s, ls.s_end, kRoadEps, reach + kVergeWidth);
-      // Per sample and side: the road's edge (dropped) and the verge's outer edge.
-      std::vector<Vec3> edge[2], outer[2];
+          map::odr::sample_s(road, ls.s, ls.s_end, kRoadEps, reach + kVergeWidth, kVergeStep);
+      // Per side, per sample: the road's edge (dropped) and the verge's rows outwards.
+      std::vector<std::array<Vec3, kRows + 1>> rows[2];
       for (double s : ss) {
         const auto b = road.borders(k, s);
         const double hdg = road.reference(s).hdg;
         for (int side = 0; side < 2; ++side) {
-          const double t = side == 0 ? outer_left(b) : outer_right(b);
           const double sign = side == 0 ? 1.0 : -1.0;
-          const auto p = road.surface(s, t);
-          const double z = p.z - kVergeDrop;
-          edge[side].push_back({p.x, p.y, z});
-          outer[side].push_back({p.x - sign * kVergeWidth * std::sin(hdg),
-                                 p.y + sign * kVergeWidth * std::cos(hdg),
-                                 z - kVergeFall * kVergeWidth});
+          const auto p = road.surface(s, side == 0 ? outer_left(b) : outer_right(b));
+          std::array<Vec3, kRows + 1> row;
+          for (int j = 0; j <= kRows; ++j) {
+            const double w = j * kVergeStep;
+            const Vec3 v{p.x - sign * w * std::sin(hdg), p.y + sign * w * std::cos(hdg),
+                         p.z - kVergeDrop - kVergeFall * w};
+            row[static_cast<std::size_t>(j)] = j == 0 ? v : under_lanes(v);
+          }
+          rows[side].push_back(row);
         }
       }
       for (std::size_t i = 0; i + 1 < ss.size(); ++i) {
-        // Left verge: edge, outer, next edge is clockwise from above for a left side; order so
-        // that every triangle is counter-clockwise seen from above.
-        add_triangle(edge[0][i], edge[0][i + 1], outer[0][i]);
-        add_triangle(outer[0][i], edge[0][i + 1], outer[0][i + 1]);
-        add_triangle(edge[1][i], outer[1][i], edge[1][i + 1]);
-        add_triangle(outer[1][i], outer[1][i + 1], edge[1][i + 1]);
+        for (std::size_t j = 0; j < static_cast<std::size_t>(kRows); ++j) {
+          // Counter-clockwise seen from above: outwards is left of s on the left side, right of
+          // it on the right side.
+          const auto& l0 = rows[0][i];
+          const auto& l1 = rows[0][i + 1];
+          add_triangle(l0[j], l1[j], l0[j + 1]);
+          add_triangle(l0[j + 1], l1[j], l1[j + 1]);
+          const auto& r0 = rows[1][i];
+          const auto& r1 = rows[1][i + 1];
+          add_triangle(r0[j], r0[j + 1], r1[j]);
+          add_triangle(r0[j + 1], r1[j + 1], r1[j]);
+        }
       }
     }
   }
@@ -141,8 +160,8 @@ void Ground::add_plane() {
 void Ground::build_index() {
   if (indexed_ == 0)
     return;
-  // Cells of 4 m: a wheel's ray spans a few decimetres, so a query reads one or two cells.
-  cell_ = std::max(4.0, std::sqrt((max_x_ - min_x_) * (max_y_ - min_y_) / 4e6));
+  // Cells of 2 m: a wheel's ray spans a few decimetres, so a query reads one or two cells.
+  cell_ = std::max(2.0, std::sqrt((max_x_ - min_x_) * (max_y_ - min_y_) / 4e6));
   nx_ = static_cast<std::size_t>((max_x_ - min_x_) / cell_) + 1;
   ny_ = static_cast<std::size_t>((max_y_ - min_y_) / cell_) + 1;
   auto cells = [&](std::size_t t, auto&& fn) {

@@ -8,9 +8,11 @@
 ///   superelevation; lanes of a road share their borders and sections their boundary s, and
 ///   the ray test accepts hits up to 0.1 mm outside a triangle, so that no wheel falls through
 ///   a seam between sections or between a road and the junction road it continues into);
-/// - a verge along the outer edge of every road, 5 cm below the edge (a kerb drop, so that a
-///   road always wins over a neighbour's verge where they overlap) and falling away at 4 % for
-///   40 m: ground beside the road where a car that leaves the lanes keeps driving;
+/// - a verge along the outer edge of every road, 5 cm below the edge (a kerb drop) and falling
+///   away at 4 % for 20 m, in 2 m rows and samples, each vertex at least 5 cm below every lane
+///   over it: ground beside the road where a car that leaves the lanes keeps driving, which
+///   never rises above another road (a junction's roads, a road climbing past another's
+///   verge);
 /// - a plane 1 m below the lowest of those over the whole extent, which catches anything that
 ///   goes further (ray-tested exactly, as the flat maps' plane).
 ///
@@ -69,8 +71,7 @@ class Ground {
  private:
   void add_triangle(const Vec3& a, const Vec3& b, const Vec3& c);
   void add_plane();
-  void add_roads(const map::odr::RoadNetwork& net);
-  void add_verges(const map::odr::RoadNetwork& net);
+  void add_verges(const map::ScenarioMap& map);
   void build_index();
 
   bool flat_ = true;
@@ -81,7 +82,7 @@ class Ground {
   double plane_z_ = 0.0;
   double min_x_ = 0, min_y_ = 0, max_x_ = 0, max_y_ = 0;
   // Uniform grid over the triangles' footprints (CSR), for the wheels' short vertical rays.
-  double cell_ = 4.0;
+  double cell_ = 2.0;
   std::size_t nx_ = 1, ny_ = 1;
   std::vector<std::uint32_t> cell_start_;
   std::vector<std::uint32_t> items_;

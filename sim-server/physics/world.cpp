@@ -98,12 +98,43 @@ class GroundCaster final : public btVehicleRaycaster {
   btRigidBody* body_;
 };
 
+/// On a ground of triangles with slopes, the box of a car on its springs overlaps the bounding
+/// boxes of the triangles under it, and testing it against each of them is most of a step. Its
+/// wheels carry such a car: the chassis only needs to meet the ground when they do not (a car
+/// on its side or roof, in the air). World marks each car's body (user index) before a step.
+class GroundAwareDispatcher final : public btCollisionDispatcher {
+ public:
+  static constexpr int kCarried = 1;
+  using btCollisionDispatcher::btCollisionDispatcher;
+  const btCollisionObject* ground = nullptr;
+
+  bool needsCollision(const btCollisionObject* a, const btCollisionObject* b) override {
+    if ((a == ground && b->getUserIndex() == kCarried) ||
+        (b == ground && a->getUserIndex() == kCarried)) {
+      return false;
+    }
+    return btCollisionDispatcher::needsCollision(a, b);
+  }
+
+  /// Forgets the contacts of @p body with the ground: once it is carried they are no longer
+  /// refreshed, and stale ones would keep pushing.
+  void forget_ground_contacts(const btCollisionObject* body) {
+    for (int i = 0; i < getNumManifolds(); ++i) {
+      btPersistentManifold* m = getManifoldByIndexInternal(i);
+      if ((m->getBody0() == body && m->getBody1() == ground) ||
+          (m->getBody1() == body && m->getBody0() == ground)) {
+        m->clearManifold();
+      }
+    }
+  }
+};
+
 struct World::Bullet {
   explicit Bullet(const map::ScenarioMap& map, double margin, bool mesh)
       : ground(map, margin, mesh) {}
   Ground ground;
   btDefaultCollisionConfiguration config;
-  btCollisionDispatcher dispatcher{&config};
+  GroundAwareDispatcher dispatcher{&config};
   btDbvtBroadphase broadphase;
   btSequentialImpulseConstraintSolver solver;
   btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &config};
@@ -169,6 +200,7 @@ World::World(std::shared_ptr<const map::ScenarioMap> map, WorldOptions options)
   info.m_friction = 0.8f;
   bt_->ground_body = std::make_unique<btRigidBody>(info);
   bt_->world.addRigidBody(bt_->ground_body.get());
+  bt_->dispatcher.ground = bt_->ground_body.get();
   bt_->caster = std::make_unique<GroundCaster>(bt_->ground, bt_->ground_body.get());
 }
 
@@ -352,6 +384,21 @@ void World::step(std::int64_t step_wall_ns) {
                              std::min(1.0, vn / kRollingFadeSpeed);
       body.applyCentralForce(-v / static_cast<btScalar>(vn) *
                              static_cast<btScalar>(drag + rolling));
+    }
+  }
+  if (!bt_->ground.flat()) {
+    // A flat ground lies below every upright car's box: nothing to save there, and the
+    // built-in layouts keep computing as they always have.
+    for (auto& cp : cars_) {
+      btRigidBody& body = *cp->body;
+      int contacts = 0;
+      for (int w = 0; w < cp->vehicle->getNumWheels(); ++w)
+        contacts += cp->vehicle->getWheelInfo(w).m_raycastInfo.m_isInContact ? 1 : 0;
+      const bool carried =
+          contacts >= 3 && body.getWorldTransform().getBasis().getColumn(2).z() > 0.7f;
+      if (carried && body.getUserIndex() != GroundAwareDispatcher::kCarried)
+        bt_->dispatcher.forget_ground_contacts(&body);
+      body.setUserIndex(carried ? GroundAwareDispatcher::kCarried : 0);
     }
   }
   bt_->world.stepSimulation(static_cast<btScalar>(dt), 1, static_cast<btScalar>(dt));

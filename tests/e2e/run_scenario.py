@@ -7,6 +7,10 @@
 CASE is one of:
   frontal          scenarios/lcrw-frontal.json: red is warned about black (case frontal) with
                    TTC < 3 s, and the warning is cleared once red has stopped
+  frontal-xodr     the same on an exported-then-reimported road (issue 17): scenario-check
+                   --export-xodr writes lcrw-frontal.json's straight road as OpenDRIVE, and a
+                   copy of the scenario with "map": {"type": "opendrive"} on that file and its
+                   lane spawns in OpenDRIVE terms (road "0", lane -1) runs the same checks
   forward          scenarios/lcrw-forward.json: red is warned about black (case forward)
   different-lanes  scenarios/lcrw-different-lanes.json: both stations receive each other's CAMs
                    and no warning is ever raised
@@ -53,6 +57,7 @@ ROOT = Path(__file__).resolve().parents[2]
 
 CASES = {
     "frontal": ("lcrw-frontal.json", 40),
+    "frontal-xodr": ("lcrw-frontal.json", 40),
     "forward": ("lcrw-forward.json", 30),
     "different-lanes": ("lcrw-different-lanes.json", 30),
     "latency": ("lcrw-three-vehicles.json", 30),
@@ -144,6 +149,30 @@ def foreign_root_failures(out, messages):
     return failures
 
 
+def reimported(source, out, build):
+    """The scenario @p source on its own map exported as OpenDRIVE and read back: the map file
+    from scenario-check --export-xodr, the scenario's built-in lane spawns in the file's terms
+    (the straight road is road "0"; its forward lane 0 is OpenDRIVE lane -1, s unchanged)."""
+    (out / "maps").mkdir()
+    xodr = out / "maps" / (source.stem + ".xodr")
+    subprocess.run([str(build / "bin/scenario-check"), "--export-xodr", str(xodr), str(source)],
+                   check=True)
+    scenario = json.loads(source.read_text())
+    assert scenario["map"]["type"] == "straight" and scenario["map"].get("lanes", 2) == 2
+    scenario["name"] += "-xodr"
+    scenario["map"] = {"type": "opendrive", "file": f"maps/{xodr.name}"}
+    for v in scenario["vehicles"]:
+        spawn = v["spawn"]
+        assert spawn.get("road", 0) == 0 and spawn["lane"] == 0
+        spawn["road"] = "0"
+        spawn["lane"] = -1
+    path = out / f"{source.stem}-xodr.json"
+    path.write_text(json.dumps(scenario, indent=2))
+    for f in (xodr, path):
+        f.chmod(0o644)
+    return path
+
+
 def run_case(args):
     """One run of the case. Returns (exit status, % of CPU time the host stole meanwhile)."""
     scenario, duration = CASES[args.case]
@@ -166,6 +195,8 @@ def run_case(args):
                         str(SCALE_STATIONS), "--out", str(scenario_file),
                         "--duration", str(duration + 60)], check=True)
         scenario_file.chmod(0o644)
+    elif args.case == "frontal-xodr":
+        scenario_file = reimported(ROOT / "scenarios" / scenario, out, Path(args.build))
     else:
         scenario_file = ROOT / "scenarios" / scenario
     testbed = subprocess.Popen(
@@ -252,8 +283,8 @@ def run_case(args):
         print(f"  {t}: {w.get('event')} {w.get('collision_case')} other={w.get('other_station_id')} "
               f"ttc={w.get('ttc_s')} d={w.get('distance_m')}")
 
-    if args.case in ("frontal", "forward"):
-        want = args.case
+    if args.case in ("frontal", "frontal-xodr", "forward"):
+        want = "frontal" if args.case == "frontal-xodr" else args.case
         raised = [w for _, w in warnings if w.get("event") == "raised" and
                   w.get("station_id") == 1001 and w.get("other_station_id") == 1002 and
                   w.get("collision_case") == want]
@@ -261,7 +292,7 @@ def run_case(args):
             failures.append(f"no {want} warning raised at station 1001 about 1002")
         elif not (raised[0].get("ttc_s") is not None and raised[0]["ttc_s"] < 3.0):
             failures.append(f"warning raised with TTC {raised[0].get('ttc_s')}, not < 3 s")
-        if args.case == "frontal" and not any(w.get("event") == "cleared" for _, w in warnings):
+        if want == "frontal" and not any(w.get("event") == "cleared" for _, w in warnings):
             failures.append("the frontal warning was never cleared after red stopped")
     elif args.case == "curve":
         about = [w for _, w in warnings

@@ -1,5 +1,7 @@
 #include "common/map/opendrive/queries.hpp"
 
+#include "common/map/opendrive/reader.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -169,8 +171,12 @@ void LaneLocator::add_road(int index) {
         kmax = std::max(kmax, std::fabs(r.curvature(std::min(s, p.s1 - 1e-9))));
       }
       const double len = p.s1 - p.s0;
-      p.reach = reach + 0.5 + kmax * len * len;
-      p.slack = 0.5 + (reach + len) * std::min(1.0, kmax * len) + kmax * len * len;
+      // A piece's reference line stays within its length of its start, however it bends (a
+      // cusp of a paramPoly3): the bend's share of the box never exceeds that.
+      const double bend = std::min(kmax * len * len, len);
+      reach = std::min(reach, kMaxLateral);
+      p.reach = reach + 0.5 + bend;
+      p.slack = 0.5 + (reach + len) * std::min(1.0, kmax * len) + bend;
       pieces_.push_back(p);
     }
   }

@@ -77,6 +77,10 @@ class Reader {
     if (end == text || *end != '\0' || errno == ERANGE || !std::isfinite(v)) {
       fail(path, std::string("attribute '") + name + "' is not a finite number: '" + text + "'");
     }
+    if (std::fabs(v) > kMaxCoordinate) {
+      fail(path, std::string("attribute '") + name + "' is " + text +
+                     ", beyond the largest magnitude a map may give (1e8)");
+    }
     return v;
   }
 
@@ -165,6 +169,13 @@ class Reader {
     road.length = number(r, "length", path);
     if (!(road.length > 0))
       fail(path, "length must be > 0, got " + std::string(r.attribute("length").value()));
+    if (road.length > kMaxRoadLength) {
+      fail(path, "length " + std::string(r.attribute("length").value()) +
+                     " is longer than a road may be (100 km)");
+    }
+    total_length_ += road.length;
+    if (total_length_ > kMaxNetworkLength)
+      fail(path, "the roads up to this one are longer than a map may be (10,000 km in all)");
     road.junction = r.attribute("junction") ? r.attribute("junction").value() : "-1";
     if (road.junction.empty())
       road.junction = "-1";
@@ -195,8 +206,62 @@ class Reader {
         ignore_once("lateralProfile <shape>");
     }
     read_lanes(r.child("lanes"), road, path);
+    check_extent(road, path);
     count_skipped(r);
     net_.roads.push_back(std::move(road));
+  }
+
+  /// Lanes within kMaxLateral of the reference line, curves no tighter than kMaxCurvature,
+  /// heights within kMaxCoordinate: looked at every 5 m and at every record start. Absurd
+  /// values (1e300-wide lanes, 1 mm radii) would make the lane index and the meshes explode.
+  void check_extent(const Road& road, const std::string& path) {
+    for (std::size_t k = 0; k < road.sections.size(); ++k) {
+      const LaneSection& ls = road.sections[k];
+      std::vector<double> ss{ls.s, ls.s_end};
+      for (double s = ls.s; s < ls.s_end; s += 5.0)
+        ss.push_back(s);
+      for (const auto* side : {&ls.left, &ls.right}) {
+        for (const Lane& l : *side) {
+          for (const auto* prof : {&l.width, &l.border}) {
+            for (const CubicRecord& r : prof->records())
+              ss.push_back(std::min(ls.s + r.s, ls.s_end));
+          }
+        }
+      }
+      for (const CubicRecord& r : road.lane_offset.records())
+        ss.push_back(std::clamp(r.s, ls.s, ls.s_end));
+      const std::string p = indexed(path + "/lanes", "laneSection", static_cast<int>(k) + 1);
+      for (double s : ss) {
+        const LaneBorders b = road.borders(k, s);
+        double reach = std::fabs(b.center);
+        for (double v : b.left)
+          reach = std::max(reach, std::fabs(v));
+        for (double v : b.right)
+          reach = std::max(reach, std::fabs(v));
+        if (!(reach <= kMaxLateral)) {
+          fail(p, "lanes reach " + std::to_string(reach) + " m from the reference line at s " +
+                      std::to_string(s) + ", more than a map may have (1000 m)");
+        }
+      }
+    }
+    for (const auto& g : road.geometries) {
+      for (double f : {0.0, 0.5, 1.0}) {
+        const double s = g->s0() + f * g->length();
+        const double k = road.curvature(std::min(s, road.length));
+        if (!(std::fabs(k) <= kMaxCurvature)) {
+          fail(path + "/planView", "curvature " + std::to_string(k) + " /m at s " +
+                                       std::to_string(s) +
+                                       " is tighter than a road may turn (10 /m: 0.1 m radius)");
+        }
+      }
+    }
+    for (double s = 0.0; s <= road.length; s += std::max(5.0, road.length / 1000.0)) {
+      const double z = road.elevation.value(s);
+      if (!(std::fabs(z) <= kMaxCoordinate)) {
+        fail(path + "/elevationProfile",
+             "elevation " + std::to_string(z) + " m at s " + std::to_string(s) + " out of range");
+      }
+    }
   }
 
   void count_skipped(pugi::xml_node r) {
@@ -590,6 +655,7 @@ class Reader {
   std::unordered_map<std::string, int> junction_ids_;
   std::set<std::string> ignored_;
   std::size_t controllers_ = 0;
+  double total_length_ = 0.0;
 };
 
 }  // namespace

@@ -198,6 +198,35 @@ TEST(BadInput, MalformedXml) {
   expect_error("<Foo/>", "", "no <OpenDRIVE> root element");
 }
 
+TEST(BadInput, AbsurdNumbersAreRefusedBeforeTheyReachTheLaneIndex) {
+  // A coordinate of 1e300 (what the fuzzer found), a lane 1e9 m wide, a road of 1000 km, a
+  // curve of a 1 mm radius, a lane width that grows to kilometres within its section.
+  expect_error(
+      doc(road_xml(
+          "5",
+          R"(<planView><geometry s="0" x="1e300" y="0" hdg="0" length="100"><line/></geometry></planView>)")),
+      "road[@id='5']/planView/geometry[1]",
+      "attribute 'x' is 1e300, beyond the largest magnitude a map may give");
+  expect_error(
+      doc(road_xml(
+          "5", "", "",
+          R"(<lanes><laneSection s="0"><right><lane id="-1" type="driving"><width sOffset="0" a="1e9" b="0" c="0" d="0"/></lane></right></laneSection></lanes>)")),
+      "road[@id='5']/lanes/laneSection[1]/right/lane[@id='-1']/width[1]", "attribute 'a' is 1e9");
+  expect_error(
+      doc(road_xml(
+          "5", "", "",
+          R"(<lanes><laneSection s="0"><right><lane id="-1" type="driving"><width sOffset="0" a="3" b="0" c="0" d="1"/></lane></right></laneSection></lanes>)")),
+      "road[@id='5']/lanes/laneSection[1]", "more than a map may have (1000 m)");
+  std::string long_road = road_xml("5");
+  long_road.replace(long_road.find("length=\"100\""), 12, "length=\"1e6\"");
+  expect_error(doc(long_road), "road[@id='5']", "longer than a road may be (100 km)");
+  expect_error(
+      doc(road_xml(
+          "5",
+          R"(<planView><geometry s="0" x="0" y="0" hdg="0" length="100"><arc curvature="1000"/></geometry></planView>)")),
+      "road[@id='5']/planView", "tighter than a road may turn");
+}
+
 TEST(BadInput, MissingPlanView) {
   expect_error(doc(R"(<road id="5" length="10"><lanes/></road>)"), "road[@id='5']",
                "no <planView>");
