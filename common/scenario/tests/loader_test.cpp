@@ -106,7 +106,8 @@ TEST(ScenarioLoader, MissingFileIsAnError) {
 
 TEST(ScenarioLoader, ShippedScenariosLoad) {
   for (const char* name :
-       {"demo", "lcrw-frontal", "lcrw-forward", "lcrw-different-lanes", "lcrw-three-vehicles"}) {
+       {"demo", "lcrw-frontal", "lcrw-forward", "lcrw-different-lanes", "lcrw-three-vehicles",
+        "lcrw-curve", "lcrw-reversing", "brake-at-start"}) {
     const Scenario s = load_file(root() / "scenarios" / (std::string(name) + ".json"));
     EXPECT_EQ(s.name, name);
     EXPECT_GE(s.vehicles.size(), 2u);
