@@ -5,7 +5,6 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include "common/map/builtin_network.hpp"
 #include "common/scenario/loader.hpp"
 
 namespace tb::client {
@@ -154,13 +153,19 @@ bool SimSession::on_welcome(const sim::Welcome& w) {
     phase_ = Phase::kListed;
     return false;
   }
-  const bool same_world = welcome_ && welcome_->scenario_json == w.scenario_json;
+  const bool same_world =
+      welcome_ && welcome_->scenario_json == w.scenario_json && welcome_->map_text == w.map_text;
   if (!same_world) {
     try {
-      scenario_ = scenario::parse(w.scenario_json, "scenario sent by the server");
-      road_map_ = std::make_unique<map::RoadMap>(scenario_->map);
-      network_ =
-          std::make_shared<const map::odr::RoadNetwork>(map::generate_network(scenario_->map));
+      // The map comes with the scenario: an OpenDRIVE map's text in Welcome, so that this
+      // computer needs no copy of the file.
+      scenario_ = scenario::parse(
+          w.scenario_json, "scenario sent by the server",
+          w.map_text.empty() ? std::nullopt : std::optional<std::string_view>(w.map_text));
+      map_ = std::make_shared<const map::ScenarioMap>(*scenario_);
+      road_map_ = scenario_->map.type == scenario::MapType::kOpenDrive
+                      ? nullptr
+                      : std::make_unique<map::RoadMap>(scenario_->map);
     } catch (const std::exception& e) {
       fail(fmt::format("cannot use the server's scenario: {}", e.what()));
       return false;
@@ -205,8 +210,18 @@ bool SimSession::on_welcome(const sim::Welcome& w) {
                          w.vehicles[i].id));
         return false;
       }
+      // Until the scripted drivers read the OpenDRIVE model (issue 17's drivers), only
+      // timelines drive on OpenDRIVE maps.
+      if (road_map_ == nullptr && !std::holds_alternative<scenario::TimelineDriver>(v->driver)) {
+        fail(fmt::format("vehicle {}: a lane_follow driver does not drive on an OpenDRIVE map yet",
+                         v->id));
+        return false;
+      }
       try {
-        d.script = make_scripted_driver(*v, *road_map_);
+        d.script =
+            road_map_ != nullptr
+                ? make_scripted_driver(*v, *road_map_)
+                : std::make_unique<TimelineDriver>(std::get<scenario::TimelineDriver>(v->driver));
       } catch (const std::exception& e) {
         fail(fmt::format("vehicle {}: cannot build its scripted driver: {}", v->id, e.what()));
         return false;

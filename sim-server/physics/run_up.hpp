@@ -3,12 +3,13 @@
 /// scenario starts (scenario `warmup_s`, docs/scenario.md).
 ///
 /// During the warm-up the physics does not run: every vehicle is held on the path that brings
-/// it to its spawn pose at sim time 0 with its spawn speed — the arc of its spawn lane (a ring's
-/// circle, a straight road's line), or the straight line along a pose spawn's heading — moving
-/// at the spawn speed. A vehicle spawned at rest stands on its spawn pose. So the GPS agents
-/// make consistent fixes (position, course and speed agree), the stations have fixes and send
-/// CAMs before sim time 0, and at sim time 0 the physics takes over exactly where the scenario
-/// says the vehicles start.
+/// it to its spawn pose at sim time 0 with its spawn speed — the arc of its spawn lane's
+/// curvature at the spawn point (a ring's circle, a straight road's line; on an OpenDRIVE lane
+/// whose curvature changes, the arc that fits it there), or the straight line along a pose
+/// spawn's heading — moving at the spawn speed, at the spawn's height and attitude. A vehicle
+/// spawned at rest stands on its spawn pose. So the GPS agents make consistent fixes (position,
+/// course and speed agree), the stations have fixes and send CAMs before sim time 0, and at sim
+/// time 0 the physics takes over exactly where the scenario says the vehicles start.
 
 namespace tb::server::physics {
 
@@ -18,8 +19,11 @@ struct SpawnPose {
   double x = 0.0, y = 0.0;  ///< ground position of the vehicle's reference point, m
   double yaw = 0.0;         ///< rad, counter-clockwise from east
   double speed = 0.0;       ///< m/s along the heading
+  double z = 0.0;           ///< height of that ground point, m
+  double pitch = 0.0;       ///< rad, ZYX (wire::VehicleState): resting on the road's slope
+  double roll = 0.0;        ///< rad, ZYX: resting on its superelevation
   /// Curvature of the path it arrives along, 1/m, positive to the left of its heading: its
-  /// spawn lane's (±1/radius on a ring, 0 on a straight road or for a pose spawn).
+  /// spawn lane's there (±1/radius on a ring, 0 on a straight road or for a pose spawn).
   double curvature = 0.0;
 };
 

@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "common/map/road_map.hpp"
+#include "common/map/scenario_map.hpp"
 #include "common/scenario/loader.hpp"
 #include "sim-server/physics/run_up.hpp"
 #include "sim-server/physics/world.hpp"
@@ -73,9 +74,10 @@ TEST(WorldWarmUp, HoldsEveryCarOnItsLaneUpToItsSpawnThenStepsThePhysics) {
   ASSERT_EQ(steps, 200u);
   World w(sc, WorldOptions{.step_s = 0.01, .warmup_steps = steps});
   const map::RoadMap road(sc.map);
+  const map::ScenarioMap placed(sc);
   std::vector<SpawnPose> spawns;
   for (const auto& v : sc.vehicles)
-    spawns.push_back(spawn_pose(road, v.spawn));
+    spawns.push_back(spawn_pose(placed, v.spawn));
   EXPECT_EQ(w.sim_time_ns(), -2'000'000'000);
   EXPECT_TRUE(w.warming_up());
   // Drivers' controls during the warm-up move nothing: full throttle on the parked car.
