@@ -128,6 +128,9 @@ json parse_text(std::string_view text, const std::string& file) {
 
 // ---- start_time ------------------------------------------------------------------------------
 
+/// 2004-01-01T00:00:00Z, the epoch of TimestampIts (TS 102 894-2), in Unix seconds.
+constexpr long long kItsEpochUnixS = 1072915200;
+
 // Days since 1970-01-01 of a proleptic Gregorian date (H. Hinnant's civil calendar algorithm).
 long long days_from_civil(long long y, unsigned m, unsigned d) {
   y -= m <= 2;
@@ -800,6 +803,18 @@ Scenario parse(std::string_view json_text, const std::string& file_name,
                      : std::chrono::system_clock::time_point{std::chrono::seconds{1735732800}};
   if (auto d = root.optional("duration_s"))
     s.duration_s = d->number(0.1, 7 * 86400.0);
+  if (auto w = root.optional("warmup_s"))
+    s.warmup_s = w->number(0.0, kMaxWarmupS);
+  // The warm-up's fixes are dated start_time + a negative sim time: they must not fall before
+  // the ITS epoch, which TimestampIts (and a CAM's generationDeltaTime) cannot express.
+  if (s.start_time - std::chrono::duration_cast<std::chrono::system_clock::duration>(
+                         std::chrono::duration<double>(s.warmup_s)) <
+      std::chrono::system_clock::time_point{std::chrono::seconds{kItsEpochUnixS}}) {
+    (root.optional("start_time") ? root.required("start_time") : root)
+        .fail(fmt::format("sim time -{} s (the warm-up, warmup_s) falls before the ITS epoch "
+                          "2004-01-01T00:00:00Z: start later",
+                          s.warmup_s));
+  }
   if (auto r = root.optional("rates"))
     s.rates = read_rates(*r);
   if (auto g = root.optional("gnss"))

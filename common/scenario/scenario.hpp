@@ -258,6 +258,12 @@ enum class SecurityMode {
   kSignedPermissive,  ///< sign; pass up what fails verification, with the reason
 };
 
+/// The warm-up a scenario gets unless it says otherwise: a GNSS receiver reports its first fix
+/// about 1.3 s after its first epoch (gpsd waits for a whole cycle), and a CAM follows; 3 s
+/// leaves room for that on a loaded machine.
+inline constexpr double kDefaultWarmupS = 3.0;
+inline constexpr double kMaxWarmupS = 60.0;
+
 struct Scenario {
   std::string name;
   std::string description;
@@ -273,7 +279,11 @@ struct Scenario {
   std::optional<geodesy::Geodetic> origin;
   /// UTC instant of sim time 0; GNSS fixes are stamped start_time + sim time.
   std::chrono::system_clock::time_point start_time;
-  std::optional<double> duration_s;  ///< empty: run until stopped
+  std::optional<double> duration_s;  ///< empty: run until stopped, counted from sim time 0
+  /// Sim time before 0 during which sim-server holds every vehicle on its run-up to its spawn
+  /// pose (sim time runs from -warmup_s), so that at sim time 0 every station already has a
+  /// fix and sends CAMs (docs/scenario.md, "Warm-up").
+  double warmup_s = kDefaultWarmupS;
   Rates rates;
   GnssErrors gnss;
   CamPolicy cam;

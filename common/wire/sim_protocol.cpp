@@ -399,7 +399,7 @@ Expected<ServerMessage, ProtocolError> decode_state(ByteReader& r) {
   const std::size_t count = r.le<std::uint16_t>();
   if (!r.ok() || r.remaining() != count * kVehicleStateSize)
     return Unexpected{ProtocolError::kBadLength};
-  if (count > kMaxVehicles || m.sim_time_ns < 0)
+  if (count > kMaxVehicles || m.sim_time_ns < kMinSimTimeNs)
     return Unexpected{ProtocolError::kBadValue};
   m.vehicles.reserve(count);
   for (std::size_t i = 0; i < count; ++i) {

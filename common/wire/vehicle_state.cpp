@@ -129,7 +129,7 @@ std::optional<DecodeError> check(const VehicleState& s) {
   }
   if (s.controls.throttle < 0.0f || s.controls.throttle > 1.0f || s.controls.brake < 0.0f ||
       s.controls.brake > 1.0f || s.controls.steer < -1.0f || s.controls.steer > 1.0f ||
-      s.sim_time_ns < 0) {
+      s.sim_time_ns < kMinSimTimeNs) {
     return DecodeError::kOutOfRange;
   }
   return std::nullopt;

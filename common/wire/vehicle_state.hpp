@@ -47,10 +47,16 @@ struct Controls {
   bool operator==(const Controls&) const = default;
 };
 
+/// The earliest sim time a state may carry: the longest warm-up a scenario can ask for (its
+/// `warmup_s`, at most 60 s), during which sim time runs negative up to the scenario's start.
+inline constexpr std::int64_t kMinSimTimeNs = -60'000'000'000;
+
 struct VehicleState {
   std::uint32_t station_id = 0;
-  std::uint64_t tick = 0;                       ///< physics step number
-  std::int64_t sim_time_ns = 0;                 ///< sim time of the step, ns since scenario start
+  std::uint64_t tick = 0;  ///< physics step number (warm-up steps included: it never goes back)
+  /// Sim time of the step, ns since scenario start; negative during the warm-up (sim-server
+  /// holds every car on its run-up to its spawn pose), never below kMinSimTimeNs.
+  std::int64_t sim_time_ns = 0;
   std::int64_t step_wall_ns = 0;                ///< CLOCK_REALTIME when the step was computed
   std::int64_t send_wall_ns = 0;                ///< CLOCK_REALTIME when this datagram was sent
   std::array<double, 3> position{};             ///< m

@@ -326,6 +326,9 @@ int run(const Options& o) {
   // against its sender (a neighbour's state change must not wait up to a fix period, 100 ms,
   // for the next own fix before it can raise a warning) and the neighbours with an active
   // warning; both states are extrapolated to the evaluation instant.
+  // And once more at the predicted onset (Lcrw::time_to_onset_s) when a TTC will cross the
+  // warning threshold before the next fix: otherwise the warning came up to a fix period late
+  // (the frontal case at 50 km/h warned anywhere between TTC 3.0 and 2.9 s).
   // LCRW computes in an East-North-Up frame; with a scenario it is anchored where the map's
   // (0, 0, 0) lies (the map's geoReference, or the scenario's origin: common/map's ScenarioMap).
   std::optional<tb::geodesy::LocalFrame> frame;
@@ -340,6 +343,10 @@ int run(const Options& o) {
   std::unique_ptr<apps::LcrwDenmTrigger> lcrw_denm;
   std::unique_ptr<apps::LcrwApplication> lcrw;
   std::set<std::uint32_t> published_about;  // neighbours of the current evaluation's warnings
+  asio::steady_timer lcrw_onset(io);
+  // A fix period: an onset further away is met by the next fix's evaluation.
+  const double fix_period_s = 1.0 / (scenario ? scenario->rates.gnss_hz : 10.0);
+  std::function<void()> evaluate_at_onset;
   const auto own_state = [&](const fac::PositionFix& fix) {
     const fac::VehicleData* vd =
         vehicle_data && vehicle_data->current() ? &*vehicle_data->current() : nullptr;
@@ -398,6 +405,18 @@ int run(const Options& o) {
         assess(id, n);
     }
     lcrw->update(tb::its::station::lcrw_kinematics(o.station_id, own, fix.time, *frame), others);
+    if (const auto onset = lcrw->lcrw().time_to_onset_s(); onset && *onset < fix_period_s) {
+      // At least 1 ms: a TTC that does not fall as predicted (the other braking) is met again
+      // by the next fix, never by a busy loop.
+      lcrw_onset.expires_after(
+          std::chrono::microseconds(std::max<std::int64_t>(1000, std::llround(*onset * 1e6))));
+      lcrw_onset.async_wait([&](const boost::system::error_code& ec) {
+        if (!ec)
+          evaluate_at_onset();
+      });
+    } else {
+      lcrw_onset.cancel();
+    }
     auto& tracer = tb::trace::global();
     if (!tracer.enabled())
       return;
@@ -417,6 +436,10 @@ int run(const Options& o) {
                         {"warn", lcrw->lcrw().active().contains(n.station_id)},
                         {"ttc", a->second.ttc_s}});
     }
+  };
+  evaluate_at_onset = [&] {
+    if (const auto& fix = position.current())
+      evaluate_lcrw(*fix, own_state(*fix), std::nullopt);
   };
   position.on_fix([&](const fac::PositionFix& fix) {
     const auto own = own_state(fix);
@@ -522,6 +545,7 @@ int run(const Options& o) {
     gnss.stop();
     signals.cancel();
     status_timer.cancel();
+    lcrw_onset.cancel();
     gpsd_deadline.cancel();
     duration_timer.cancel();
     write_status();

@@ -163,6 +163,10 @@ double LaneFollowDriver::steer_for(const wire::VehicleState& s, const map::Proje
 }
 
 wire::Controls LaneFollowDriver::update(const wire::VehicleState& s) {
+  // The warm-up holds the car on its run-up (sim-server): the script, and the distance its
+  // profile counts, start at sim time 0.
+  if (s.sim_time_ns < 0)
+    return {};
   const double speed = s.speed;
   double dt = 0.0;
   if (!started_) {

@@ -14,7 +14,9 @@
 namespace tb::client {
 
 /// Computes the controls for the next tick from the latest state of its vehicle. Time is the
-/// state's sim time, so a driver runs the same in real time and as fast as possible.
+/// state's sim time, so a driver runs the same in real time and as fast as possible. A script
+/// starts at sim time 0: during the warm-up before it (negative sim time, sim-server holds the
+/// car) its controls are released and nothing of its own state moves on.
 class ScriptedDriver {
  public:
   virtual ~ScriptedDriver() = default;

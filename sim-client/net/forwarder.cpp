@@ -79,10 +79,12 @@ void StateForwarder::forward_tick(std::span<const wire::VehicleState> states,
     sent_ += chunk_.size();
     for (const auto& state : chunk_) {
       // x, y, v, yaw let the report tell the steps that changed the state (a moving car) from
-      // those that did not (a standing one), docs/tracing.md.
+      // those that did not (a standing one), docs/tracing.md; sim_ns the warm-up (negative)
+      // from the physics.
       tracer_.record_at(state.send_wall_ns, "client.forward",
                         {{"station", state.station_id},
                          {"tick", static_cast<unsigned long long>(state.tick)},
+                         {"sim_ns", static_cast<long long>(state.sim_time_ns)},
                          {"step_ns", static_cast<long long>(state.step_wall_ns)},
                          {"x", state.position[0]},
                          {"y", state.position[1]},

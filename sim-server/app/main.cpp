@@ -60,6 +60,7 @@ int main(int argc, char** argv) {
   std::optional<double> duration;
   std::size_t queue = tb::server::TcpOptions{}.max_queued_frames;
   bool mesh_cast = false;
+  double start_timeout_s = 30.0;
   app.add_option("--scenario", scenario_file, "scenario file (JSON)")->required();
   app.add_option("--port", port, "TCP port to listen on (0: any free port)")->capture_default_str();
   app.add_option("--bind", bind, "address to listen on")->capture_default_str();
@@ -75,6 +76,11 @@ int main(int argc, char** argv) {
                  "slow")
       ->capture_default_str()
       ->check(CLI::Range(1, 100000));
+  app.add_option("--start-timeout", start_timeout_s,
+                 "seconds the first step waits for a driver on every scripted vehicle "
+                 "(0: start at once)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 3600.0));
   app.add_flag("--mesh-raycast", mesh_cast,
                "wheels ray-test the road mesh instead of the flat ground (for non-flat maps)");
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error")
@@ -126,7 +132,9 @@ int main(int argc, char** argv) {
         tb::server::physics::WorldOptions{
             .step_s = 1.0 / scenario.rates.physics_hz,
             .ground_cast =
-                mesh_cast ? std::optional(tb::server::physics::GroundCast::kMesh) : std::nullopt});
+                mesh_cast ? std::optional(tb::server::physics::GroundCast::kMesh) : std::nullopt,
+            .warmup_steps = static_cast<std::uint64_t>(
+                std::llround(scenario.warmup_s * scenario.rates.physics_hz))});
     const auto& o = map->origin();
     spdlog::info(
         "map frame placed by the {} at {:.7f}, {:.7f}, {:.2f} m; wheels ray-test {} ({} "
@@ -179,7 +187,8 @@ int main(int argc, char** argv) {
     wait_for_clients();
   };
   tb::server::SimLoop loop(
-      runtime, *world, &hub, {fast, duration},
+      runtime, *world, &hub,
+      {fast, duration, std::chrono::milliseconds(std::llround(start_timeout_s * 1000.0))},
       [&io](std::function<void()> fn) { boost::asio::post(io, std::move(fn)); },
       [&] { shutdown("scenario finished"); });
   signals.async_wait([&](boost::system::error_code ec, int sig) {

@@ -12,6 +12,11 @@ constexpr double kRadPerSecToRpm = 60.0 / (2.0 * std::numbers::pi);
 /// typical 1.4 l petrol engine drags with 15–40 Nm over its range.
 constexpr double kDragTorqueBase = 15.0;
 constexpr double kDragTorquePerRpm = 0.004;
+/// The drag fades in as the throttle closes below this, rather than switching on at it: a car
+/// cruising at light load sits at a few per cent of throttle, and a drag that came and went
+/// with the controller's every correction jolted it by -0.7 m/s² every few steps (issue 22: the
+/// CAN acceleration, and with it LCRW's constant-acceleration TTC, carried the jolts).
+constexpr double kDragFadeThrottle = 0.05;
 /// How far above idle a slipping clutch lets the engine run at full throttle when pulling away.
 constexpr double kLaunchRpmSpan = 2200.0;
 
@@ -82,8 +87,9 @@ DriveForces Powertrain::update(const wire::Controls& c, double speed, double dt)
     // Past the redline the engine management cuts fuel.
     const double redline = m_.torque_curve.empty() ? 0.0 : m_.torque_curve.back().rpm;
     double torque = f.engine_rpm > redline ? 0.0 : c.throttle * full_load_torque(f.engine_rpm);
-    if (c.throttle < 0.05)
-      torque -= kDragTorqueBase + kDragTorquePerRpm * f.engine_rpm;
+    if (c.throttle < kDragFadeThrottle)
+      torque -= (1.0 - c.throttle / kDragFadeThrottle) *
+                (kDragTorqueBase + kDragTorquePerRpm * f.engine_rpm);
     // Engine braking only while the clutch is closed, i.e. above the launch speed.
     if (torque < 0.0 && wheel_rpm < m_.idle_rpm * 1.2)
       torque = 0.0;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 
 #include "common/geodesy/local_frame.hpp"
@@ -14,6 +15,10 @@
 #include "sim-server/physics/powertrain.hpp"
 
 namespace tb::server::physics {
+
+static_assert(wire::kMinSimTimeNs <= -static_cast<std::int64_t>(scenario::kMaxWarmupS * 1e9),
+              "a state of the longest warm-up must pass the wire decoders");
+
 namespace {
 
 constexpr double kGravity = 9.81;
@@ -157,14 +162,49 @@ struct World::Car {
   DriveForces forces;
   btVector3 last_velocity{0, 0, 0};
   std::array<double, 4> steer{};  ///< per wheel, rad, positive left
+  SpawnPose spawn;                ///< where its run-up ends (warm-up)
+  wire::Controls spawn_controls;  ///< what it shows during the warm-up
 
   Car(const scenario::VehicleModel& m)
       : model(m), geo(geometry(m)), powertrain(model), box(geo.half), shape(false, 1) {}
 };
 
+namespace {
+/// The spawn lane's curvature at the spawn along the vehicle's heading (positive left), from
+/// its placements half a metre either side along the road (one side only at a road's end).
+double lane_curvature(const map::ScenarioMap& map, const scenario::RoadSpawn& at,
+                      const map::Placement& here) {
+  constexpr double kStep = 0.5;
+  auto placed = [&](double s) -> std::optional<map::Placement> {
+    scenario::RoadSpawn r = at;
+    r.s = s;
+    try {
+      return map.place(r);
+    } catch (const std::exception&) {
+      return std::nullopt;  // past the road's end
+    }
+  };
+  const map::Placement a = placed(at.s - kStep).value_or(here);
+  const map::Placement b = placed(at.s + kStep).value_or(here);
+  const double dx = b.x - a.x, dy = b.y - a.y, d = std::hypot(dx, dy);
+  if (d < 1e-3)
+    return 0.0;
+  const double turn = std::remainder(b.yaw - a.yaw, 2.0 * std::numbers::pi);
+  // The arc's length from its chord (exact on a circle).
+  const double arc = std::abs(turn) > 1e-9 ? d * (turn / 2.0) / std::sin(turn / 2.0) : d;
+  // Facing against the road's s (a lane run the other way, or `against`), b lies behind.
+  return (std::cos(here.yaw) * dx + std::sin(here.yaw) * dy >= 0.0 ? turn : -turn) / arc;
+}
+}  // namespace
+
 SpawnPose spawn_pose(const map::ScenarioMap& map, const scenario::Spawn& spawn) {
   const map::Placement p = map.place(spawn);
-  return {p.x, p.y, p.yaw, spawn.speed, p.z, p.pitch, p.roll};
+  SpawnPose out{p.x, p.y, p.yaw, spawn.speed, p.z, p.pitch, p.roll};
+  if (const auto* lane = std::get_if<scenario::LaneSpawn>(&spawn.where))
+    out.curvature = lane_curvature(map, map.network_spawn(*lane), p);
+  else if (const auto* road = std::get_if<scenario::RoadSpawn>(&spawn.where))
+    out.curvature = lane_curvature(map, *road, p);
+  return out;
 }
 
 namespace {
@@ -238,7 +278,8 @@ std::size_t World::size() const {
 }
 
 std::int64_t World::sim_time_ns() const {
-  return static_cast<std::int64_t>(tick_) * std::llround(options_.step_s * 1e9);
+  return (static_cast<std::int64_t>(tick_) - static_cast<std::int64_t>(options_.warmup_steps)) *
+         std::llround(options_.step_s * 1e9);
 }
 
 std::size_t World::add_vehicle(const scenario::VehicleModel& model, std::uint32_t station_id,
@@ -316,6 +357,8 @@ std::size_t World::add_vehicle(const scenario::VehicleModel& model, std::uint32_
   states_.back().station_id = station_id;
   // Parked until someone drives it.
   cars_[index]->controls.brake = pose.speed > 0 ? 0.0f : 1.0f;
+  cars_[index]->spawn = pose;
+  cars_[index]->spawn_controls = cars_[index]->controls;
   update_state(index, 0);
   return index;
 }
@@ -332,6 +375,12 @@ const wire::Controls& World::controls(std::size_t vehicle) const {
 }
 
 void World::step(std::int64_t step_wall_ns) {
+  if (warming_up()) {
+    ++tick_;
+    for (std::size_t i = 0; i < cars_.size(); ++i)
+      update_state(i, step_wall_ns);
+    return;
+  }
   const double dt = options_.step_s;
   for (auto& cp : cars_) {
     Car& car = *cp;
@@ -456,6 +505,37 @@ void World::update_state(std::size_t i, std::int64_t step_wall_ns) {
   if (car.forces.gear < 0)
     lights |= wire::kReverseLight;
   s.lights = lights;
+  if (options_.warmup_steps > 0 && tick_ <= options_.warmup_steps)
+    hold_on_run_up(i);
+}
+
+void World::hold_on_run_up(std::size_t i) {
+  const Car& car = *cars_[i];
+  wire::VehicleState& s = states_[i];
+  const SpawnPose& sp = car.spawn;
+  const RunUpPose p = run_up(sp, static_cast<double>(sim_time_ns()) * 1e-9);
+  s.position[0] = p.x;
+  s.position[1] = p.y;
+  s.yaw = static_cast<float>(std::remainder(p.yaw, 2.0 * std::numbers::pi));
+  const float v = static_cast<float>(sp.speed);
+  s.velocity = {v * static_cast<float>(std::cos(p.yaw)), v * static_cast<float>(std::sin(p.yaw)),
+                0.0f};
+  s.angular_velocity = {0.0f, 0.0f, static_cast<float>(p.yaw_rate)};
+  s.acceleration = {0.0f, static_cast<float>(p.lateral_accel), 0.0f};
+  s.speed = v;
+  s.yaw_rate = static_cast<float>(p.yaw_rate);
+  // The road-wheel angle of that arc (bicycle model) and each wheel's speed on it.
+  s.steering_angle = static_cast<float>(std::atan(car.model.wheelbase_m * sp.curvature));
+  const double half_track = car.model.track_m / 2.0;
+  for (int k = 0; k < 4; ++k) {
+    const double side = k % 2 == 0 ? half_track : -half_track;  // FL, FR, RL, RR
+    s.wheel_speeds[k] = static_cast<float>(sp.speed * (1.0 - sp.curvature * side));
+  }
+  // The drivers' controls are held back until sim time 0: show the spawn's.
+  s.controls = car.spawn_controls;
+  s.lights = static_cast<std::uint16_t>(
+      (s.lights & ~(wire::kBrakeLights | wire::kReverseLight)) |
+      (car.spawn_controls.brake > kBrakeLightThreshold ? wire::kBrakeLights : 0));
 }
 
 std::array<bool, 4> World::wheels_in_contact(std::size_t vehicle) const {

@@ -10,6 +10,9 @@
 /// Positions in and out are the map's frame (common/map/scenario_map.hpp); inside, Bullet
 /// computes in the Ground's physics frame.
 ///
+/// The first WorldOptions::warmup_steps steps are the warm-up (run_up.hpp): sim time runs
+/// negative and every vehicle is held on its run-up to its spawn pose.
+///
 /// Same scenario, same controls in the same steps ⇒ bit-identical states: the world is stepped
 /// single-threaded, in a fixed order, and reads no clock.
 
@@ -24,6 +27,7 @@
 #include "common/scenario/scenario.hpp"
 #include "common/wire/vehicle_state.hpp"
 #include "sim-server/physics/off_road.hpp"
+#include "sim-server/physics/run_up.hpp"
 
 namespace tb::server::physics {
 
@@ -45,20 +49,14 @@ struct WorldOptions {
   /// Ground beyond the roads' extent, so that a car leaving the road still has something to
   /// drive on, m.
   double ground_margin_m = 200.0;
+  /// Steps of warm-up before the physics starts (scenario warmup_s × physics_hz): sim time
+  /// starts at -warmup_steps × step_s and the first warmup_steps calls of step() hold every
+  /// vehicle on its run-up (run_up.hpp) instead of stepping the physics.
+  std::uint64_t warmup_steps = 0;
 };
 
-/// Where a vehicle starts.
-struct SpawnPose {
-  double x = 0.0, y = 0.0;  ///< ground position of the vehicle's reference point, m
-  double yaw = 0.0;         ///< rad, counter-clockwise from east
-  double speed = 0.0;       ///< m/s along the heading
-  double z = 0.0;           ///< height of that ground point, m
-  double pitch = 0.0;       ///< rad, ZYX (wire::VehicleState): resting on the road's slope
-  double roll = 0.0;        ///< rad, ZYX: resting on its superelevation
-};
-
-/// The scenario's spawn as a pose on the map. @throws map::odr::MapError for a lane that does
-/// not exist.
+/// The scenario's spawn as a pose on the map, with its lane's curvature there for the run-up.
+/// @throws map::odr::MapError for a lane that does not exist.
 SpawnPose spawn_pose(const map::ScenarioMap& map, const scenario::Spawn& spawn);
 
 class World {
@@ -87,8 +85,12 @@ class World {
   void set_controls(std::size_t vehicle, const wire::Controls& c, std::uint16_t driver_lights);
   const wire::Controls& controls(std::size_t vehicle) const;
 
-  /// Advances the world by one step; @p step_wall_ns is stamped into the states.
+  /// Advances the world by one step; @p step_wall_ns is stamped into the states. During the
+  /// warm-up (warming_up()) the physics stands still and the states follow the run-ups, with
+  /// the controls each vehicle had at its spawn (the drivers' controls wait for sim time 0).
   void step(std::int64_t step_wall_ns = 0);
+  /// True while the next step() is a warm-up step, not a physics step.
+  bool warming_up() const { return tick_ < options_.warmup_steps; }
 
   std::uint64_t tick() const { return tick_; }
   std::int64_t sim_time_ns() const;
@@ -111,6 +113,7 @@ class World {
   struct Bullet;
   struct Car;
   void update_state(std::size_t i, std::int64_t step_wall_ns);
+  void hold_on_run_up(std::size_t i);
 
   WorldOptions options_;
   std::shared_ptr<const map::ScenarioMap> map_;

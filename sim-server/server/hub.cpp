@@ -263,6 +263,16 @@ void Hub::disconnect(ClientId id) {
   }
 }
 
+std::vector<std::string> Hub::scripted_without_driver() const {
+  std::vector<std::string> out;
+  for (std::size_t v = 0; v < vehicles_.size() && v < scenario_.vehicles.size(); ++v) {
+    if (vehicles_[v].driver == 0 &&
+        kind_of(scenario_.vehicles[v].driver) != sim::DriverKind::kHuman)
+      out.push_back(scenario_.vehicles[v].id);
+  }
+  return out;
+}
+
 void Hub::shutdown(std::string_view why) {
   while (!clients_.empty())
     close_client(clients_.begin()->first, sim::CloseReason::kShutdown, std::string(why));

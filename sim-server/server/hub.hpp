@@ -81,6 +81,10 @@ class Hub {
   std::size_t clients() const { return clients_.size(); }
   /// The id of the client driving @p vehicle, or 0.
   ClientId driver_of(std::size_t vehicle) const { return vehicles_.at(vehicle).driver; }
+  /// Ids of the vehicles whose scenario driver is a script (timeline, lane_follow) and that
+  /// nobody drives yet: the physics waits for them (SimLoop), since their scripts and their
+  /// states' way to the GPS agents both come with the client that drives them.
+  std::vector<std::string> scripted_without_driver() const;
 
  private:
   struct Client {

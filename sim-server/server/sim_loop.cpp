@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <spdlog/fmt/ranges.h>
+
 #include <cmath>
 
 #include "common/trace/tracer.hpp"
@@ -28,6 +30,48 @@ void SimLoop::start() {
   if (running_)
     return;
   running_ = true;
+  waiting_ = true;
+  waiting_since_ = rt_.steady_now();
+  next_wait_log_ = waiting_since_;
+  wait_for_drivers();
+}
+
+void SimLoop::wait_for_drivers() {
+  if (!running_)
+    return;
+  const auto missing =
+      hub_ != nullptr ? hub_->scripted_without_driver() : std::vector<std::string>{};
+  const auto now = rt_.steady_now();
+  const auto waited = std::chrono::duration_cast<std::chrono::milliseconds>(now - waiting_since_);
+  if (!missing.empty() && options_.start_timeout.count() > 0 && waited < options_.start_timeout) {
+    if (now >= next_wait_log_) {
+      spdlog::info("waiting for the driver of {} (scripted) before the first step",
+                   fmt::join(missing, ", "));
+      next_wait_log_ = now + kWaitLogEvery;
+    }
+    timer_ = rt_.schedule_at(now + kDriverPoll, [this] {
+      timer_.reset();
+      wait_for_drivers();
+    });
+    return;
+  }
+  if (!missing.empty() && options_.start_timeout.count() > 0) {
+    spdlog::warn("no driver for {} after {} s: starting without (they brake to a stop)",
+                 fmt::join(missing, ", "), waited.count() / 1000.0);
+  } else if (waited.count() > 0) {
+    spdlog::info("every scripted vehicle has its driver (after {} ms)", waited.count());
+  }
+  begin_stepping();
+}
+
+void SimLoop::begin_stepping() {
+  waiting_ = false;
+  if (world_.warming_up()) {
+    spdlog::info(
+        "warm-up: sim time from {:.2f} s, every vehicle held on its run-up to its spawn "
+        "pose; the physics starts at sim time 0",
+        static_cast<double>(world_.sim_time_ns()) * 1e-9);
+  }
   start_ = rt_.steady_now();
   scheduled_ = 0;
   schedule_next();
@@ -113,14 +157,18 @@ void report_off_road(physics::World& world, trace::Tracer& tracer, std::int64_t 
 void SimLoop::step() {
   if (!running_)
     return;
-  if (hub_)
+  // A warm-up step computes nothing and applies no controls: neither the hub's nor a p1 record.
+  const bool physics = !world_.warming_up();
+  if (hub_ && physics)
     hub_->before_step();
   auto& tracer = trace::global();
   const std::uint64_t tick = world_.tick() + 1;
   const std::int64_t start_ns = clock::to_unix_ns(rt_.wall_now());
   world_.step(start_ns);
+  if (!physics && !world_.warming_up())
+    spdlog::info("sim time 0 at tick {}: the physics starts", world_.tick());
   // p1 of the delay table (docs/tracing.md): the step's start and how long it took.
-  if (tracer.enabled()) {
+  if (physics && tracer.enabled()) {
     tracer.record_at(start_ns, "server.step",
                      {{"tick", tick},
                       {"dur_ns", clock::to_unix_ns(rt_.wall_now()) - start_ns},

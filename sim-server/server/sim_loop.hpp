@@ -6,6 +6,12 @@
 /// step that overran makes the following ones run at once until the schedule is met again.
 /// Only when the loop falls more than kMaxLag behind (a suspended process, a debugger) does it
 /// give up on catching up and restart the schedule from now, logging how much it skipped.
+///
+/// The first step waits until every scripted vehicle has a driver (Hub::scripted_without_driver,
+/// at most Options::start_timeout), so that a scenario's scripts start with its time however
+/// late their client comes. Then the World's warm-up steps (negative sim time, vehicles held on
+/// their run-ups) go out like any other, but apply no controls and trace no `server.step`: the
+/// drivers' latest controls go into the first physics step, after sim time 0.
 
 #include <chrono>
 #include <cstdint>
@@ -34,25 +40,35 @@ class SimLoop {
   struct Options {
     bool fast = false;                 ///< as fast as possible instead of real time
     std::optional<double> duration_s;  ///< stop after this much sim time
+    /// How long the first step waits for a driver on every scripted vehicle; zero: not at all.
+    std::chrono::milliseconds start_timeout{0};
   };
   /// Runs @p fn soon, after pending I/O (asio::post in the program). Fast mode uses it, since
   /// a timer due "now" would starve the sockets.
   using Post = std::function<void(std::function<void()>)>;
 
   static constexpr std::chrono::seconds kMaxLag{1};
+  /// While waiting for drivers: how often to look, and to say who is missing.
+  static constexpr std::chrono::milliseconds kDriverPoll{10};
+  static constexpr std::chrono::seconds kWaitLogEvery{5};
 
   SimLoop(clock::Runtime& runtime, physics::World& world, Hub* hub, Options options, Post post,
           std::function<void()> on_finished = {});
   ~SimLoop();
 
+  /// Starts stepping, once the scripted vehicles have their drivers.
   void start();
   void stop();
   bool running() const { return running_; }
+  /// Started, but waiting for the drivers of scripted vehicles.
+  bool waiting_for_drivers() const { return running_ && waiting_; }
   /// Steps that started later than their scheduled instant by more than one step.
   std::uint64_t late_steps() const { return late_steps_; }
   std::uint64_t resyncs() const { return resyncs_; }
 
  private:
+  void wait_for_drivers();
+  void begin_stepping();
   void step();
   void schedule_next();
 
@@ -68,6 +84,9 @@ class SimLoop {
   std::uint64_t late_steps_ = 0;
   std::uint64_t resyncs_ = 0;
   bool running_ = false;
+  bool waiting_ = false;
+  clock::SteadyTime waiting_since_{};
+  clock::SteadyTime next_wait_log_{};
   std::optional<clock::TimerId> timer_;
   std::shared_ptr<bool> alive_ = std::make_shared<bool>(true);
 };

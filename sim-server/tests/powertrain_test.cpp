@@ -85,6 +85,22 @@ TEST(Powertrain, ClosedThrottleDragsAgainstTheMotion) {
   EXPECT_EQ(q.update({}, 0.0, kDt).traction_n, 0.0);
 }
 
+TEST(Powertrain, EngineDragFadesInAsTheThrottleCloses) {
+  // No step in the drive force where the drag begins: a cruise at about 5 % throttle must
+  // not jolt. Between 4.9 % and 5.1 % the force changes by the throttle's share alone.
+  auto traction = [](float throttle) {
+    Powertrain p(scenario::VehicleModel{});
+    DriveForces f;
+    for (int i = 0; i < 100; ++i)
+      f = p.update({throttle, 0.0f, 0.0f, false, false}, 8.0, kDt);
+    return f.traction_n;
+  };
+  const double below = traction(0.049f), above = traction(0.051f);
+  EXPECT_LT(std::abs(above - below), 60.0) << below << " N vs " << above << " N";
+  EXPECT_LT(traction(0.0f), traction(0.025f));  // fully closed drags most
+  EXPECT_LT(traction(0.025f), below);
+}
+
 TEST(Powertrain, NoTorqueBeyondRedline) {
   scenario::VehicleModel m;
   m.gear_ratios = {3.62};  // nothing to shift into

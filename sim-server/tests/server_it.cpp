@@ -332,6 +332,62 @@ TEST(SimServerIT, ThreeClientsDriveWatchAndSurviveGarbage) {
   io_thread.join();
 }
 
+TEST(SimServerIT, WarmUpWaitsForTheScriptedDriverThenHoldsTheCarsOnTheirRunUps) {
+  const auto port = free_port();
+  ServerProcess server({"--scenario", "sim-server/tests/scenarios/warm-up.json", "--port",
+                        std::to_string(port), "--bind", "127.0.0.1", "--log-level", "warn"});
+  ASSERT_TRUE(server.started()) << bin("sim-server");
+  asio::io_context io;
+  auto work = asio::make_work_guard(io);
+  std::thread io_thread([&] { io.run(); });
+  {
+    Client w(io, port), d(io, port);
+    ASSERT_TRUE(w.connected() && d.connected());
+    w.send(sim::Hello{"watcher"});
+    w.send(sim::Attach{sim::Role::kWatcher, 0});
+    d.send(sim::Hello{"script"});
+    ASSERT_TRUE(eventually([&] { return w.find<sim::AttachResult>().has_value(); }, 3s));
+    // Nobody drives the scripted car yet: the first step waits. At 100 Hz a running physics
+    // would have sent 30 states in this time.
+    std::this_thread::sleep_for(300ms);
+    EXPECT_EQ(w.states(), 0u) << "the physics started before the scripted car had its driver";
+
+    d.send(sim::Attach{sim::Role::kDriver, 1});
+    ASSERT_TRUE(eventually([&] { return w.states() > 0; }, 3s));
+    // The warm-up: negative sim time, the rolling car on its run-up at 10 m/s to s = 50 (x =
+    // 50), the scripted car standing although its driver asks for full throttle.
+    std::optional<sim::StateFrame> warm;
+    for (int i = 0; i < 10; ++i) {
+      d.send(sim::ControlsMsg{1, {1.0f, 0.0f, 0.0f, false, false}, 0, 0});
+      std::this_thread::sleep_for(20ms);
+      if (auto s = w.last_state(); s && s->sim_time_ns < 0)
+        warm = s;
+    }
+    ASSERT_TRUE(warm) << "no state of the warm-up";
+    EXPECT_GE(warm->sim_time_ns, -1'000'000'000);
+    const double t = static_cast<double>(warm->sim_time_ns) * 1e-9;
+    EXPECT_FLOAT_EQ(warm->vehicles[0].speed, 10.0f);
+    EXPECT_NEAR(warm->vehicles[0].position[0], 50.0 + 10.0 * t, 1e-6);
+    EXPECT_FLOAT_EQ(warm->vehicles[1].speed, 0.0f);
+    EXPECT_FLOAT_EQ(warm->vehicles[1].controls.throttle, 0.0f);
+    // From sim time 0 the physics, with the driver's controls: the scripted car pulls away.
+    EXPECT_TRUE(eventually(
+        [&] {
+          d.send(sim::ControlsMsg{1, {1.0f, 0.0f, 0.0f, false, false}, 0, 0});
+          const auto s = w.last_state();
+          return s && s->sim_time_ns > 500'000'000 && s->vehicles[1].speed > 0.5f;
+        },
+        5s));
+    server.signal(SIGTERM);
+    EXPECT_TRUE(server.wait(5s));
+    w.close();
+    d.close();
+  }
+  work.reset();
+  io.stop();
+  io_thread.join();
+}
+
 TEST(SimServerIT, ClientThatDoesNotReadIsDroppedOthersKeepStreaming) {
   // 100 cars make 16 KB State frames; a client with a tiny receive buffer that never reads
   // fills the kernel buffers within a second or two, then the server's queue of 20 frames.

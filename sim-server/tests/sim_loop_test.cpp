@@ -3,6 +3,7 @@
 #include <deque>
 
 #include "common/clock/runtime.hpp"
+#include "common/scenario/loader.hpp"
 #include "sim-server/server/sim_loop.hpp"
 
 namespace tb::server {
@@ -111,6 +112,96 @@ TEST_F(SimLoopTest, StopCancelsTheNextStep) {
   rt.advance(100ms);
   EXPECT_EQ(world.tick(), 3u);
   EXPECT_EQ(rt.pending(), 0u);
+}
+
+/// A client link that takes every frame and counts the State frames among them.
+struct CountingLink final : ClientLink {
+  std::size_t frames = 0;
+  bool send(SharedBytes) override {
+    ++frames;
+    return true;
+  }
+  void close() override {}
+};
+
+/// A human-driven car rolling at 5 m/s and a scripted one; 5 steps (50 ms) of warm-up.
+struct SimLoopStartTest : ::testing::Test {
+  scenario::Scenario sc = scenario::parse(R"({
+    "name": "start", "map": {"type": "straight"}, "origin": {"lat": 48.1, "lon": 11.5},
+    "warmup_s": 0.05,
+    "vehicles": [
+      {"id": "human", "station_id": 1, "spawn": {"lane": 0, "s": 50, "speed": 5}},
+      {"id": "script", "station_id": 2, "spawn": {"lane": 0, "s": 100},
+       "driver": {"type": "timeline", "steps": [{"t": 0, "throttle": 0.5}]}}
+    ]})",
+                                          "start.json");
+  physics::World world{sc, physics::WorldOptions{.step_s = 0.01, .warmup_steps = 5}};
+  clock::ManualRuntime rt;
+  Hub hub{world, sc, "{}", rt};
+  std::deque<std::function<void()>> posted;
+  SimLoop::Post post = [this](std::function<void()> f) { posted.push_back(std::move(f)); };
+
+  void send(Hub::ClientId id, const wire::sim::ClientMessage& m) {
+    hub.receive(id, wire::sim::encode(m));
+  }
+};
+
+TEST_F(SimLoopStartTest, WaitsForTheScriptedDriversThenWarmsUpWithoutApplyingControls) {
+  SimLoop loop(rt, world, &hub, {.fast = false, .duration_s = std::nullopt, .start_timeout = 30s},
+               post);
+  loop.start();
+  CountingLink link;
+  const auto id = hub.connect(link, "test");
+  send(id, wire::sim::Hello{"scripts"});
+  send(id, wire::sim::Attach{wire::sim::Role::kWatcher, 0});
+  rt.advance(2s);
+  EXPECT_TRUE(loop.waiting_for_drivers());
+  EXPECT_EQ(world.tick(), 0u) << "no step before the scripted car has its driver";
+  EXPECT_EQ(hub.scripted_without_driver(), std::vector<std::string>{"script"});
+  const std::size_t before = link.frames;
+
+  send(id, wire::sim::Attach{wire::sim::Role::kDriver, 1});
+  EXPECT_TRUE(hub.scripted_without_driver().empty());
+  rt.advance(10ms);  // the next look sees it and starts the schedule
+  EXPECT_FALSE(loop.waiting_for_drivers());
+  rt.advance(10ms);
+  ASSERT_EQ(world.tick(), 1u);
+  EXPECT_EQ(world.sim_time_ns(), -40'000'000);
+  EXPECT_GT(link.frames, before) << "warm-up states go out like any other";
+  // The driver's controls wait for the physics, and so does the hub's brake-to-stop of the
+  // car nobody drives.
+  send(id, wire::sim::ControlsMsg{1, {1.0f, 0.0f, 0.0f, false, false}, 0, 0});
+  rt.advance(40ms);
+  ASSERT_EQ(world.tick(), 5u);
+  EXPECT_EQ(world.sim_time_ns(), 0);
+  EXPECT_FLOAT_EQ(world.controls(0).brake, 0.0f);
+  EXPECT_FLOAT_EQ(world.states()[1].speed, 0.0f);
+  rt.advance(10ms);  // the first physics step: both apply
+  ASSERT_EQ(world.tick(), 6u);
+  EXPECT_FLOAT_EQ(world.controls(0).brake, Hub::kStopBrake);
+  EXPECT_FLOAT_EQ(world.states()[1].controls.throttle, 1.0f);
+}
+
+TEST_F(SimLoopStartTest, StartsWithoutAMissingDriverAfterTheTimeout) {
+  SimLoop loop(rt, world, &hub, {.fast = false, .duration_s = std::nullopt, .start_timeout = 3s},
+               post);
+  loop.start();
+  rt.advance(2990ms);
+  EXPECT_TRUE(loop.waiting_for_drivers());
+  rt.advance(10ms);
+  EXPECT_FALSE(loop.waiting_for_drivers());
+  EXPECT_EQ(world.tick(), 0u);
+  rt.advance(10ms);
+  EXPECT_EQ(world.tick(), 1u);
+  EXPECT_EQ(world.sim_time_ns(), -40'000'000);
+}
+
+TEST_F(SimLoopStartTest, NoTimeoutStartsAtOnce) {
+  SimLoop loop(rt, world, &hub, {}, post);
+  loop.start();
+  EXPECT_FALSE(loop.waiting_for_drivers());
+  rt.advance(10ms);
+  EXPECT_EQ(world.tick(), 1u);
 }
 
 }  // namespace

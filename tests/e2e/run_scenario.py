@@ -6,7 +6,9 @@
 
 CASE is one of:
   frontal          scenarios/lcrw-frontal.json: red is warned about black (case frontal) with
-                   TTC < 3 s, and the warning is cleared once red has stopped
+                   TTC < 3 s, at the geometric TTC of 3 s ± 0.1 s (the physics' own positions
+                   and speeds when the warning is published), and the warning is cleared once
+                   red has stopped
   frontal-xodr     the same on an exported-then-reimported road (issue 17): scenario-check
                    --export-xodr writes lcrw-frontal.json's straight road as OpenDRIVE, and a
                    copy of the scenario with "map": {"type": "opendrive"} on that file and its
@@ -19,6 +21,9 @@ CASE is one of:
                    exactly once: one raise, one clear
   reversing        scenarios/lcrw-reversing.json (issue 22): red, reversing, is warned about the
                    parked black behind it before TTC 2 s
+  start            scenarios/brake-at-start.json (issue 22, the warm-up): at sim time 0 every
+                   station has a fix and has sent and received CAMs, and red, braking hard from
+                   t = 0, shows it in its first CAMs after 0 (and not in those before)
   latency          scenarios/lcrw-three-vehicles.json for 30 s with tracing and the warned
                    driver's HMI open in headless Chromium (?trace=1): scripts/report must find
                    records for every stage, and state → CAM on the air p99 ≤ 250 ms (the
@@ -44,6 +49,7 @@ and checks what arrives. Exits 0 when the checks pass, 1 with the reasons otherw
 """
 import argparse
 import json
+import math
 import os
 import signal
 import socket
@@ -64,6 +70,7 @@ CASES = {
     "curve": ("lcrw-curve.json", 25),
     "reversing": ("lcrw-reversing.json", 25),
     "own-stack": ("own-stack-probe.json", 20),
+    "start": ("brake-at-start.json", 10),
     "scale": (None, 20),  # the scenario is generated: SCALE_STATIONS on the ring
     "foreign-root": (None, 15),  # generated: lcrw-frontal with black from another PKI
 }
@@ -72,6 +79,156 @@ SCALE_STATIONS = 20
 # The stages a run without an HMI and without warnings has (scripts/report's ORDER).
 SCALE_STAGES = ("t1,t1.send,p1,fanout,t3.period,t2,p2,t3.gpsd,t3.uptake,t3.stack,p3,t4,p4.t5,air,"
                 "rx.ldm,rx.lcrw,fix_state_to_cam,state_to_cam")
+
+
+ITS_EPOCH_MS = 1_072_915_200_000  # 2004-01-01T00:00:00Z in Unix ms (TimestampIts, UTC)
+LCRW_TTC_WARNING_S = 3.0  # its-station's LcrwConfig::ttc_warning_s (the thesis's threshold)
+DEFAULT_LENGTH_M = 4.255  # the scenario's default vehicle model (docs/scenario.md, "model")
+
+
+def trace_events(out):
+    """The trace records of the case's run (out/run-*/trace), by event name."""
+    by = {}
+    for run in sorted(out.glob("run-*"))[-1:]:
+        for f in sorted((run / "trace").glob("*.jsonl")):
+            for line in f.read_text(errors="replace").splitlines():
+                try:
+                    r = json.loads(line)
+                except json.JSONDecodeError:
+                    continue  # a line cut short when a process was stopped
+                by.setdefault(r.get("ev"), []).append(r)
+    return by
+
+
+def start_ms(scenario):
+    """The scenario's start_time (sim time 0) in Unix ms."""
+    from datetime import datetime, timezone
+    text = scenario.get("start_time", "2025-01-01T12:00:00Z")
+    t = datetime.strptime(text.replace("Z", "+0000"),
+                          "%Y-%m-%dT%H:%M:%S.%f%z" if "." in text else "%Y-%m-%dT%H:%M:%S%z")
+    return round(t.astimezone(timezone.utc).timestamp() * 1000)
+
+
+def check_start(out, scenario, messages):
+    """The warm-up (issue 22): every station has a fix and CAMs flow at sim time 0, and red's
+    braking from t = 0 is in its first CAMs after 0. Returns the failures."""
+    failures = []
+    by = trace_events(out)
+    t0 = start_ms(scenario)
+    stations = [v["station_id"] for v in scenario["vehicles"]]
+    # The wall-clock instant of sim time 0: the step of the state that has it (the warm-up's
+    # last state, the spawn pose), as the physics stamped it.
+    zero = {r["station"]: r["step_ns"] for r in by.get("client.forward", []) if r.get("sim_ns") == 0}
+    for st in stations:
+        if st not in zero:
+            failures.append(f"station {st}: no state of sim time 0 forwarded (no warm-up?)")
+            continue
+        fixes = sorted((r["ts"], r["fix_ms"]) for r in by.get("its.fix", []) if r["station"] == st)
+        before = [f for f in fixes if f[0] <= zero[st]]
+        if not before:
+            first = (f"its first at sim time {(fixes[0][1] - t0) / 1000:+.2f} s" if fixes
+                     else "none at all")
+            failures.append(f"station {st}: no fix at sim time 0 ({first})")
+        else:
+            print(f"e2e: station {st}: first fix at sim time {(before[0][1] - t0) / 1000:+.2f} s, "
+                  f"{(zero[st] - before[0][0]) / 1e9:.2f} s before sim time 0; "
+                  f"{len(before)} fixes by then")
+        sent = [r for r in by.get("its.cam_tx", []) if r["station"] == st and r["ts"] <= zero[st]]
+        heard = {r["station"] for r in by.get("its.cam_rx", [])
+                 if r["from"] == st and r["ts"] <= zero[st]}
+        missing = sorted(set(stations) - {st} - heard)
+        if not sent or missing:
+            failures.append(f"station {st}: {len(sent)} CAM(s) sent before sim time 0, not heard "
+                            f"by {missing}")
+    # Red's CAMs as black received them (MQTT in/cam, CDD units), dated by their
+    # generationDeltaTime: the fix time, TimestampIts mod 65536, near sim time 0.
+    def sim_time_s(gdt):
+        d = (gdt - (t0 - ITS_EPOCH_MS)) % 65536
+        return (d - 65536 if d > 32768 else d) / 1000.0
+    cams = sorted((sim_time_s(m["message"]["generation_delta_time"]),
+                   m["message"]["high_frequency_container"]) for t, m in messages
+                  if t == "its/1002/in/cam/1001")
+    before = [c for c in cams if c[0] <= 0.0]
+    after = [c for c in cams if c[0] > 0.0]
+    if not before or not after:
+        failures.append(f"red's CAMs at black: {len(before)} before sim time 0, {len(after)} after")
+        return failures
+    t_b, hf_b = before[-1]
+    t_a, hf_a = after[0]
+    print(f"e2e: red's last CAM before 0 (sim {t_b:+.2f} s): {hf_b.get('speed', 0) / 100:.2f} m/s, "
+          f"{hf_b.get('longitudinal_acceleration', 0) / 10:+.1f} m/s²; first after 0 "
+          f"(sim {t_a:+.2f} s): {hf_a.get('speed', 0) / 100:.2f} m/s, "
+          f"{hf_a.get('longitudinal_acceleration', 0) / 10:+.1f} m/s²")
+    # Before 0: the run-up at the spawn speed, no braking.
+    if abs(hf_b.get("speed", 0) / 100 - 15.0) > 0.3 or hf_b.get("longitudinal_acceleration", 0) < -10:
+        failures.append(f"red's last CAM before sim time 0 is not the run-up at 15 m/s: {hf_b}")
+    # After 0: braking at once. Red's station makes a CAM from the first GNSS epoch after 0
+    # (sim time 0.1 s), triggered by the speed change (EN 302 637-2 condition 1: > 0.5 m/s
+    # since the last CAM; full brake takes about 1 m/s off in 0.1 s).
+    first_tx = min((r for r in by.get("its.cam_build", [])
+                    if r["station"] == 1001 and r["fix_ms"] > t0), key=lambda r: r["fix_ms"],
+                   default=None)
+    if first_tx is None or first_tx["fix_ms"] - t0 > 100 or first_tx.get("trigger") != "speed":
+        failures.append(f"red's first CAM after sim time 0 is not made from the first epoch "
+                        f"after 0 for its speed change: {first_tx}")
+    # What black's station received, as the HMI topic shows it: at most one CAM per source per
+    # 200 ms of reception, counted from the last one before 0 (0.1 s apart on the air, whose
+    # spacing at reception jitters with the load), so the second or third after 0 as a rule:
+    # the deceleration the CAN bus reports (about 9 m/s² at full brake) and the speed already
+    # below 15 m/s.
+    if t_a > 0.5:
+        failures.append(f"red's first CAM after sim time 0 on MQTT is from sim time {t_a:.2f} s, "
+                        "not ≤ 0.5 s")
+    if hf_a.get("longitudinal_acceleration", 0) > -40 or hf_a.get("speed", 1500) >= 1480:
+        failures.append(f"red's first CAM after sim time 0 shows no braking: {hf_a}")
+    return failures
+
+
+def check_frontal_ttc(out, scenario):
+    """The frontal warning's onset against the geometry: when station 1001 publishes the raise
+    (its.mqtt), the physics' own states (client.forward: position, speed, heading of each step,
+    extrapolated by the few ms from that step to the publication) give the gap between the two
+    front bumpers and the closing speed; their ratio is the true TTC. Returns the failures.
+
+    Inside the ±0.1 s: LCRW decides at each own fix (10 Hz) and each CAM received, so the
+    threshold is crossed between two evaluations and the raise comes at a TTC up to one fix
+    period below it (a closing car's TTC falls by 0.1 s per 0.1 s); and what the raise
+    uses is the fix's state, extrapolated by LCRW to the station's clock, which the newest fix
+    disciplines as if it had no latency: the few ms from the physics step to the fix's arrival
+    (the GPS agent, gpsd; docs/latency.md t2 + p2 + t3) and from the decision to the
+    publication (mqtt) pass unaccounted. Outside it would be an error of geometry: a reference
+    point off by a car length (0.3 s at 50 km/h), an unaged CAM, a wrong length."""
+    by = trace_events(out)
+    raised = sorted(r["ts"] for r in by.get("its.mqtt", [])
+                    if r.get("station") == 1001 and r.get("from") == 1002 and
+                    r.get("event") == "raised" and "lcrw" in str(r.get("topic")))
+    if not raised:
+        return ["no its.mqtt record of the raised warning in the trace"]
+    pub = raised[0]
+    lengths = {v["station_id"]: v.get("model", {}).get("length_m", DEFAULT_LENGTH_M)
+               for v in scenario["vehicles"]}
+    at = {}
+    for st in (1001, 1002):
+        steps = [r for r in by.get("client.forward", []) if r["station"] == st and
+                 r.get("step_ns") and r["step_ns"] <= pub and r.get("sim_ns", 1) > 0]
+        if not steps:
+            return [f"no physics state of station {st} before the warning"]
+        r = max(steps, key=lambda r: r["step_ns"])
+        dt = (pub - r["step_ns"]) / 1e9
+        ux, uy = math.cos(r["yaw"]), math.sin(r["yaw"])
+        at[st] = (r["x"] + r["v"] * ux * dt, r["y"] + r["v"] * uy * dt, r["v"] * ux, r["v"] * uy,
+                  dt)
+    (x1, y1, vx1, vy1, dt1), (x2, y2, vx2, vy2, dt2) = at[1001], at[1002]
+    dist = math.hypot(x2 - x1, y2 - y1)
+    gap = dist - (lengths[1001] + lengths[1002]) / 2.0  # centre to centre, less both half lengths
+    closing = ((vx1 - vx2) * (x2 - x1) + (vy1 - vy2) * (y2 - y1)) / dist
+    ttc = gap / closing if closing > 0 else math.inf
+    print(f"e2e: frontal warning published with the physics' gap {gap:.2f} m front to front, "
+          f"closing {closing:.2f} m/s: geometric TTC {ttc:.3f} s (threshold "
+          f"{LCRW_TTC_WARNING_S} s; states {dt1 * 1e3:.1f} / {dt2 * 1e3:.1f} ms before)")
+    if not abs(ttc - LCRW_TTC_WARNING_S) <= 0.1:
+        return [f"frontal warning at geometric TTC {ttc:.3f} s, not {LCRW_TTC_WARNING_S} ± 0.1 s"]
+    return []
 
 
 def wait_port(port, timeout):
@@ -294,6 +451,12 @@ def run_case(args):
             failures.append(f"warning raised with TTC {raised[0].get('ttc_s')}, not < 3 s")
         if want == "frontal" and not any(w.get("event") == "cleared" for _, w in warnings):
             failures.append("the frontal warning was never cleared after red stopped")
+        if args.case == "frontal":
+            failures += check_frontal_ttc(out, json.loads(scenario_file.read_text()))
+    elif args.case == "start":
+        failures += check_start(out, json.loads(scenario_file.read_text()), messages)
+        if any(w.get("event") == "raised" for _, w in warnings):
+            failures.append("a warning was raised for cars in different lanes")
     elif args.case == "curve":
         about = [w for _, w in warnings
                  if w.get("station_id") == 1001 and w.get("other_station_id") == 1002]

@@ -39,17 +39,19 @@ class Trace:
                 f.write(json.dumps(r) + "\n")
 
 
-def vehicle(trace, station, ticks, moving):
+def vehicle(trace, station, ticks, moving, warmup=None):
     """Steps, forwards, a GNSS epoch every 10 ticks and a CAM from each epoch's fix 30 ms after
-    the step it describes. Returns {tick of the epoch: CAM tx time}."""
+    the step it describes. With @p warmup, the first that many ticks are the warm-up (sim time
+    ≤ 0 in client.forward's sim_ns). Returns {tick of the epoch: CAM tx time}."""
     cams = {}
     for tick in ticks:
         x = tick * 0.1 if moving else 5.0
+        sim = {} if warmup is None else {"sim_ns": (tick - warmup) * 10 * MS}
         trace.add(step_ns(tick) + 200_000, "client.forward", station=station, tick=tick,
-                  step_ns=step_ns(tick), x=x, y=-1.75, v=10.0 if moving else 0.0, yaw=0.0)
+                  step_ns=step_ns(tick), x=x, y=-1.75, v=10.0 if moving else 0.0, yaw=0.0, **sim)
         trace.add(step_ns(tick) + 300_000, "emu.state", station=station, tick=tick)
         if tick % 10 == 0:
-            fix_ms = START_MS + tick * 10
+            fix_ms = START_MS + (tick - (warmup or 0)) * 10
             trace.add(step_ns(tick) + 350_000, "emu.nmea", station=station, tick=tick, fix_ms=fix_ms)
             trace.add(step_ns(tick) + 1 * MS, "its.fix", station=station, fix_ms=fix_ms,
                       read_ns=step_ns(tick) + 1 * MS - 20_000)
@@ -222,6 +224,34 @@ class ReportTest(unittest.TestCase):
         r, _ = run_report(self.trace, "--require", "all,security")
         for stage in ("t4.sign", "rx.verify", "rx.decode"):
             self.assertIn(f"stage {stage} has no records", r.stderr)
+
+    def test_the_warm_up_is_left_out(self):
+        # Ticks 1-10 are the warm-up (sim time -90 ms … 0: no server.step), 11-30 the physics.
+        # Station 1 moves on its run-up and on; station 2 stands.
+        t = Trace()
+        for tick in range(11, 31):
+            t.add(step_ns(tick), "server.step", tick=tick, dur_ns=100_000)
+        moving = vehicle(t, 1, range(1, 31), True, warmup=10)
+        vehicle(t, 2, range(1, 31), False, warmup=10)
+        # Station 2 decodes station 1's CAM of the warm-up's last epoch and of epoch 20.
+        for tick in (10, 20):
+            t.add(moving[tick] + 700_000, "its.cam_rx", station=2, **{"from": 1},
+                  gdt=gdt(START_MS + (tick - 10) * 10))
+        t.add(step_ns(5), "its.sign", end_ns=step_ns(5) + 30_000)  # before sim time 0
+        r, st = run_report(t)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("of the warm-up (sim time ≤ 0) left out", r.stdout)
+        self.assertEqual(st["p1"]["n"], 20)
+        self.assertEqual(st["t2"]["n"], 40)  # the physics' ticks of both stations
+        # The CAM of epoch 20 carries station 1's physics steps 11-20 (the warm-up's epoch 10 is
+        # the one before it); station 2 changed nothing against its last warm-up state.
+        want = [30 + 10 * (20 - k) for k in range(11, 21)]
+        self.assertEqual(st["state_to_cam"]["n"], len(want))
+        self.assertAlmostEqual(st["state_to_cam"]["mean"], sum(want) / len(want), places=6)
+        self.assertEqual(st["fix_state_to_cam"]["n"], 2)  # epoch 20 of each; 30 is the last
+        self.assertEqual(st["t3.gpsd"]["n"], 4)  # epochs 20 and 30 of each
+        self.assertEqual(st["air"]["n"], 1)
+        self.assertNotIn("t4.sign", st)
 
     def test_bounds(self):
         r, _ = run_report(self.trace, "--max-p99", "state_to_cam=100")

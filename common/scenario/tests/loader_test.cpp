@@ -104,6 +104,9 @@ const BadCase kBadCases[] = {
      "\"petrol\" is not a CDD DangerousGoodsBasic"},
     {"unknown-light.json", "/vehicles/0/lights/1",
      "\"blue_light\" is not one of \"low_beam\", \"high_beam\""},
+    {"warmup-too-long.json", "/warmup_s", "value 90 is out of range [0, 60]"},
+    {"warmup-before-its-epoch.json", "/start_time",
+     "sim time -3 s (the warm-up, warmup_s) falls before the ITS epoch 2004-01-01T00:00:00Z"},
 };
 
 TEST(ScenarioLoader, EveryBadFileGetsAnErrorNamingFilePathAndReason) {
@@ -139,7 +142,8 @@ TEST(ScenarioLoader, MissingFileIsAnError) {
 
 TEST(ScenarioLoader, ShippedScenariosLoad) {
   for (const char* name :
-       {"demo", "lcrw-frontal", "lcrw-forward", "lcrw-different-lanes", "lcrw-three-vehicles"}) {
+       {"demo", "lcrw-frontal", "lcrw-forward", "lcrw-different-lanes", "lcrw-three-vehicles",
+        "lcrw-curve", "lcrw-reversing", "brake-at-start"}) {
     const Scenario s = load_file(root() / "scenarios" / (std::string(name) + ".json"));
     EXPECT_EQ(s.name, name);
     EXPECT_GE(s.vehicles.size(), 2u);
@@ -165,6 +169,7 @@ TEST(ScenarioLoader, DefaultsAreFilledAndDocumentedValuesRead) {
   EXPECT_EQ(s.channel.kind, ChannelModel::Kind::kIdeal);
   EXPECT_TRUE(s.gnss.ideal);
   EXPECT_FALSE(s.duration_s.has_value());
+  EXPECT_DOUBLE_EQ(s.warmup_s, kDefaultWarmupS);
   // 2025-01-01T12:00:00Z
   EXPECT_EQ(
       std::chrono::duration_cast<std::chrono::seconds>(s.start_time.time_since_epoch()).count(),
@@ -263,6 +268,7 @@ TEST(ScenarioLoader, ReadsEveryKindOfSection) {
     "origin": {"lat": 41.0, "lon": 29.0, "alt": 12.5},
     "start_time": "2026-03-04T05:06:07.250Z",
     "duration_s": 90,
+    "warmup_s": 0,
     "rates": {"physics_hz": 200, "gnss_hz": 5, "can_dynamics_hz": 50, "can_body_hz": 5},
     "gnss": {"model": "noisy", "white_noise_m": 0.5, "bias_walk_m": 0.2, "hdop": 1.1,
              "satellites": 7, "fix_loss": [{"from_s": 10, "to_s": 12.5}]},
@@ -287,6 +293,7 @@ TEST(ScenarioLoader, ReadsEveryKindOfSection) {
   EXPECT_EQ(s.map.oncoming_lanes, 2);
   EXPECT_EQ(s.security, SecurityMode::kSignedPermissive);
   EXPECT_DOUBLE_EQ(*s.duration_s, 90.0);
+  EXPECT_DOUBLE_EQ(s.warmup_s, 0.0);  // no warm-up: sim time starts at 0 as before
   EXPECT_EQ(std::chrono::duration_cast<std::chrono::milliseconds>(s.start_time.time_since_epoch())
                 .count(),
             1772600767250LL);

@@ -143,6 +143,20 @@ TEST(SimProtocol, ServerMessagesRoundTrip) {
     EXPECT_EQ(server_roundtrip(m), m);
 }
 
+TEST(SimProtocol, StateFramesOfTheWarmUpHaveNegativeSimTime) {
+  const std::vector<VehicleState> v = {state(1, 5)};
+  FrameParser p(Sender::kServer);
+  auto warm = feed(p, encode_state(5, -2'950'000'000, 77, v, 99), 1 << 20);
+  ASSERT_EQ(warm.frames.size(), 1u);
+  auto d = decode_server(warm.frames[0]);
+  ASSERT_TRUE(d);
+  EXPECT_EQ(std::get<StateFrame>(*d).sim_time_ns, -2'950'000'000);
+  FrameParser q(Sender::kServer);
+  auto early = feed(q, encode_state(5, kMinSimTimeNs - 1, 77, v, 99), 1 << 20);
+  ASSERT_EQ(early.frames.size(), 1u);
+  EXPECT_EQ(decode_server(early.frames[0]).error(), ProtocolError::kBadValue);
+}
+
 TEST(SimProtocol, EncodeStateStampsSendTimeIntoEveryRecord) {
   const std::vector<VehicleState> v = {state(1, 5), state(2, 5)};
   const auto bytes = encode_state(5, 50'000'000, 77, v, 99);

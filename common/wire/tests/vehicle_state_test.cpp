@@ -85,6 +85,19 @@ TEST(VehicleState, RejectsNonFiniteAndOutOfRangeValues) {
   s = sample();
   s.controls.steer = -1.01f;
   EXPECT_EQ(decode(encode(s)).error(), DecodeError::kOutOfRange);
+  s = sample();
+  s.sim_time_ns = kMinSimTimeNs - 1;  // before the longest warm-up
+  EXPECT_EQ(decode(encode(s)).error(), DecodeError::kOutOfRange);
+}
+
+TEST(VehicleState, WarmUpStatesCarryNegativeSimTime) {
+  VehicleState s = sample();
+  s.sim_time_ns = -2'990'000'000;
+  auto d = decode(encode(s));
+  ASSERT_TRUE(d.has_value());
+  EXPECT_EQ(d->sim_time_ns, -2'990'000'000);
+  s.sim_time_ns = kMinSimTimeNs;
+  EXPECT_TRUE(decode(encode(s)).has_value());
 }
 
 std::vector<VehicleState> tick_of(std::size_t n) {

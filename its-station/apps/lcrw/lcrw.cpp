@@ -409,4 +409,20 @@ std::vector<LcrwWarning> Lcrw::evaluate(const VehicleKinematics& own,
   return events;
 }
 
+std::optional<double> Lcrw::time_to_onset_s() const {
+  std::optional<double> first;
+  for (const auto& [id, a] : assessed_) {
+    const bool relevant = a.in_path && (a.ahead || cfg_.include_vehicles_behind);
+    if (active_.contains(id) || !relevant || !(a.closing_speed_mps > 0.0) ||
+        !std::isfinite(a.ttc_s) || a.ttc_s < cfg_.ttc_warning_s) {
+      continue;
+    }
+    const double t = a.ttc_s - cfg_.ttc_warning_s;
+    if (!first || t < *first) {
+      first = t;
+    }
+  }
+  return first;
+}
+
 }  // namespace tb::its::apps

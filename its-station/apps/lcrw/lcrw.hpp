@@ -210,6 +210,13 @@ class Lcrw {
   const std::map<std::uint32_t, LcrwWarning>& active() const { return active_; }
   /// What the last evaluate() computed for each neighbour it assessed, by station id.
   const std::map<std::uint32_t, PairAssessment>& last_assessments() const { return assessed_; }
+  /// The predicted onset: how long after the last evaluate() the first neighbour without a
+  /// warning that is in path ahead and closing reaches ttc_warning_s, its TTC falling one second
+  /// per second (both keep their motion); empty when none does. A station evaluates on its fixes
+  /// (10 Hz) and the CAMs it receives, so a TTC crosses the threshold between two evaluations
+  /// and the warning would come up to a fix period late; evaluating again at the predicted onset
+  /// raises it on time (its-station/app/main.cpp).
+  std::optional<double> time_to_onset_s() const;
   const LcrwConfig& config() const { return cfg_; }
 
  private:

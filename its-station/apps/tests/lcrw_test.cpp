@@ -104,6 +104,33 @@ TEST_F(LcrwTest, HeadOnFartherThanThresholdDoesNotWarn) {
   EXPECT_TRUE(lcrw.evaluate(car(1, 0, 0, 0, 15, now()), n).empty());
 }
 
+TEST_F(LcrwTest, PredictedOnsetRaisesOnTimeBetweenFixes) {
+  // Head-on at 15 + 15 m/s, 91 m gap: TTC 3.0333 s, the threshold 33.3 ms away — before the
+  // next fix. Evaluated again then (the states as they were, dead-reckoned), it warns at TTC 3.
+  Lcrw lcrw(clk, cfg);
+  const auto t0 = now();
+  const auto own = car(1, 0, 0, 0, 15, t0);
+  const std::vector<VehicleKinematics> n{car(2, 0, 95, 180, 15, t0)};
+  EXPECT_TRUE(lcrw.evaluate(own, n).empty());
+  ASSERT_TRUE(lcrw.time_to_onset_s().has_value());
+  EXPECT_NEAR(*lcrw.time_to_onset_s(), 91.0 / 30.0 - 3.0, 1e-9);
+  clk.advance(std::chrono::microseconds(std::llround(*lcrw.time_to_onset_s() * 1e6) + 1));
+  const auto ev = lcrw.evaluate(own, n);
+  ASSERT_EQ(ev.size(), 1u);
+  EXPECT_EQ(ev[0].event, WarningEvent::kRaised);
+  EXPECT_NEAR(ev[0].ttc_s, 3.0, 1e-5);
+  // Warned: no onset to wait for; nor for what is not in path, not closing, or far.
+  EXPECT_FALSE(lcrw.time_to_onset_s().has_value());
+  Lcrw other(clk, cfg);
+  const auto me = car(1, 0, 0, 0, 15, now());
+  other.evaluate(me, std::vector<VehicleKinematics>{car(2, 3.5, 95, 180, 15, now())});
+  EXPECT_FALSE(other.time_to_onset_s().has_value());  // the next lane
+  other.evaluate(me, std::vector<VehicleKinematics>{car(2, 0, 95, 0, 20, now())});
+  EXPECT_FALSE(other.time_to_onset_s().has_value());  // moving away ahead
+  other.evaluate(me, std::vector<VehicleKinematics>{car(2, 0, 200, 180, 15, now())});
+  EXPECT_NEAR(*other.time_to_onset_s(), 196.0 / 30.0 - 3.0, 1e-9);  // far: the caller decides
+}
+
 TEST_F(LcrwTest, RearEndOnSlowerCarWarnsWithForwardCase) {
   Lcrw lcrw(clk, cfg);
   // Heading east: gap 29 m, closing 10 m/s.

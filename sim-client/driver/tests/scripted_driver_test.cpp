@@ -160,6 +160,31 @@ TEST(LaneFollowDriver, FollowsDistanceProfileAroundRing) {
   EXPECT_GT(min_accel, -3.0 * 1.3);
 }
 
+TEST(LaneFollowDriver, StartsAtSimTimeZeroNotInTheWarmUp) {
+  // Held on its run-up for 3 s at 15 m/s (sim-server's warm-up), the car's distance profile
+  // must count from its spawn: braking from 20 m, not 25 m before it.
+  const map::RoadMap road(straight_road());
+  LaneFollowDriver driver(profile({{0.0, 15.0}, {20.0, 15.0}, {21.0, 0.0}}, true),
+                          scenario::VehicleModel{}, road, {0, 0, false});
+  const map::Pose spawn = road.lane_pose(0, 0, 100.0);
+  for (int k = -300; k < 0; ++k) {
+    wire::VehicleState s;
+    s.sim_time_ns = k * 10'000'000LL;
+    s.position = {spawn.p.x + 15.0 * k * 0.01, spawn.p.y, 0.0};
+    s.yaw = static_cast<float>(spawn.yaw);
+    s.speed = 15.0f;
+    const wire::Controls c = driver.update(s);
+    ASSERT_EQ(c, wire::Controls{}) << "released during the warm-up";
+  }
+  EXPECT_DOUBLE_EQ(driver.status().distance, 0.0);
+  Plant car(spawn.p.x, spawn.p.y, spawn.yaw, 15.0);
+  while (driver.status().distance < 19.0) {
+    const wire::Controls c = driver.update(car.state());
+    ASSERT_FLOAT_EQ(c.brake, 0.0f) << "at " << driver.status().distance << " m";
+    car.step(c, 0.01);
+  }
+}
+
 TEST(LaneFollowDriver, StopsBeforeTheEndOfAnOpenLane) {
   const map::RoadMap road(straight_road());
   LaneFollowDriver driver(profile({{0.0, 20.0}}, false), scenario::VehicleModel{}, road,
@@ -244,6 +269,12 @@ TEST(TimelineDriver, EachStepHoldsUntilTheNext) {
   wire::VehicleState s;
   s.sim_time_ns = 3'000'000'000;
   EXPECT_TRUE(d.update(s).handbrake);
+  // The warm-up (negative sim time) is before every step; a step at 0 acts from sim time 0.
+  scenario::TimelineDriver brake;
+  brake.steps = {{0.0, 0.0, 1.0, 0.0, false, false}};
+  TimelineDriver b(brake);
+  EXPECT_EQ(b.at(-0.01), wire::Controls{});
+  EXPECT_FLOAT_EQ(b.at(0.0).brake, 1.0f);
 }
 
 TEST(ScriptedDriver, MadeFromTheScenarioDriverField) {

@@ -119,7 +119,9 @@ TEST(StateForwarder, CountsFailuresAndTracesForwards) {
   {
     trace::Tracer tracer(path, "sim-client");
     StateForwarder fwd(clk, sink, tracer);
-    fwd.forward(sample(1001, 42));
+    auto warm = sample(1001, 42);
+    warm.sim_time_ns = -1'230'000'000;  // a warm-up state
+    fwd.forward(warm);
     sink.fail = true;
     fwd.forward(sample(1001, 43));
     EXPECT_EQ(fwd.sent(), 1u);
@@ -131,7 +133,7 @@ TEST(StateForwarder, CountsFailuresAndTracesForwards) {
   const std::string t = text.str();
   EXPECT_NE(t.find("\"ev\":\"client.forward\""), std::string::npos) << t;
   EXPECT_NE(t.find("\"station\":1001"), std::string::npos) << t;
-  EXPECT_NE(t.find("\"tick\":42"), std::string::npos) << t;
+  EXPECT_NE(t.find("\"tick\":42,\"sim_ns\":-1230000000"), std::string::npos) << t;
   EXPECT_EQ(t.find("\"tick\":43"), std::string::npos) << t;  // not sent, not traced
   const auto s = sample(1001, 42);
   EXPECT_NE(t.find(fmt::format("\"x\":{},\"y\":{},\"v\":{}", s.position[0], s.position[1],
