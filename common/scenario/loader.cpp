@@ -10,7 +10,9 @@
 #include <fmt/format.h>
 
 #include "common/geodesy/local_frame.hpp"
+#include "common/map/builtin_network.hpp"
 #include "common/map/road_map.hpp"
+#include "common/map/route_plan.hpp"
 #include "common/scenario/json_reader.hpp"
 
 namespace tb::scenario {
@@ -472,6 +474,31 @@ map::Pose spawn_pose(const Spawn& s, const map::RoadMap& road_map) {
   return road_map.lane_pose(l.road, l.lane, l.s);
 }
 
+// OpenDRIVE road ids are strings; an integer is taken as its decimal text.
+std::string road_id(const Node& n) {
+  if (n.json().is_number_integer())
+    return std::to_string(n.integer(-(1LL << 53), 1LL << 53));
+  const std::string id = n.string();
+  if (id.empty())
+    n.fail("a road id must not be empty");
+  return id;
+}
+
+DriveRoute read_route(const Node& n) {
+  DriveRoute r;
+  if (n.is_string()) {
+    n.choice({"random"});
+    r.kind = DriveRoute::Kind::kRandom;
+    return r;
+  }
+  if (!n.json().is_array())
+    n.fail("a route is \"random\" or a list of road ids");
+  r.kind = DriveRoute::Kind::kRoads;
+  for (const Node& id : n.array(1, 10000))
+    r.roads.push_back(road_id(id));
+  return r;
+}
+
 Driver read_driver(Node n) {
   if (n.is_string()) {
     n.choice({"human"});
@@ -532,6 +559,24 @@ Driver read_driver(Node n) {
     first = false;
     f.profile.push_back(sp);
   }
+  f.max_lateral_accel = n.number_or("max_lateral_accel", f.max_lateral_accel, 0.5, 10.0);
+  if (auto r = n.optional("route"))
+    f.route = read_route(*r);
+  if (auto t = n.optional("to")) {
+    if (f.route.kind != DriveRoute::Kind::kLane)
+      t->fail("give either \"route\" or \"to\", not both");
+    t->expect_object("a goal (\"road\", \"lane\", \"s\")");
+    f.route.kind = DriveRoute::Kind::kTo;
+    f.route.to.road = road_id(t->required("road"));
+    f.route.to.lane = static_cast<int>(t->required("lane").integer(-100, 100));
+    if (f.route.to.lane == 0)
+      t->required("lane").fail("lane 0 is the centre line; give a lane id (negative: right)");
+    f.route.to.s = t->required("s").number(0.0, 1e7);
+    t->finish();
+  }
+  f.yield_to_traffic = f.route.kind != DriveRoute::Kind::kLane;
+  if (auto t = n.optional("traffic"))
+    f.yield_to_traffic = t->choice({"yield", "ignore"}) == "yield";
   n.finish();
   return f;
 }
@@ -571,6 +616,37 @@ Vehicle read_vehicle(Node n, const map::RoadMap& road_map) {
   }
   n.finish();
   return v;
+}
+
+// Every route must be drivable from its vehicle's spawn lane: the plan is made as the driver
+// will make it, and its errors name the driver's field.
+void check_routes(const Scenario& s, const std::vector<Node>& nodes) {
+  std::optional<map::odr::RoadNetwork> net;
+  std::optional<map::odr::LaneGraph> graph;
+  std::optional<map::odr::LaneLocator> locator;
+  for (std::size_t i = 0; i < s.vehicles.size(); ++i) {
+    const Vehicle& v = s.vehicles[i];
+    const auto* f = std::get_if<LaneFollowDriver>(&v.driver);
+    if (f == nullptr || f->route.kind == DriveRoute::Kind::kLane)
+      continue;
+    if (!net) {
+      net.emplace(map::generate_network(s.map));
+      graph.emplace(*net);
+      locator.emplace(*net);
+    }
+    const std::string driver = nodes[i].path() + "/driver";
+    const auto start = map::vehicle_start(v, s.map, *net, *locator);
+    if (!start) {
+      throw ScenarioError(s.source, nodes[i].path() + "/spawn",
+                          "a vehicle with a route must spawn on a drivable lane");
+    }
+    try {
+      map::RoutePlan plan(*net, *graph, f->route, *start, map::vehicle_seed(s.seed, v.station_id));
+    } catch (const map::RouteError& e) {
+      throw ScenarioError(s.source, e.field().empty() ? driver : driver + "/" + e.field(),
+                          e.what());
+    }
+  }
 }
 
 }  // namespace
@@ -613,6 +689,9 @@ Scenario parse(std::string_view json_text, const std::string& file_name) {
       sec->fail(fmt::format("\"{}\" is not one of \"none\", \"signed\", \"signed-permissive\"", m));
   }
 
+  if (auto seed = root.optional("seed"))
+    s.seed = static_cast<std::uint64_t>(seed->integer(0, (1LL << 53) - 1));
+
   const map::RoadMap road_map(s.map);
   std::unordered_map<std::string, std::size_t> ids;
   std::unordered_map<std::uint32_t, std::size_t> stations;
@@ -642,6 +721,7 @@ Scenario parse(std::string_view json_text, const std::string& file_name) {
     poses.push_back(pose);
     s.vehicles.push_back(std::move(v));
   }
+  check_routes(s, vehicles);
   root.finish();
   return s;
 }
