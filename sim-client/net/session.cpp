@@ -161,6 +161,10 @@ bool SimSession::on_welcome(const sim::Welcome& w) {
       road_map_ = std::make_unique<map::RoadMap>(scenario_->map);
       network_ =
           std::make_shared<const map::odr::RoadNetwork>(map::generate_network(scenario_->map));
+      drive_map_ = std::make_unique<DriveMap>(network_);
+      sizes_.clear();
+      for (const scenario::Vehicle& v : scenario_->vehicles)
+        sizes_.push_back({v.station_id, v.model.length_m, v.model.width_m});
     } catch (const std::exception& e) {
       fail(fmt::format("cannot use the server's scenario: {}", e.what()));
       return false;
@@ -206,7 +210,7 @@ bool SimSession::on_welcome(const sim::Welcome& w) {
         return false;
       }
       try {
-        d.script = make_scripted_driver(*v, *road_map_);
+        d.script = make_scripted_driver(*v, *scenario_, *drive_map_);
       } catch (const std::exception& e) {
         fail(fmt::format("vehicle {}: cannot build its scripted driver: {}", v->id, e.what()));
         return false;
@@ -265,16 +269,20 @@ void SimSession::on_state(const sim::StateFrame& f) {
     if (!tick_states_.empty())
       forwarder_->forward_tick(tick_states_);
   }
+  // Where every vehicle is, located once for all scripted drivers of this frame.
+  std::optional<Traffic> traffic;
   for (auto& [i, d] : driven_) {
     if (!d.attached || i >= f.vehicles.size())
       continue;
     const wire::VehicleState& s = f.vehicles[i];
+    if (d.script && !traffic)
+      traffic = drive_map_->observe(f.vehicles, sizes_);
     sim::ControlsMsg c;
     c.vehicle = i;
     if (d.script) {
       // A scripted driver reads its input (the state) now.
       c.input_ns = clock::to_unix_ns(clock_->wall_now());
-      c.controls = d.script->update(s);
+      c.controls = d.script->update(s, *traffic);
     } else {
       c.controls = human_.controls;
       c.lights = human_.lights;

@@ -112,6 +112,8 @@ class SimSession {
   std::optional<scenario::Scenario> scenario_;
   std::unique_ptr<map::RoadMap> road_map_;
   std::shared_ptr<const map::odr::RoadNetwork> network_;
+  std::unique_ptr<DriveMap> drive_map_;  ///< what the scripted drivers share about the map
+  std::vector<VehicleSize> sizes_;       ///< of the scenario's vehicles, for Traffic
   std::optional<wire::sim::StateFrame> latest_;
   std::map<std::uint16_t, Driven> driven_;
   DriverCommand human_;
