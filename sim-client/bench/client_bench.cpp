@@ -92,9 +92,9 @@ void BM_ViewFrameSoftware(benchmark::State& st) {
   scenario::MapSpec spec;
   spec.type = scenario::MapType::kStraight;
   spec.length = 2000;
-  const map::RoadMap road(spec);
+  const map::odr::RoadNetwork road = map::generate_network(spec);
   ViewScene scene;
-  scene.road_map = &road;
+  scene.network = &road;
   for (int i = 0; i < 8; ++i) {
     ViewVehicle v;
     v.state.station_id = 1001 + i;

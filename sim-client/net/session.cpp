@@ -158,7 +158,6 @@ bool SimSession::on_welcome(const sim::Welcome& w) {
   if (!same_world) {
     try {
       scenario_ = scenario::parse(w.scenario_json, "scenario sent by the server");
-      road_map_ = std::make_unique<map::RoadMap>(scenario_->map);
       network_ =
           std::make_shared<const map::odr::RoadNetwork>(map::generate_network(scenario_->map));
       drive_map_ = std::make_unique<DriveMap>(network_);

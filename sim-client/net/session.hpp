@@ -14,7 +14,6 @@
 
 #include "common/clock/clock.hpp"
 #include "common/map/opendrive/road_network.hpp"
-#include "common/map/road_map.hpp"
 #include "common/scenario/scenario.hpp"
 #include "common/trace/tracer.hpp"
 #include "common/wire/sim_protocol.hpp"
@@ -74,7 +73,6 @@ class SimSession {
   // What the view draws.
   const wire::sim::Welcome* welcome() const { return welcome_ ? &*welcome_ : nullptr; }
   const scenario::Scenario* scenario() const { return scenario_ ? &*scenario_ : nullptr; }
-  const map::RoadMap* road_map() const { return road_map_.get(); }
   /// The world's road network (common/map's one model): what drivers and views read.
   const map::odr::RoadNetwork* network() const { return network_.get(); }
   const wire::sim::StateFrame* latest() const { return latest_ ? &*latest_ : nullptr; }
@@ -110,7 +108,6 @@ class SimSession {
   wire::sim::FrameParser parser_{wire::sim::Sender::kServer};
   std::optional<wire::sim::Welcome> welcome_;
   std::optional<scenario::Scenario> scenario_;
-  std::unique_ptr<map::RoadMap> road_map_;
   std::shared_ptr<const map::odr::RoadNetwork> network_;
   std::unique_ptr<DriveMap> drive_map_;  ///< what the scripted drivers share about the map
   std::vector<VehicleSize> sizes_;       ///< of the scenario's vehicles, for Traffic

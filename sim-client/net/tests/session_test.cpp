@@ -64,7 +64,7 @@ TEST_F(SessionTest, HelloAttachControlsAndForwarding) {
 
   ASSERT_TRUE(feed(s, testing::welcome(), true));
   EXPECT_EQ(s.phase(), SimSession::Phase::kRunning);
-  ASSERT_NE(s.road_map(), nullptr);
+  ASSERT_NE(s.network(), nullptr);
   msgs = take();
   ASSERT_EQ(msgs.size(), 3u);
   for (std::uint16_t i = 0; i < 3; ++i)
