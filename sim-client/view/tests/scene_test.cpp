@@ -204,5 +204,37 @@ TEST(MapLayer, ColoursByLaneTypeAndSkipsNone) {
   }
 }
 
+TEST(SceneRenderer, ShippedMapsFromAbove) {
+  // A watcher's north-up view of each shipped map, scaled to fit: both draw, with junction
+  // asphalt, lane types other than driving, and marks.
+  const char* root = std::getenv("TESTBED_ROOT");
+  const std::filesystem::path dir =
+      std::filesystem::path(root != nullptr ? root : ".") / "scenarios" / "maps";
+  const struct {
+    const char* file;
+    double x, y, ppm;
+    const char* png;
+  } maps[] = {{"four_way_junction.xodr", 0.0, 0.0, 2.6, "four_way.png"},
+              {"motorway_merge.xodr", 700.0, 300.0, 0.3, "motorway.png"},
+              {"motorway_merge.xodr", 840.0, -15.0, 2.5, "motorway_entry.png"},
+              {"motorway_merge.xodr", 360.0, -15.0, 2.5, "motorway_exit.png"},
+              {"motorway_merge.xodr", 500.0, 10.0, 12.0, "motorway_shoulder.png"}};
+  for (const auto& m : maps) {
+    const map::odr::RoadNetwork net = map::odr::load_opendrive((dir / m.file).string());
+    auto canvas = Canvas::offscreen(640, 640);
+    ViewScene scene;
+    scene.network = &net;
+    scene.vehicles.push_back(car(m.x, m.y, 0.0f, 1001, SDL_Color{32, 160, 64, 255}, false));
+    SceneRenderer r(canvas->renderer(), 640, 640);
+    r.pixels_per_metre = m.ppm;
+    r.draw(scene);
+    testing::Image im{640, 640, canvas->read_rgba()};
+    ASSERT_EQ(write_png(png_path(m.png), 640, 640, im.rgba), "");
+    const SDL_Color asphalt = *lane_colour("driving", false);
+    EXPECT_GT(testing::count_near(im, 320, 320, 320, asphalt.r, asphalt.g, asphalt.b, 2), 2000)
+        << m.file;
+  }
+}
+
 }  // namespace
 }  // namespace tb::client
