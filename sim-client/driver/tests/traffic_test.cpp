@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <numbers>
@@ -404,6 +406,59 @@ TEST(LaneFollowTraffic, SlowsForTheCurvesOfASharedMap) {
   EXPECT_LT(slowest, 19.0) << "never slowed for a curve";
   EXPECT_LT(t.planned_lateral_accel(), 3.0 * 1.02);
   EXPECT_EQ(t.off_lane(), 0) << t.first_off_lane();
+}
+
+std::shared_ptr<const odr::RoadNetwork> shipped_map(const char* name) {
+  const char* root = std::getenv("TESTBED_ROOT");
+  const std::filesystem::path dir =
+      std::filesystem::path(root != nullptr ? root : ".") / "scenarios" / "maps";
+  return std::make_shared<const odr::RoadNetwork>(odr::load_opendrive((dir / name).string()));
+}
+
+TEST(LaneFollowTraffic, RandomRoutesRoundTheShippedFourWayJunction) {
+  // A closed network: random routes never end. Ten cars, two minutes.
+  Traffic t(shipped_map("four_way_junction.xodr"));
+  int n = 0;
+  for (const char* road : {"1", "2", "3", "4", "10", "11"}) {
+    for (int lane : {-1, 1}) {
+      if (n++ >= 10)
+        break;
+      const odr::Road& r =
+          t.map().network().roads[static_cast<std::size_t>(t.map().network().road_index(road))];
+      t.add(road, lane, r.length / 2, 8.0, lane_follow(12.0), 7);
+    }
+  }
+  t.run(120.0);
+  EXPECT_EQ(t.collisions(), 0) << t.first_collision();
+  EXPECT_EQ(t.off_lane(), 0) << t.first_off_lane();
+  EXPECT_TRUE(t.saw(SpeedLimit::kJunction));
+  EXPECT_LT(t.planned_lateral_accel(), 3.0 * 1.02);
+  // Still driving: no dead ends, no gridlock.
+  int moving = 0;
+  for (std::size_t i = 0; i < t.size(); ++i)
+    moving += t.car(i).speed() > 1.0;
+  EXPECT_GE(moving, 5);
+}
+
+TEST(LaneFollowTraffic, MotorwayTrafficLeavesAndMergesBack) {
+  // The shipped motorway: eastbound cars in both lanes at 25 m/s, random routes take some off
+  // at the exit; they come back along the ramp into the acceleration lane and merge.
+  Traffic t(shipped_map("motorway_merge.xodr"));
+  const double s_left[] = {20.0, 80.0, 140.0, 200.0};
+  for (int i = 0; i < 4; ++i)
+    t.add("1", i % 2 == 0 ? -1 : -2, s_left[i], 20.0, lane_follow(25.0), 3);
+  t.add("5", 1, 300.0, 20.0, lane_follow(25.0), 3);  // westbound
+  t.add("7", -1, 50.0, 15.0, lane_follow(20.0), 3);  // on the ramp
+  t.run(150.0);
+  EXPECT_EQ(t.collisions(), 0) << t.first_collision();
+  EXPECT_EQ(t.off_lane(), 0) << t.first_off_lane();
+  EXPECT_LT(t.planned_lateral_accel(), 3.0 * 1.02);
+  std::size_t merged = 0;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    merged += t.roads(i).count("202") > 0 && t.roads(i).count("3") > 0;
+    EXPECT_GT(t.car(i).speed(), 5.0) << "car " << i << " stuck";
+  }
+  EXPECT_GE(merged, 1u);
 }
 
 }  // namespace
