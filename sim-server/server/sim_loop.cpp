@@ -16,10 +16,15 @@ SimLoop::SimLoop(clock::Runtime& runtime, physics::World& world, Hub* hub, Optio
       options_(options),
       post_(std::move(post)),
       on_finished_(std::move(on_finished)),
-      step_(std::chrono::nanoseconds(std::llround(world.step_s() * 1e9))) {}
+      step_(std::chrono::nanoseconds(std::llround(world.step_s() * 1e9))) {
+  if (hub_ != nullptr && options_.fast)
+    hub_->on_drivers_answered([this] { drivers_answered(); });
+}
 
 SimLoop::~SimLoop() {
   *alive_ = false;
+  if (hub_ != nullptr && options_.fast)
+    hub_->on_drivers_answered({});
   stop();
 }
 
@@ -44,10 +49,22 @@ void SimLoop::schedule_next() {
   if (!running_)
     return;
   if (options_.fast) {
-    post_([this, alive = std::weak_ptr<bool>(alive_)] {
-      if (alive.lock() && running_)
+    if (hub_ != nullptr && !hub_->drivers_answered()) {
+      // Lockstep: the drivers' controls for the state just sent go into the next step.
+      waiting_ = true;
+      // Past the driver timeout, so that the step that follows brakes the silent driver's car
+      // and later steps do not wait for it.
+      timer_ = rt_.schedule_at(rt_.steady_now() + Hub::kDriverTimeout + kWaitMargin, [this] {
+        timer_.reset();
+        if (!waiting_)
+          return;
+        waiting_ = false;
+        ++waits_;
         step();
-    });
+      });
+      return;
+    }
+    post_step();
     return;
   }
   ++scheduled_;
@@ -67,6 +84,24 @@ void SimLoop::schedule_next() {
       ++late_steps_;
     step();
   });
+}
+
+void SimLoop::post_step() {
+  post_([this, alive = std::weak_ptr<bool>(alive_)] {
+    if (alive.lock() && running_)
+      step();
+  });
+}
+
+void SimLoop::drivers_answered() {
+  if (!waiting_ || !running_)
+    return;
+  waiting_ = false;
+  if (timer_) {
+    rt_.cancel(*timer_);
+    timer_.reset();
+  }
+  post_step();
 }
 
 void SimLoop::step() {

@@ -21,7 +21,9 @@ namespace tb::server {
 class SimLoop {
  public:
   struct Options {
-    bool fast = false;                 ///< as fast as possible instead of real time
+    /// As fast as possible instead of real time; each step waits (at most the driver timeout of
+    /// real time) until every driver has answered the previous State frame (Hub lockstep).
+    bool fast = false;
     std::optional<double> duration_s;  ///< stop after this much sim time
   };
   /// Runs @p fn soon, after pending I/O (asio::post in the program). Fast mode uses it, since
@@ -29,6 +31,8 @@ class SimLoop {
   using Post = std::function<void(std::function<void()>)>;
 
   static constexpr std::chrono::seconds kMaxLag{1};
+  /// Fast mode waits for a silent driver this much longer than the driver timeout.
+  static constexpr std::chrono::milliseconds kWaitMargin{10};
 
   SimLoop(clock::Runtime& runtime, physics::World& world, Hub* hub, Options options, Post post,
           std::function<void()> on_finished = {});
@@ -40,10 +44,14 @@ class SimLoop {
   /// Steps that started later than their scheduled instant by more than one step.
   std::uint64_t late_steps() const { return late_steps_; }
   std::uint64_t resyncs() const { return resyncs_; }
+  /// Fast mode: steps that gave up waiting for a driver's controls.
+  std::uint64_t driver_waits_timed_out() const { return waits_; }
 
  private:
   void step();
   void schedule_next();
+  void post_step();
+  void drivers_answered();
 
   clock::Runtime& rt_;
   physics::World& world_;
@@ -57,6 +65,8 @@ class SimLoop {
   std::uint64_t late_steps_ = 0;
   std::uint64_t resyncs_ = 0;
   bool running_ = false;
+  bool waiting_ = false;  ///< fast mode: a step waits for the drivers' controls
+  std::uint64_t waits_ = 0;
   std::optional<clock::TimerId> timer_;
   std::shared_ptr<bool> alive_ = std::make_shared<bool>(true);
 };
