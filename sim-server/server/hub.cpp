@@ -113,8 +113,8 @@ void Hub::handle(ClientId id, Client& c, const sim::ClientMessage& m) {
     world_.set_controls(in->vehicle, controls, in->lights);
     const bool waited = slot.answered < frames_;
     slot.answered = frames_;
-    if (waited && answered_ && drivers_answered())
-      answered_();
+    if (waited && changed_ && drivers_answered())
+      changed_();
   } else if (const auto* d = std::get_if<sim::Detach>(&m)) {
     c.conversation.on_released(d->vehicle);
     release(d->vehicle, fmt::format("detached by {}", label(c)));
@@ -153,6 +153,8 @@ void Hub::attach(ClientId id, Client& c, const sim::Attach& a) {
   c.link->send(share(sim::encode(res)));
   if (changed)
     broadcast(share(sim::encode(sim::DriverChanged{a.vehicle, c.name})));
+  if (changed_)
+    changed_();
 }
 
 void Hub::release(std::size_t vehicle, std::string_view why) {
@@ -221,6 +223,16 @@ void Hub::after_step() {
   broadcast(share(sim::encode_state(world_.tick(), world_.sim_time_ns(),
                                     states.empty() ? 0 : states.front().step_wall_ns, states,
                                     clock::to_unix_ns(clock_.wall_now()))));
+}
+
+bool Hub::scripts_attached() const {
+  for (std::size_t v = 0; v < vehicles_.size(); ++v) {
+    if (vehicles_[v].driver == 0 &&
+        !std::holds_alternative<scenario::HumanDriver>(scenario_.vehicles[v].driver)) {
+      return false;
+    }
+  }
+  return true;
 }
 
 bool Hub::drivers_answered() const {

@@ -78,8 +78,11 @@ class Hub {
   /// Controls (a vehicle braked by the watchdog is not waited for). Fast mode steps only then,
   /// so that scripted drivers see every state as they do in real time.
   bool drivers_answered() const;
-  /// Called when the last outstanding driver answers the latest State frame.
-  void on_drivers_answered(std::function<void()> f) { answered_ = std::move(f); }
+  /// Whether every vehicle the scenario gives a script (timeline, lane_follow) has a driver:
+  /// fast mode starts stepping once the client running the scripts has attached.
+  bool scripts_attached() const;
+  /// Called when a driver attaches, or answers the latest State frame as the last one to.
+  void on_drivers_changed(std::function<void()> f) { changed_ = std::move(f); }
   /// Sends Closing(shutdown) to everyone and closes every link.
   void shutdown(std::string_view why);
 
@@ -128,7 +131,7 @@ class Hub {
   ClientId next_id_ = 1;
   HubStats stats_;
   std::uint64_t frames_ = 0;  ///< State frames sent
-  std::function<void()> answered_;
+  std::function<void()> changed_;
 };
 
 }  // namespace tb::server

@@ -18,13 +18,13 @@ SimLoop::SimLoop(clock::Runtime& runtime, physics::World& world, Hub* hub, Optio
       on_finished_(std::move(on_finished)),
       step_(std::chrono::nanoseconds(std::llround(world.step_s() * 1e9))) {
   if (hub_ != nullptr && options_.fast)
-    hub_->on_drivers_answered([this] { drivers_answered(); });
+    hub_->on_drivers_changed([this] { drivers_changed(); });
 }
 
 SimLoop::~SimLoop() {
   *alive_ = false;
   if (hub_ != nullptr && options_.fast)
-    hub_->on_drivers_answered({});
+    hub_->on_drivers_changed({});
   stop();
 }
 
@@ -49,17 +49,23 @@ void SimLoop::schedule_next() {
   if (!running_)
     return;
   if (options_.fast) {
-    if (hub_ != nullptr && !hub_->drivers_answered()) {
-      // Lockstep: the drivers' controls for the state just sent go into the next step.
+    if (!drivers_ready()) {
+      // Lockstep: the drivers' controls for the state just sent go into the next step. Past
+      // the driver timeout, so that the step that follows brakes a silent driver's car and
+      // later steps do not wait for it.
       waiting_ = true;
-      // Past the driver timeout, so that the step that follows brakes the silent driver's car
-      // and later steps do not wait for it.
-      timer_ = rt_.schedule_at(rt_.steady_now() + Hub::kDriverTimeout + kWaitMargin, [this] {
+      const auto wait =
+          stepped_ ? std::chrono::duration_cast<clock::Duration>(Hub::kDriverTimeout + kWaitMargin)
+                   : std::chrono::duration_cast<clock::Duration>(kStartWait);
+      timer_ = rt_.schedule_at(rt_.steady_now() + wait, [this] {
         timer_.reset();
         if (!waiting_)
           return;
         waiting_ = false;
         ++waits_;
+        if (!stepped_)
+          spdlog::warn("the scripted vehicles have no driver after {} s: starting without",
+                       kStartWait.count());
         step();
       });
       return;
@@ -93,8 +99,14 @@ void SimLoop::post_step() {
   });
 }
 
-void SimLoop::drivers_answered() {
-  if (!waiting_ || !running_)
+bool SimLoop::drivers_ready() const {
+  if (hub_ == nullptr)
+    return true;
+  return hub_->drivers_answered() && (stepped_ || hub_->scripts_attached());
+}
+
+void SimLoop::drivers_changed() {
+  if (!waiting_ || !running_ || !drivers_ready())
     return;
   waiting_ = false;
   if (timer_) {
@@ -107,6 +119,7 @@ void SimLoop::drivers_answered() {
 void SimLoop::step() {
   if (!running_)
     return;
+  stepped_ = true;
   if (hub_)
     hub_->before_step();
   auto& tracer = trace::global();

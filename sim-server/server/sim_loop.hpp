@@ -21,8 +21,9 @@ namespace tb::server {
 class SimLoop {
  public:
   struct Options {
-    /// As fast as possible instead of real time; each step waits (at most the driver timeout of
-    /// real time) until every driver has answered the previous State frame (Hub lockstep).
+    /// As fast as possible instead of real time; the first step waits (at most kStartWait)
+    /// until the scripted vehicles have drivers, each step (at most the driver timeout) until
+    /// every driver has answered the previous State frame (Hub lockstep).
     bool fast = false;
     std::optional<double> duration_s;  ///< stop after this much sim time
   };
@@ -33,6 +34,8 @@ class SimLoop {
   static constexpr std::chrono::seconds kMaxLag{1};
   /// Fast mode waits for a silent driver this much longer than the driver timeout.
   static constexpr std::chrono::milliseconds kWaitMargin{10};
+  /// Fast mode waits at most this long for the scripted vehicles' drivers before the first step.
+  static constexpr std::chrono::seconds kStartWait{10};
 
   SimLoop(clock::Runtime& runtime, physics::World& world, Hub* hub, Options options, Post post,
           std::function<void()> on_finished = {});
@@ -51,7 +54,8 @@ class SimLoop {
   void step();
   void schedule_next();
   void post_step();
-  void drivers_answered();
+  bool drivers_ready() const;
+  void drivers_changed();
 
   clock::Runtime& rt_;
   physics::World& world_;
@@ -66,6 +70,7 @@ class SimLoop {
   std::uint64_t resyncs_ = 0;
   bool running_ = false;
   bool waiting_ = false;  ///< fast mode: a step waits for the drivers' controls
+  bool stepped_ = false;  ///< fast mode: past the wait for the scripted vehicles' drivers
   std::uint64_t waits_ = 0;
   std::optional<clock::TimerId> timer_;
   std::shared_ptr<bool> alive_ = std::make_shared<bool>(true);

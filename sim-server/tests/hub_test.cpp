@@ -311,5 +311,36 @@ TEST_F(HubTest, FastLoopWaitsForEveryDriversControls) {
   EXPECT_EQ(world.tick(), 1004u);
 }
 
+TEST_F(HubTest, FastLoopStartsOnceTheScriptedVehiclesHaveDrivers) {
+  // Vehicle 1 runs a script: the fast loop does not run ahead of the client that runs it.
+  scenario::Scenario scripted = sc;
+  scripted.vehicles[1].driver = scenario::TimelineDriver{{{0.0, 0.5}}};
+  Hub h(world, scripted, "{}", rt);
+  std::deque<std::function<void()>> posted;
+  SimLoop loop(rt, world, &h, {.fast = true, .duration_s = 1.0},
+               [&](std::function<void()> f) { posted.push_back(std::move(f)); });
+  loop.start();
+  EXPECT_TRUE(posted.empty());
+  FakeLink a;
+  const auto id = h.connect(a, "test:scripts");
+  h.receive(id, sim::encode(sim::Hello{"scripts"}));
+  h.receive(id, sim::encode(sim::Attach{sim::Role::kDriver, 1}));
+  ASSERT_EQ(posted.size(), 1u) << "did not start when the script's driver attached";
+  posted.front()();
+  EXPECT_EQ(world.tick(), 1u);
+
+  // Nobody comes: it starts without them after kStartWait.
+  Hub alone(world, scripted, "{}", rt);
+  SimLoop late(rt, world, &alone, {.fast = true, .duration_s = 2.0},
+               [&](std::function<void()> f) { posted.push_back(std::move(f)); });
+  posted.clear();
+  late.start();
+  rt.advance(SimLoop::kStartWait - 1ms);
+  EXPECT_EQ(world.tick(), 1u);
+  rt.advance(2ms);
+  EXPECT_EQ(world.tick(), 2u);
+  EXPECT_EQ(late.driver_waits_timed_out(), 1u);
+}
+
 }  // namespace
 }  // namespace tb::server
