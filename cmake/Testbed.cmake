@@ -6,6 +6,10 @@ get_filename_component(TESTBED_ROOT ${CMAKE_CURRENT_LIST_DIR}/.. ABSOLUTE)
 # tests in place rather than copied into the project.
 set(TESTBED_INTEROP_DIR ${TESTBED_ROOT}/../shared/interop
     CACHE PATH "Folder of the captures from other ETSI stacks (shared/interop)")
+# The OpenDRIVE test maps (shared/data/opendrive), read in place by tests and benchmarks; tests
+# get it as TESTBED_OPENDRIVE_DIR (a git worktree lies elsewhere than a clone).
+set(TESTBED_OPENDRIVE_DIR ${TESTBED_ROOT}/../shared/data/opendrive
+    CACHE PATH "Folder of the shared OpenDRIVE test maps (shared/data/opendrive)")
 
 add_library(testbed_options INTERFACE)
 add_custom_target(fuzzers)  # `cmake --build DIR --target fuzzers` builds every fuzz target
@@ -65,7 +69,7 @@ function(testbed_gtest name)
   gtest_discover_tests(${name}
     WORKING_DIRECTORY ${TESTBED_ROOT}
     PROPERTIES LABELS "${ARG_LABELS}" TIMEOUT ${ARG_TIMEOUT}
-               ENVIRONMENT "TESTBED_BIN=${CMAKE_BINARY_DIR}/bin;TESTBED_ROOT=${TESTBED_ROOT}"
+               ENVIRONMENT "TESTBED_BIN=${CMAKE_BINARY_DIR}/bin;TESTBED_ROOT=${TESTBED_ROOT};TESTBED_OPENDRIVE_DIR=${TESTBED_OPENDRIVE_DIR}"
     DISCOVERY_TIMEOUT 60)
 endfunction()
 

@@ -48,6 +48,10 @@ Geodetic LocalFrame::to_geodetic(const Enu& p) const {
   return tb::geodesy::to_geodetic(e);
 }
 
+double LocalFrame::heading_deg(const Enu& /*p*/, double yaw_rad) const {
+  return yaw_to_heading_deg(yaw_rad);
+}
+
 double wrap_360(double deg) {
   double w = std::fmod(deg, 360.0);
   if (w < 0.0)

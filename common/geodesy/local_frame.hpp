@@ -6,24 +6,23 @@
 /// ellipsoidal ENU transformation (not a flat-earth approximation), so round trips and distances
 /// stay far inside the 1 cm budget within 20 km of the origin.
 
+#include "common/geodesy/georeferencing.hpp"
 #include "common/geodesy/wgs84.hpp"
 
 namespace tb::geodesy {
 
-struct Enu {
-  double east = 0.0;
-  double north = 0.0;
-  double up = 0.0;
-};
-
-class LocalFrame {
+class LocalFrame final : public Georeferencing {
  public:
   /// @throws std::invalid_argument if the origin is not a valid geodetic position.
   explicit LocalFrame(const Geodetic& origin);
 
   const Geodetic& origin() const { return origin_; }
-  Geodetic to_geodetic(const Enu& p) const;
+  Geodetic to_geodetic(const Enu& p) const override;
   Enu to_enu(const Geodetic& g) const;
+  Enu to_local(const Geodetic& g) const override { return to_enu(g); }
+  /// The frame's north is true north at the origin; the testbed neglects the few hundredths of
+  /// a degree by which it turns away within its 20 km (as it always has).
+  double heading_deg(const Enu& p, double yaw_rad) const override;
 
  private:
   Geodetic origin_;

@@ -103,6 +103,8 @@ odr::RoadNetwork generate_network(const scenario::MapSpec& spec) {
           spec));
       break;
     }
+    case scenario::MapType::kOpenDrive:
+      throw std::invalid_argument("an OpenDRIVE map is not a built-in layout");
   }
   double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
   for (const odr::Road& r : net.roads) {

@@ -7,15 +7,9 @@
 #include <string>
 
 #include "common/map/opendrive/queries.hpp"
-#include "common/scenario/scenario.hpp"
+#include "common/map/scenario_map.hpp"
 
 namespace tb::map {
-
-/// Where the local frame's geographic origin comes from.
-struct OriginSource {
-  std::string source;  ///< "geoReference", "scenario origin", or "none"
-  std::optional<geodesy::Geodetic> origin;
-};
 
 /// Roads, junctions, connecting roads, metres of lane by type, bounding box, geoReference and
 /// origin source, warnings and skipped signals/objects.

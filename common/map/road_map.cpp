@@ -134,6 +134,8 @@ RoadMap::RoadMap(const scenario::MapSpec& spec) : spec_(spec) {
       roads_.push_back(
           make_road(1, Segment{{0.0, -spec.arm_length}, {0.0, 1.0}, 2 * spec.arm_length}, spec));
       break;
+    case scenario::MapType::kOpenDrive:
+      throw std::invalid_argument("an OpenDRIVE map is not a built-in layout");
   }
 }
 

@@ -9,9 +9,6 @@
 
 #include <fmt/format.h>
 
-#include "common/geodesy/local_frame.hpp"
-#include "common/map/road_map.hpp"
-
 namespace tb::map {
 namespace {
 
@@ -63,22 +60,20 @@ std::optional<LaneStart> lane_start(const odr::RoadNetwork& net, const odr::Lane
   return best;
 }
 
-std::optional<LaneStart> vehicle_start(const scenario::Vehicle& v, const scenario::MapSpec& map,
-                                       const odr::RoadNetwork& net,
-                                       const odr::LaneLocator& locator) {
-  double x = 0.0, y = 0.0, yaw = 0.0;
-  if (const auto* l = std::get_if<scenario::LaneSpawn>(&v.spawn.where)) {
-    const Pose p = RoadMap(map).lane_pose(l->road, l->lane, l->s);
-    x = p.p.x;
-    y = p.p.y;
-    yaw = l->against ? p.yaw + std::numbers::pi : p.yaw;
-  } else {
-    const auto& p = std::get<scenario::PoseSpawn>(v.spawn.where);
-    x = p.x;
-    y = p.y;
-    yaw = geodesy::heading_deg_to_yaw(p.heading_deg);
-  }
-  return lane_start(net, locator, x, y, yaw);
+std::optional<LaneStart> vehicle_start(const scenario::Vehicle& v, const ScenarioMap& map) {
+  const auto on_lane = [&](const scenario::RoadSpawn& r) -> std::optional<LaneStart> {
+    const int road = map.network().road_index(r.road);
+    if (road < 0)
+      return std::nullopt;
+    return LaneStart{road, r.lane, r.s, r.against};
+  };
+  if (const auto* r = std::get_if<scenario::RoadSpawn>(&v.spawn.where))
+    return on_lane(*r);
+  if (const auto* l = std::get_if<scenario::LaneSpawn>(&v.spawn.where))
+    return on_lane(map.network_spawn(*l));
+  // A pose: where the map places it (its heading turned into the map's frame).
+  const Placement p = map.place(v.spawn);
+  return lane_start(map.network(), map.locator(), p.x, p.y, p.yaw);
 }
 
 RoutePlan::RoutePlan(const odr::RoadNetwork& net, const odr::LaneGraph& graph,

@@ -13,6 +13,7 @@
 
 #include "common/map/opendrive/lane_graph.hpp"
 #include "common/map/opendrive/queries.hpp"
+#include "common/map/scenario_map.hpp"
 #include "common/scenario/scenario.hpp"
 
 namespace tb::map {
@@ -33,12 +34,10 @@ struct LaneStart {
 std::optional<LaneStart> lane_start(const odr::RoadNetwork& net, const odr::LaneLocator& locator,
                                     double x, double y, double yaw);
 
-/// Where a vehicle of the scenario starts: lane_start() at its spawn pose (a lane spawn of a
-/// built-in layout placed as the built-in model places it, facing against the lane when it
-/// says so). Empty when the spawn is on no drivable lane.
-std::optional<LaneStart> vehicle_start(const scenario::Vehicle& vehicle,
-                                       const scenario::MapSpec& map, const odr::RoadNetwork& net,
-                                       const odr::LaneLocator& locator);
+/// Where a vehicle of the scenario starts: the lane of its lane spawn (OpenDRIVE ids, or a
+/// built-in layout's lane in the generated network's terms), or lane_start() at its pose spawn.
+/// Empty when the spawn is on no drivable lane.
+std::optional<LaneStart> vehicle_start(const scenario::Vehicle& vehicle, const ScenarioMap& map);
 
 /// A route the network cannot give. field() is the JSON pointer below the driver object
 /// (`route/2`, `to/road`, `to`), so that the loader can name the scenario field.

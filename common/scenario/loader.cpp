@@ -11,8 +11,9 @@
 
 #include "common/geodesy/local_frame.hpp"
 #include "common/map/builtin_network.hpp"
-#include "common/map/road_map.hpp"
+#include "common/map/opendrive/reader.hpp"
 #include "common/map/route_plan.hpp"
+#include "common/map/scenario_map.hpp"
 #include "common/scenario/json_reader.hpp"
 
 namespace tb::scenario {
@@ -33,6 +34,9 @@ constexpr int kMaxVehicles = 5000;
 constexpr double kMaxSpeed = 70.0;  // m/s, 252 km/h
 /// Fastest reversing a lane_follow profile may ask for (a car's reverse gear tops out near).
 constexpr double kMaxReverseSpeed = 15.0;  // m/s
+/// Largest |x|, |y| of a pose spawn, and of s: a map's frame spans at most this (the
+/// OpenDRIVE reader's cap on coordinates).
+constexpr double kMaxCoordinate = map::odr::kMaxCoordinate;
 
 // ---- JSON text → json, rejecting duplicate keys (nlohmann silently keeps the last) ----------
 
@@ -178,7 +182,21 @@ std::chrono::system_clock::time_point parse_utc(const Node& n) {
 MapSpec read_map(Node n) {
   n.expect_object("the map");
   MapSpec m;
-  const std::string type = n.required("type").choice({"straight", "ring", "crossing"});
+  const std::string type = n.required("type").choice({"straight", "ring", "crossing", "opendrive"});
+  if (type == "opendrive") {
+    m.type = MapType::kOpenDrive;
+    m.file = n.required("file").string();
+    if (m.file.empty())
+      n.required("file").fail("the OpenDRIVE file name must not be empty");
+    const std::string why = "only for the built-in layouts (straight, ring, crossing)";
+    n.finish({{"lanes", why},
+              {"oncoming_lanes", why},
+              {"lane_width", why},
+              {"length", why},
+              {"radius", why},
+              {"arm_length", why}});
+    return m;
+  }
   m.type = type == "ring"       ? MapType::kRing
            : type == "crossing" ? MapType::kCrossing
                                 : MapType::kStraight;
@@ -191,12 +209,13 @@ MapSpec read_map(Node n) {
   } else {
     m.oncoming_lanes = default_oncoming;
   }
-  std::vector<std::pair<std::string, std::string>> why_not;
+  std::vector<std::pair<std::string, std::string>> why_not{
+      {"file", "only for map type \"opendrive\""}};
   switch (m.type) {
     case MapType::kStraight:
       m.length = n.number_or("length", 1000.0, 10.0, 100000.0);
-      why_not = {{"radius", "only for map type \"ring\""},
-                 {"arm_length", "only for map type \"crossing\""}};
+      why_not.insert(why_not.end(), {{"radius", "only for map type \"ring\""},
+                                     {"arm_length", "only for map type \"crossing\""}});
       break;
     case MapType::kRing: {
       const double half_width = m.lanes * m.lane_width / 2.0;
@@ -206,14 +225,16 @@ MapSpec read_map(Node n) {
       } else {
         m.radius = std::max(150.0, min_radius);
       }
-      why_not = {{"length", "only for map type \"straight\""},
-                 {"arm_length", "only for map type \"crossing\""}};
+      why_not.insert(why_not.end(), {{"length", "only for map type \"straight\""},
+                                     {"arm_length", "only for map type \"crossing\""}});
       break;
     }
     case MapType::kCrossing:
       m.arm_length = n.number_or("arm_length", 300.0, 10.0, 10000.0);
-      why_not = {{"length", "only for map type \"straight\""},
-                 {"radius", "only for map type \"ring\""}};
+      why_not.insert(why_not.end(), {{"length", "only for map type \"straight\""},
+                                     {"radius", "only for map type \"ring\""}});
+      break;
+    case MapType::kOpenDrive:
       break;
   }
   n.finish(why_not);
@@ -407,38 +428,92 @@ VehicleModel read_model(Node n) {
   return m;
 }
 
-Spawn read_spawn(Node n, const map::RoadMap& road_map) {
+/// What spawns are checked against: the scenario's map, and how messages name it.
+struct MapContext {
+  const MapSpec& spec;
+  const map::ScenarioMap& map;
+  std::string name;  ///< the OpenDRIVE file as the scenario names it, or "the built-in map"
+};
+
+bool on_drivable_lane(const map::ScenarioMap& m, double x, double y) {
+  const auto at = m.locator().locate(x, y);
+  if (!at)
+    return false;
+  const auto& road = m.network().roads[static_cast<std::size_t>(at->ref.road)];
+  const auto* lane = road.sections[at->section].lane(at->ref.lane);
+  return lane != nullptr && lane->drivable;
+}
+
+RoadSpawn read_road_spawn(Node& n, const MapContext& m) {
+  RoadSpawn r;
+  Node road = n.required("road");
+  // OpenDRIVE ids are strings; "road": 12 is read as "12".
+  r.road = road.json().is_number_integer() ? road.json().dump() : road.string();
+  const int index = m.map.network().road_index(r.road);
+  if (index < 0)
+    road.fail(fmt::format("road \"{}\" does not exist in {}", r.road, m.name));
+  const auto& rd = m.map.network().roads[static_cast<std::size_t>(index)];
+  Node lane = n.required("lane");
+  r.lane = static_cast<int>(lane.integer(-1000, 1000));
+  if (r.lane == 0)
+    lane.fail(
+        "lane 0 is the centre line, not a lane: right lanes are -1, -2, ..., left lanes 1, 2, ...");
+  Node s = n.required("s");
+  r.s = s.number(0.0, kMaxCoordinate);
+  if (r.s > rd.length) {
+    s.fail(fmt::format("s {} is past the end of road \"{}\" (length {:.3f} m) in {}", r.s, r.road,
+                       rd.length, m.name));
+  }
+  r.offset = n.number_or("offset", 0.0, -10.0, 10.0);
+  if (auto d = n.optional("direction"))
+    r.against = d->choice({"with", "against"}) == "against";
+  n.finish();
+  try {
+    m.map.place(r);
+  } catch (const map::odr::MapError& e) {
+    // The lane is missing at s, or not drivable there (its type, or too narrow).
+    lane.fail(e.what());
+  }
+  return r;
+}
+
+Spawn read_spawn(Node n, const MapContext& m) {
   n.expect_object("the spawn point");
   Spawn s;
   s.speed = n.number_or("speed", 0.0, 0.0, kMaxSpeed);
   const bool by_pose = n.has("x") || n.has("y") || n.has("heading_deg");
   if (by_pose) {
     PoseSpawn p;
-    p.x = n.required("x").number(-1e6, 1e6);
-    p.y = n.required("y").number(-1e6, 1e6);
+    p.x = n.required("x").number(-kMaxCoordinate, kMaxCoordinate);
+    p.y = n.required("y").number(-kMaxCoordinate, kMaxCoordinate);
     p.heading_deg = n.required("heading_deg").number(0.0, 360.0);
     const std::string why =
-        "give either a lane (lane, s, road, direction) or a pose (x, y, "
-        "heading_deg), not both";
-    n.finish({{"lane", why}, {"s", why}, {"road", why}, {"direction", why}});
-    if (!road_map.on_road({p.x, p.y})) {
-      n.fail(fmt::format("spawn point ({}, {}) is off the road", p.x, p.y));
+        "give either a lane (road, lane, s, ...) or a pose (x, y, heading_deg), not both";
+    n.finish({{"lane", why}, {"s", why}, {"road", why}, {"direction", why}, {"offset", why}});
+    if (!on_drivable_lane(m.map, p.x, p.y)) {
+      n.fail(fmt::format("spawn point ({}, {}) is off the road (on no drivable lane of {})", p.x,
+                         p.y, m.name));
     }
     s.where = p;
     return s;
   }
+  if (m.spec.type == MapType::kOpenDrive) {
+    s.where = read_road_spawn(n, m);
+    return s;
+  }
   LaneSpawn l;
-  const int roads = static_cast<int>(road_map.roads().size());
+  const int roads = m.spec.type == MapType::kCrossing ? 2 : 1;
   if (auto r = n.optional("road"))
     l.road = static_cast<int>(r->integer(0, roads - 1));
-  const int lanes = static_cast<int>(road_map.roads()[l.road].lanes.size());
-  l.lane = static_cast<int>(n.required("lane").integer(0, lanes - 1));
-  const map::Lane& lane = road_map.lane(l.road, l.lane);
-  const double len = map::length(lane.centre);
-  l.s = n.required("s").number(0.0, map::is_closed(lane.centre) ? 1e6 : len);
+  l.lane = static_cast<int>(n.required("lane").integer(0, m.spec.lanes - 1));
+  // Rings are closed: s wraps. Open roads: the lane's length.
+  const double len = m.spec.type == MapType::kRing       ? 1e6
+                     : m.spec.type == MapType::kCrossing ? 2.0 * m.spec.arm_length
+                                                         : m.spec.length;
+  l.s = n.required("s").number(0.0, len);
   if (auto d = n.optional("direction"))
     l.against = d->choice({"with", "against"}) == "against";
-  n.finish();
+  n.finish({{"offset", "only on OpenDRIVE maps (the built-in lanes take lane and s)"}});
   s.where = l;
   return s;
 }
@@ -446,9 +521,12 @@ Spawn read_spawn(Node n, const map::RoadMap& road_map) {
 // Whether two vehicles' footprints (rectangles of length × width centred on their poses)
 // overlap: separating-axis test over the four edge directions. Cars abreast in adjacent lanes,
 // or nose to tail with a gap, do not; a centre-distance test refused the first.
-bool footprints_overlap(const map::Pose& a, const VehicleModel& ma, const map::Pose& b,
+bool footprints_overlap(const map::Placement& a, const VehicleModel& ma, const map::Placement& b,
                         const VehicleModel& mb) {
-  const double dx = b.p.x - a.p.x, dy = b.p.y - a.p.y;
+  // Vehicles on different levels (a bridge over a road) do not meet.
+  if (std::abs(a.z - b.z) > 3.0)
+    return false;
+  const double dx = b.x - a.x, dy = b.y - a.y;
   const double ca = std::cos(a.yaw), sa = std::sin(a.yaw);
   const double cb = std::cos(b.yaw), sb = std::sin(b.yaw);
   // Each axis: unit vector (ux, uy); the half extent of a rectangle on it is the sum of its
@@ -463,15 +541,6 @@ bool footprints_overlap(const map::Pose& a, const VehicleModel& ma, const map::P
       return false;
   }
   return true;
-}
-
-// Where a spawn puts the vehicle, to check that vehicles do not overlap.
-map::Pose spawn_pose(const Spawn& s, const map::RoadMap& road_map) {
-  if (const auto* p = std::get_if<PoseSpawn>(&s.where)) {
-    return {{p->x, p->y}, geodesy::heading_deg_to_yaw(p->heading_deg)};
-  }
-  const auto& l = std::get<LaneSpawn>(s.where);
-  return road_map.lane_pose(l.road, l.lane, l.s);
 }
 
 // OpenDRIVE road ids are strings; an integer is taken as its decimal text.
@@ -581,7 +650,7 @@ Driver read_driver(Node n) {
   return f;
 }
 
-Vehicle read_vehicle(Node n, const map::RoadMap& road_map) {
+Vehicle read_vehicle(Node n, const MapContext& m) {
   n.expect_object("a vehicle");
   Vehicle v;
   v.id = n.required("id").string();
@@ -603,14 +672,25 @@ Vehicle read_vehicle(Node n, const map::RoadMap& road_map) {
   }
   if (auto m = n.optional("model"))
     v.model = read_model(*m);
-  v.spawn = read_spawn(n.required("spawn"), road_map);
+  v.spawn = read_spawn(n.required("spawn"), m);
   v.driver = n.optional("driver") ? read_driver(n.required("driver")) : Driver{HumanDriver{}};
   if (auto st = n.optional("station")) {
-    st->expect_object("a station (\"command\": the program and its arguments)");
-    for (const Node& a : st->required("command").array(1, 256)) {
-      v.station_command.push_back(a.string());
-      if (v.station_command.size() == 1 && v.station_command[0].empty())
-        a.fail("the program to run must not be empty");
+    st->expect_object(
+        "a station (\"command\": the program and its arguments, \"pki\": a test PKI's name)");
+    if (auto cmd = st->optional("command")) {
+      for (const Node& a : cmd->array(1, 256)) {
+        v.station_command.push_back(a.string());
+        if (v.station_command.size() == 1 && v.station_command[0].empty())
+          a.fail("the program to run must not be empty");
+      }
+    }
+    if (auto pki = st->optional("pki")) {
+      v.station_pki = pki->string();
+      if (v.station_pki.empty() || v.station_pki.size() > 64 ||
+          v.station_pki.find_first_not_of(
+              "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-") !=
+              std::string::npos)
+        pki->fail("PKI name \"" + v.station_pki + "\" must be 1 to 64 letters, digits, '_' or '-'");
     }
     st->finish();
   }
@@ -620,28 +700,21 @@ Vehicle read_vehicle(Node n, const map::RoadMap& road_map) {
 
 // Every route must be drivable from its vehicle's spawn lane: the plan is made as the driver
 // will make it, and its errors name the driver's field.
-void check_routes(const Scenario& s, const std::vector<Node>& nodes) {
-  std::optional<map::odr::RoadNetwork> net;
-  std::optional<map::odr::LaneGraph> graph;
-  std::optional<map::odr::LaneLocator> locator;
+void check_routes(const Scenario& s, const map::ScenarioMap& m, const std::vector<Node>& nodes) {
   for (std::size_t i = 0; i < s.vehicles.size(); ++i) {
     const Vehicle& v = s.vehicles[i];
     const auto* f = std::get_if<LaneFollowDriver>(&v.driver);
     if (f == nullptr || f->route.kind == DriveRoute::Kind::kLane)
       continue;
-    if (!net) {
-      net.emplace(map::generate_network(s.map));
-      graph.emplace(*net);
-      locator.emplace(*net);
-    }
     const std::string driver = nodes[i].path() + "/driver";
-    const auto start = map::vehicle_start(v, s.map, *net, *locator);
+    const auto start = map::vehicle_start(v, m);
     if (!start) {
       throw ScenarioError(s.source, nodes[i].path() + "/spawn",
                           "a vehicle with a route must spawn on a drivable lane");
     }
     try {
-      map::RoutePlan plan(*net, *graph, f->route, *start, map::vehicle_seed(s.seed, v.station_id));
+      map::RoutePlan plan(m.network(), m.graph(), f->route, *start,
+                          map::vehicle_seed(s.seed, v.station_id));
     } catch (const map::RouteError& e) {
       throw ScenarioError(s.source, e.field().empty() ? driver : driver + "/" + e.field(),
                           e.what());
@@ -649,9 +722,56 @@ void check_routes(const Scenario& s, const std::vector<Node>& nodes) {
   }
 }
 
+/// The scenario's road network: the OpenDRIVE file (or @p map_text in its place) read and
+/// checked, or the built-in layout generated.
+void load_network(Scenario& s, Node& root, const std::string& file_name,
+                  std::optional<std::string_view> map_text) {
+  if (s.map.type != MapType::kOpenDrive) {
+    s.network = std::make_shared<const map::odr::RoadNetwork>(map::generate_network(s.map));
+    return;
+  }
+  Node file = root.required("map").required("file");
+  const std::filesystem::path path =
+      (std::filesystem::path(file_name).parent_path() / s.map.file).lexically_normal();
+  std::string text;
+  if (map_text) {
+    text = *map_text;
+  } else {
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(path, ec);
+    if (ec) {
+      file.fail(fmt::format("{}: {} (looked for {})", s.map.file,
+                            std::filesystem::exists(path) ? "cannot be read" : "no such file",
+                            path.string()));
+    }
+    if (size > kMaxMapBytes) {
+      file.fail(fmt::format("{}: {} bytes, more than the {} MiB a map may have", s.map.file, size,
+                            kMaxMapBytes >> 20));
+    }
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream buf;
+    buf << in.rdbuf();
+    if (!in)
+      file.fail(fmt::format("{}: cannot be read (looked for {})", s.map.file, path.string()));
+    text = buf.str();
+  }
+  if (text.size() > kMaxMapBytes) {
+    file.fail(fmt::format("{}: {} bytes, more than the {} MiB a map may have", s.map.file,
+                          text.size(), kMaxMapBytes >> 20));
+  }
+  try {
+    s.network = std::make_shared<const map::odr::RoadNetwork>(
+        map::odr::parse_opendrive(text, map_text ? s.map.file : path.string()));
+  } catch (const map::odr::MapError& e) {
+    file.fail(e.what());
+  }
+  s.map_text = std::make_shared<const std::string>(std::move(text));
+}
+
 }  // namespace
 
-Scenario parse(std::string_view json_text, const std::string& file_name) {
+Scenario parse(std::string_view json_text, const std::string& file_name,
+               std::optional<std::string_view> map_text) {
   const json doc = parse_text(json_text, file_name);
   Node root(doc, "", file_name);
   root.expect_object("a scenario");
@@ -663,7 +783,18 @@ Scenario parse(std::string_view json_text, const std::string& file_name) {
   if (auto d = root.optional("description"))
     s.description = d->string();
   s.map = read_map(root.required("map"));
-  s.origin = read_origin(root.required("origin"));
+  load_network(s, root, file_name, map_text);
+  const bool georeferenced = !s.network->header.geo_reference.empty();
+  if (root.has("origin") || !georeferenced) {
+    if (!root.has("origin") && s.map.type == MapType::kOpenDrive) {
+      throw ScenarioError(file_name, "/origin",
+                          fmt::format("missing required field \"origin\": the map {} has no "
+                                      "geoReference, so the origin must place its (0, 0, 0) on "
+                                      "the Earth",
+                                      s.map.file));
+    }
+    s.origin = read_origin(root.required("origin"));
+  }
   s.start_time = root.optional("start_time")
                      ? parse_utc(root.required("start_time"))
                      : std::chrono::system_clock::time_point{std::chrono::seconds{1735732800}};
@@ -692,13 +823,22 @@ Scenario parse(std::string_view json_text, const std::string& file_name) {
   if (auto seed = root.optional("seed"))
     s.seed = static_cast<std::uint64_t>(seed->integer(0, (1LL << 53) - 1));
 
-  const map::RoadMap road_map(s.map);
+  std::unique_ptr<map::ScenarioMap> scenario_map;
+  try {
+    scenario_map = std::make_unique<map::ScenarioMap>(s);
+  } catch (const map::odr::MapError& e) {
+    // The geoReference PROJ cannot read.
+    throw ScenarioError(file_name, "/map/file", e.what());
+  }
+  const MapContext context{
+      s.map, *scenario_map,
+      s.map.type == MapType::kOpenDrive ? s.map.file : std::string("the built-in map")};
   std::unordered_map<std::string, std::size_t> ids;
   std::unordered_map<std::uint32_t, std::size_t> stations;
-  std::vector<map::Pose> poses;
+  std::vector<map::Placement> poses;
   const auto vehicles = root.required("vehicles").array(1, kMaxVehicles);
   for (std::size_t i = 0; i < vehicles.size(); ++i) {
-    Vehicle v = read_vehicle(vehicles[i], road_map);
+    Vehicle v = read_vehicle(vehicles[i], context);
     if (const auto [it, fresh] = ids.emplace(v.id, i); !fresh) {
       Node(vehicles[i].json()["id"], vehicles[i].path() + "/id", file_name)
           .fail(fmt::format("duplicate vehicle id \"{}\" (also /vehicles/{})", v.id, it->second));
@@ -708,10 +848,10 @@ Scenario parse(std::string_view json_text, const std::string& file_name) {
           .fail(
               fmt::format("duplicate station_id {} (also /vehicles/{})", v.station_id, it->second));
     }
-    const map::Pose pose = spawn_pose(v.spawn, road_map);
+    const map::Placement pose = scenario_map->place(v.spawn);
     for (std::size_t j = 0; j < poses.size(); ++j) {
       if (footprints_overlap(pose, v.model, poses[j], s.vehicles[j].model)) {
-        const double gap = std::hypot(pose.p.x - poses[j].p.x, pose.p.y - poses[j].p.y);
+        const double gap = std::hypot(pose.x - poses[j].x, pose.y - poses[j].y);
         Node(vehicles[i].json()["spawn"], vehicles[i].path() + "/spawn", file_name)
             .fail(fmt::format("vehicle \"{}\" would spawn {:.1f} m from \"{}\", its footprint "
                               "overlapping that one's",
@@ -721,7 +861,7 @@ Scenario parse(std::string_view json_text, const std::string& file_name) {
     poses.push_back(pose);
     s.vehicles.push_back(std::move(v));
   }
-  check_routes(s, vehicles);
+  check_routes(s, *scenario_map, vehicles);
   root.finish();
   return s;
 }

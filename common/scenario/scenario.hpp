@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <variant>
@@ -14,15 +15,23 @@
 
 #include "common/geodesy/wgs84.hpp"
 
+namespace tb::map::odr {
+struct RoadNetwork;
+}
+
 namespace tb::scenario {
 
 // ---------------------------------------------------------------------------------------------
-// Map: built-in road layouts (OpenDRIVE later). Geometry lives in common/map.
+// Map: an OpenDRIVE file, or a built-in road layout generated into the same model
+// (common/map/builtin_network.hpp). Geometry lives in common/map.
 
-enum class MapType { kStraight, kRing, kCrossing };
+enum class MapType { kStraight, kRing, kCrossing, kOpenDrive };
 
 struct MapSpec {
   MapType type = MapType::kStraight;
+  /// opendrive: the file as the scenario names it (relative to the scenario file).
+  std::string file = {};
+  // Built-in layouts only:
   int lanes = 2;              ///< lanes per road, counted from the right edge
   int oncoming_lanes = 1;     ///< how many of them (the leftmost) run the other way
   double lane_width = 3.5;    ///< m
@@ -87,11 +96,21 @@ struct VehicleModel {
 // ---------------------------------------------------------------------------------------------
 // Spawn: a lane and a distance along it, or an explicit pose in the local frame.
 
+/// A lane of a built-in layout (its own numbering; common/map turns it into RoadSpawn's form).
 struct LaneSpawn {
   int road = 0;  ///< crossing: 0 = east–west road, 1 = north–south road
   int lane = 0;
   double s = 0.0;        ///< distance along the lane in its direction of travel, m
   bool against = false;  ///< drive against the lane's direction (head-on cases)
+};
+
+/// A lane of the map's OpenDRIVE network: the spawn form of OpenDRIVE maps.
+struct RoadSpawn {
+  std::string road;      ///< OpenDRIVE road id
+  int lane = 0;          ///< OpenDRIVE lane id: negative right of the reference line
+  double s = 0.0;        ///< along the road's reference line (OpenDRIVE s), m
+  double offset = 0.0;   ///< left of the lane's centre (seen along s), m
+  bool against = false;  ///< face against the lane's direction of travel
 };
 
 struct PoseSpawn {
@@ -101,7 +120,7 @@ struct PoseSpawn {
 };
 
 struct Spawn {
-  std::variant<LaneSpawn, PoseSpawn> where;
+  std::variant<LaneSpawn, PoseSpawn, RoadSpawn> where;
   double speed = 0.0;  ///< initial speed, m/s
 };
 
@@ -175,6 +194,11 @@ struct Vehicle {
   /// (bring your own stack, docs/station-contract.md); empty: its-station. Placeholders such as
   /// {station_id} are the launcher's to fill.
   std::vector<std::string> station_command;
+  /// "station": {"pki": NAME}: the test PKI this station's certificates come from and whose
+  /// root it trusts, when not the scenario's (security signed): the launcher makes PKI NAME
+  /// beside the scenario's. Stations of different PKIs drop each other's packets
+  /// (untrusted_root): a foreign or misconfigured vehicle. Empty: the scenario's PKI.
+  std::string station_pki;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -238,7 +262,14 @@ struct Scenario {
   std::string description;
   std::string source;  ///< the file it was loaded from, for messages
   MapSpec map;
-  geodesy::Geodetic origin;
+  /// The road network of the map: the OpenDRIVE file read, or the built-in layout generated
+  /// (never null after loading). Shared, immutable.
+  std::shared_ptr<const map::odr::RoadNetwork> network;
+  /// opendrive: the file's text, as sim-server hands it to its clients; null for built-in maps.
+  std::shared_ptr<const std::string> map_text;
+  /// The `origin` field: where (0, 0, 0) of the local frame lies, unless the OpenDRIVE file's
+  /// geoReference says (common/map/scenario_map.hpp decides).
+  std::optional<geodesy::Geodetic> origin;
   /// UTC instant of sim time 0; GNSS fixes are stamped start_time + sim time.
   std::chrono::system_clock::time_point start_time;
   std::optional<double> duration_s;  ///< empty: run until stopped

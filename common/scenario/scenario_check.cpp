@@ -8,10 +8,10 @@
 #include <fstream>
 #include <variant>
 
-#include "common/map/builtin_network.hpp"
 #include "common/map/describe.hpp"
 #include "common/map/opendrive/reader.hpp"
 #include "common/map/opendrive/writer.hpp"
+#include "common/map/scenario_map.hpp"
 #include "common/scenario/loader.hpp"
 
 namespace {
@@ -22,28 +22,20 @@ bool is_xodr(const std::string& f) {
 
 /// The road network of a scenario or .xodr file, and where its geographic origin comes from.
 struct LoadedNetwork {
-  tb::map::odr::RoadNetwork net;
+  std::shared_ptr<const tb::map::odr::RoadNetwork> net;
   tb::map::OriginSource origin;
 };
 
 LoadedNetwork load_network(const std::string& f) {
-  LoadedNetwork out;
   if (is_xodr(f)) {
-    out.net = tb::map::odr::load_opendrive(f);
-  } else {
-    const auto s = tb::scenario::load_file(f);
-    out.net = tb::map::generate_network(s.map);
-    out.net.source = f + " (built-in map)";
-    out.origin.origin = s.origin;
+    const tb::map::ScenarioMap m(
+        std::make_shared<const tb::map::odr::RoadNetwork>(tb::map::odr::load_opendrive(f)),
+        std::nullopt);
+    return {m.shared_network(), m.origin()};
   }
-  if (!out.net.header.geo_reference.empty()) {
-    out.origin.source = "geoReference";
-  } else if (out.origin.origin) {
-    out.origin.source = "scenario origin";
-  } else {
-    out.origin.source = "none";
-  }
-  return out;
+  const auto s = tb::scenario::load_file(f);
+  const tb::map::ScenarioMap m(s);
+  return {m.shared_network(), m.origin()};
 }
 
 int summary(const std::string& f, bool quiet) {
@@ -64,7 +56,7 @@ int summary(const std::string& f, bool quiet) {
 int export_xodr(const std::string& f, const std::string& out) {
   const auto loaded = load_network(f);
   std::ofstream o(out, std::ios::binary);
-  o << tb::map::odr::write_opendrive(loaded.net);
+  o << tb::map::odr::write_opendrive(*loaded.net);
   o.close();
   if (!o) {
     std::fprintf(stderr, "error: %s: cannot write\n", out.c_str());
@@ -103,9 +95,9 @@ int main(int argc, char** argv) {
       } else if (describe || !where.empty()) {
         const auto loaded = load_network(f);
         if (describe)
-          std::printf("%s\n", tb::map::describe(loaded.net, loaded.origin).dump(2).c_str());
+          std::printf("%s\n", tb::map::describe(*loaded.net, loaded.origin).dump(2).c_str());
         if (!where.empty()) {
-          std::printf("%s\n", tb::map::where(loaded.net, where[0], where[1]).dump().c_str());
+          std::printf("%s\n", tb::map::where(*loaded.net, where[0], where[1]).dump().c_str());
         }
       } else {
         summary(f, quiet);

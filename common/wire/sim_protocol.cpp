@@ -194,6 +194,7 @@ std::size_t max_payload(Sender from, MessageType type) {
     case MessageType::kDetach:
       return kDetachSize;
     case MessageType::kWelcome:
+      return kMaxWelcomePayload;
     case MessageType::kState:
       return kMaxServerPayload;
     case MessageType::kAttachResult:
@@ -378,12 +379,15 @@ Expected<ServerMessage, ProtocolError> decode_welcome(ByteReader& r) {
     m.vehicles.push_back(std::move(v));
   }
   const std::size_t json_size = r.le<std::uint32_t>();
-  if (!r.ok())
-    return Unexpected{ProtocolError::kBadLength};
-  if (json_size > kMaxScenarioText || json_size != r.remaining())
+  if (!r.ok() || json_size > kMaxScenarioText || json_size > r.remaining())
     return Unexpected{ProtocolError::kBadLength};
   m.scenario_json.resize(json_size);
   r.read({reinterpret_cast<std::uint8_t*>(m.scenario_json.data()), json_size});
+  const std::size_t map_size = r.le<std::uint32_t>();
+  if (!r.ok() || map_size > kMaxMapText || map_size != r.remaining())
+    return Unexpected{ProtocolError::kBadLength};
+  m.map_text.resize(map_size);
+  r.read({reinterpret_cast<std::uint8_t*>(m.map_text.data()), map_size});
   return ServerMessage{std::move(m)};
 }
 
@@ -508,7 +512,8 @@ std::vector<std::uint8_t> encode(const Welcome& m) {
             7 * 4 + text_size(v.driver, kMaxNameLength);
   }
   const std::size_t json = std::min(m.scenario_json.size(), kMaxScenarioText);
-  size += 4 + json;
+  const std::size_t map = std::min(m.map_text.size(), kMaxMapText);
+  size += 4 + json + 4 + map;
   FrameWriter f(MessageType::kWelcome, size);
   f.text(m.server_name, kMaxNameLength);
   f.w().le(m.step_ns);
@@ -528,6 +533,8 @@ std::vector<std::uint8_t> encode(const Welcome& m) {
   }
   f.w().le(static_cast<std::uint32_t>(json));
   f.w().write({reinterpret_cast<const std::uint8_t*>(m.scenario_json.data()), json});
+  f.w().le(static_cast<std::uint32_t>(map));
+  f.w().write({reinterpret_cast<const std::uint8_t*>(m.map_text.data()), map});
   return f.finish();
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-/// @file The sim-server ⇄ sim-client protocol over TCP (sim-server/PROTOCOL.md), version 2.
+/// @file The sim-server ⇄ sim-client protocol over TCP (sim-server/PROTOCOL.md), version 3.
 ///
 /// Every message is one frame: an 8-byte header (magic "SP", protocol version, message type,
 /// payload length, little-endian) and a payload whose size is bounded per type. FrameParser is a
@@ -22,7 +22,8 @@
 namespace tb::wire::sim {
 
 /// 2: Controls carries the time its input was sampled (input_ns), for the latency trace's t1.
-inline constexpr std::uint8_t kProtocolVersion = 2;
+/// 3: Welcome carries the OpenDRIVE map's text, so that a client needs no map file.
+inline constexpr std::uint8_t kProtocolVersion = 3;
 inline constexpr std::uint8_t kMagic0 = 'S';
 inline constexpr std::uint8_t kMagic1 = 'P';
 inline constexpr std::size_t kHeaderSize = 8;
@@ -31,9 +32,12 @@ inline constexpr std::size_t kHeaderSize = 8;
 inline constexpr std::size_t kMaxNameLength = 64;          ///< client and driver names, bytes
 inline constexpr std::size_t kMaxTextLength = 255;         ///< ids, colours, reasons, bytes
 inline constexpr std::size_t kMaxScenarioText = 1u << 20;  ///< scenario JSON in Welcome
+inline constexpr std::size_t kMaxMapText = 32u << 20;      ///< OpenDRIVE text in Welcome
 inline constexpr std::size_t kMaxVehicles = 4096;
 inline constexpr std::size_t kMaxClientPayload = 64;        ///< any client → server message
-inline constexpr std::size_t kMaxServerPayload = 4u << 20;  ///< any server → client message
+inline constexpr std::size_t kMaxServerPayload = 4u << 20;  ///< server → client but Welcome
+/// Welcome: the vehicle list (at most ~2.3 MiB), the scenario and the map.
+inline constexpr std::size_t kMaxWelcomePayload = kMaxScenarioText + kMaxMapText + (4u << 20);
 
 enum class MessageType : std::uint8_t {
   // client → server
@@ -129,12 +133,15 @@ struct VehicleInfo {
 };
 
 /// The server's answer to Hello: what the world is. The scenario JSON is the file the server
-/// loaded, so that clients build the same tb::map::RoadMap (tb::scenario::parse + map spec).
+/// loaded and the map text the OpenDRIVE file its map names (empty for a built-in layout), so
+/// that clients build the same map without any file of their own
+/// (tb::scenario::parse(scenario_json, name, map_text)).
 struct Welcome {
   std::string server_name;
   std::int64_t step_ns = 0;  ///< physics step
   std::vector<VehicleInfo> vehicles;
   std::string scenario_json;
+  std::string map_text;
   bool operator==(const Welcome&) const = default;
 };
 

@@ -3,7 +3,8 @@
 /// batch datagram, sim-client → network-emulator, that carries the records of one physics tick.
 /// Binary, versioned, fixed-size records; layout in docs/wire.md.
 ///
-/// Frames: positions in the scenario's local ENU frame (x east, y north, z up), yaw counter-
+/// Frames: positions in the map's frame (x east, y north, z up: an OpenDRIVE map's inertial
+/// frame, or East-North-Up at the scenario's origin; common/map/scenario_map.hpp), yaw counter-
 /// clockwise from east; angular quantities in radians, positive counter-clockwise seen from
 /// above (so a left turn has positive yaw rate and positive road-wheel angle). The control
 /// input `steer` keeps the drivers' convention: positive = right, as in CARLA.

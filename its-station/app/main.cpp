@@ -4,6 +4,7 @@
 
 #include <net/if.h>
 
+#include <array>
 #include <chrono>
 #include <csignal>
 #include <fstream>
@@ -24,6 +25,7 @@
 #include "common/can/udp_can_bus.hpp"
 #include "common/clock/asio_runtime.hpp"
 #include "common/geodesy/local_frame.hpp"
+#include "common/map/scenario_map.hpp"
 #include "common/scenario/loader.hpp"
 #include "common/trace/tracer.hpp"
 #include "its-station/app/adapters.hpp"
@@ -233,6 +235,13 @@ int run(const Options& o) {
   tb::its::geonet::Router router(runtime, **link, gn_position, gn_cfg);
   std::unique_ptr<tb::its::security::SecurityEntity> security = make_security(o, scenario);
   router.set_security(security.get());
+  if (security)
+    security->set_trace_station(o.station_id);
+  if (security && !security->can_sign(tb::its::security::kPsidGnMgmt))
+    spdlog::warn(
+        "security: the AT of {} has no GN-MGMT permission (psid 141, an older "
+        "its-pki): beacons go unsigned; make the PKI again to sign them",
+        o.pki_dir);
   tb::its::btp::Dispatcher btp(router);
   tb::its::station::BtpMessageSender sender(btp);
 
@@ -248,12 +257,20 @@ int run(const Options& o) {
   position.on_fix([&](const fac::PositionFix& fix) { its_clock.on_fix(fix.time); });
   btp.register_port(fac::kBtpPortCam, [&](const tb::its::btp::Indication& ind,
                                           std::span<const std::uint8_t> payload) {
-    ca.receive(payload, its_clock.to_its(ind.gn ? ind.gn->rx_time : runtime.wall_now()));
+    // A verified CAM is checked against its signer's SSP (a permissive station's unverified
+    // ones have nothing trustworthy to check against).
+    std::optional<std::span<const std::uint8_t>> ssp;
+    if (ind.gn && ind.gn->security_report == tb::its::security::VerifyResult::kOk)
+      ssp = ind.gn->permissions;
+    ca.receive(payload, its_clock.to_its(ind.gn ? ind.gn->rx_time : runtime.wall_now()), ssp);
   });
-  btp.register_port(fac::kBtpPortDenm,
-                    [&](const tb::its::btp::Indication&, std::span<const std::uint8_t> payload) {
-                      den.receive(payload);
-                    });
+  btp.register_port(fac::kBtpPortDenm, [&](const tb::its::btp::Indication& ind,
+                                           std::span<const std::uint8_t> payload) {
+    std::optional<std::span<const std::uint8_t>> ssp;
+    if (ind.gn && ind.gn->security_report == tb::its::security::VerifyResult::kOk)
+      ssp = ind.gn->permissions;
+    den.receive(payload, ssp);
+  });
 
   // MQTT.
   std::unique_ptr<apps::mqtt::MosquittoClient> mqtt;
@@ -300,9 +317,11 @@ int run(const Options& o) {
   // LCRW: evaluated at every own fix against the LDM's neighbours, and at every CAM received
   // (a neighbour's state change must not wait up to a fix period, 100 ms, for the next own fix
   // before it can raise a warning); both states are extrapolated to the evaluation instant.
+  // LCRW computes in an East-North-Up frame; with a scenario it is anchored where the map's
+  // (0, 0, 0) lies (the map's geoReference, or the scenario's origin: common/map's ScenarioMap).
   std::optional<tb::geodesy::LocalFrame> frame;
   if (scenario)
-    frame.emplace(scenario->origin);
+    frame.emplace(*tb::map::ScenarioMap(*scenario).origin().origin);
   tb::its::station::DenPortAdapter den_port(
       den,
       std::chrono::duration_cast<tb::clock::Duration>(
@@ -393,6 +412,8 @@ int run(const Options& o) {
 
   // Status file: the LDM as the station sees it, for operators and tests.
   asio::steady_timer status_timer(io);
+  std::array<bool, static_cast<std::size_t>(tb::its::security::VerifyResult::kCount)>
+      refusals_said{};
   auto write_status = [&] {
     if (o.status_file.empty())
       return;
@@ -422,17 +443,31 @@ int run(const Options& o) {
     j["events"] = ldm.active_events().size();
     if (security) {
       // Each verification outcome by name (TS 103 097 drop reasons), and what a permissive
-      // station passed up although it failed.
+      // station passed up although it failed. A refusal the station had not seen before is
+      // also said once in the log (a station of another PKI: untrusted_root).
       nlohmann::json v;
       const auto& counts = security->verifier().counts();
-      for (std::size_t i = 0; i < counts.size(); ++i)
-        if (counts[i] != 0)
-          v[std::string(tb::its::security::to_string(
-              static_cast<tb::its::security::VerifyResult>(i)))] = counts[i];
-      j["security"] = {{"mode", tb::its::security::to_string(security->mode())},
-                       {"verify", v},
-                       {"passed_unverified", security->passed_unverified()},
-                       {"held", security->held()}};
+      for (std::size_t i = 0; i < counts.size(); ++i) {
+        if (counts[i] == 0)
+          continue;
+        const auto r = static_cast<tb::its::security::VerifyResult>(i);
+        v[std::string(tb::its::security::to_string(r))] = counts[i];
+        if (r != tb::its::security::VerifyResult::kOk &&
+            r != tb::its::security::VerifyResult::kUnknownSigner && !refusals_said[i]) {
+          refusals_said[i] = true;
+          spdlog::warn("security: dropping received packets: {}", tb::its::security::to_string(r));
+        }
+      }
+      j["security"] = {
+          {"mode", tb::its::security::to_string(security->mode())},
+          {"verify", v},
+          {"passed_unverified", security->passed_unverified()},
+          {"held", security->held()},
+          {"unsecured_dropped", router.stats().dropped(tb::its::geonet::DropReason::kUnsecured)},
+          {"cam_ssp_refused", ca.counters().not_permitted},
+          {"denm_ssp_refused", den.counters().not_permitted},
+          {"its_aid_mismatch", btp.stats().dropped(tb::its::btp::DropReason::kItsAidMismatch)},
+          {"beacons_unsigned", router.stats().beacons_unsigned}};
     }
     const std::string tmp = o.status_file + ".tmp";
     std::ofstream(tmp) << j.dump() << "\n";

@@ -10,10 +10,24 @@ std::string to_string(DropReason r) {
       return "truncated BTP header";
     case DropReason::kNoPortHandler:
       return "no handler for the destination port";
+    case DropReason::kItsAidMismatch:
+      return "signed for another service than the port's";
     case DropReason::kCount:
       break;
   }
   return "unknown";
+}
+
+std::uint64_t its_aid_of(std::uint16_t port) {
+  // TS 103 248 ports, TS 102 965 ITS-AIDs.
+  switch (port) {
+    case kPortCam:
+      return 36;
+    case kPortDenm:
+      return 37;
+    default:
+      return 0;
+  }
 }
 
 Dispatcher::Dispatcher(geonet::Router& router) : router_(router) {
@@ -46,10 +60,8 @@ geonet::DataConfirm Dispatcher::send_b(geonet::DataRequest gn, std::uint16_t des
   gn.upper_protocol = geonet::UpperProtocol::kBtpB;
   // The ITS-AID the security entity signs for: the service of the well-known port (TS 103 248
   // ports, TS 102 965 ITS-AIDs) unless the caller named one.
-  if (gn.its_aid == 0 && destination_port == kPortCam)
-    gn.its_aid = 36;
-  else if (gn.its_aid == 0 && destination_port == kPortDenm)
-    gn.its_aid = 37;
+  if (gn.its_aid == 0)
+    gn.its_aid = its_aid_of(destination_port);
   return router_.request(gn, std::span(tx_).first(w.position()));
 }
 
@@ -94,6 +106,13 @@ void Dispatcher::on_indication(const geonet::DataIndication& gn,
     ind.source_port = h->source_port;
   } else {
     drop(DropReason::kNotBtp);
+    return;
+  }
+  // A secured packet's ITS-AID must be the port's service: a CAM port payload signed for DENM
+  // (or anything else) would pass verification under permissions it does not have.
+  if (gn.security_report && its_aid_of(ind.destination_port) != 0 &&
+      gn.its_aid != its_aid_of(ind.destination_port)) {
+    drop(DropReason::kItsAidMismatch);
     return;
   }
   const auto it = handlers_.find(ind.destination_port);

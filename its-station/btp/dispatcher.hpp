@@ -30,9 +30,13 @@ enum class DropReason {
   kNotBtp,           ///< GN next header is neither BTP-A nor BTP-B
   kTruncatedHeader,  ///< fewer than 4 bytes
   kNoPortHandler,    ///< nobody listens on the destination port
+  kItsAidMismatch,   ///< a secured packet signed for another ITS-AID than the port's service
   kCount
 };
 std::string to_string(DropReason r);
+
+/// The ITS-AID (TS 102 965) of the service on a well-known port (TS 103 248), 0 for others.
+std::uint64_t its_aid_of(std::uint16_t port);
 
 struct DispatcherStats {
   std::uint64_t delivered = 0;

@@ -9,6 +9,7 @@
 #include "common/trace/tracer.hpp"
 #include "its-station/facilities/cdd_convert.hpp"
 #include "its-station/facilities/its_time.hpp"
+#include "its-station/facilities/ssp_permissions.hpp"
 
 namespace tb::its::facilities {
 
@@ -215,6 +216,8 @@ void CaService::generate(CamTrigger why, const PositionFix& fix) {
   const VehicleData* vd = vehicle_ && vehicle_->current() ? &*vehicle_->current() : nullptr;
   const auto cam = build_cam(config_, fix, vd, path ? &*path : nullptr);
 
+  // Tracing: the build ends and the encoding starts here (p3.build | p3.encode).
+  const std::int64_t encode_ns = trace::global().enabled() ? trace::Tracer::now_ns() : 0;
   std::array<std::uint8_t, messages::kCamMaxEncodedSize> buf;
   auto n = messages::encode(cam, buf);
   if (!n) {
@@ -243,12 +246,14 @@ void CaService::generate(CamTrigger why, const PositionFix& fix) {
                              {"gdt", unsigned{cam.cam.generationDeltaTime}},
                              {"bytes", *n},
                              {"lf", path.has_value()},
+                             {"encode_ns", encode_ns},
                              {"sent_ns", sent_ns}});
   for (auto& l : sent_listeners_)
     l(cam, why, fix);
 }
 
-void CaService::receive(std::span<const std::uint8_t> payload, clock::WallTime rx_time) {
+void CaService::receive(std::span<const std::uint8_t> payload, clock::WallTime rx_time,
+                        std::optional<std::span<const std::uint8_t>> ssp) {
   auto cam = messages::decode_cam(payload);
   if (!cam) {
     ++counters_.decode_errors;
@@ -258,6 +263,14 @@ void CaService::receive(std::span<const std::uint8_t> payload, clock::WallTime r
   if (cam->header.stationID == config_.station_id) {
     ++counters_.own_dropped;
     return;
+  }
+  if (ssp) {
+    if (const auto missing = cam_not_permitted(*cam, *ssp)) {
+      ++counters_.not_permitted;
+      spdlog::debug("CA service: dropped CAM of {}: its AT does not permit {}",
+                    cam->header.stationID, missing->name);
+      return;
+    }
   }
   ++counters_.received;
   trace::global().record("its.cam_rx", {{"station", config_.station_id},

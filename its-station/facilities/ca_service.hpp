@@ -42,6 +42,8 @@ class CaService {
     std::uint64_t received = 0;
     std::uint64_t decode_errors = 0;
     std::uint64_t own_dropped = 0;  ///< our own CAMs heard back
+    /// Signed CAMs whose content their signer's SSP does not permit (ssp_permissions.hpp).
+    std::uint64_t not_permitted = 0;
   };
   /// Called for each CAM handed to the network: the CAM, why, the fix it came from.
   using SentListener = std::function<void(const messages::Cam&, CamTrigger, const PositionFix&)>;
@@ -56,8 +58,10 @@ class CaService {
   void start();
   void stop();
 
-  /// A BTP-B packet for port 2001 arrived.
-  void receive(std::span<const std::uint8_t> payload, clock::WallTime rx_time);
+  /// A BTP-B packet for port 2001 arrived. @p ssp: the signer AT's CAM SSP of a CAM that came
+  /// signed and verified, checked against its content; none for an unsecured CAM.
+  void receive(std::span<const std::uint8_t> payload, clock::WallTime rx_time,
+               std::optional<std::span<const std::uint8_t>> ssp = std::nullopt);
 
   void on_sent(SentListener l) { sent_listeners_.push_back(std::move(l)); }
   const Counters& counters() const { return counters_; }

@@ -9,6 +9,7 @@
 #include "common/trace/tracer.hpp"
 #include "its-station/facilities/cdd_convert.hpp"
 #include "its-station/facilities/its_time.hpp"
+#include "its-station/facilities/ssp_permissions.hpp"
 
 namespace tb::its::facilities {
 
@@ -240,7 +241,8 @@ Expected<messages::ActionID, DenError> DenService::terminate(const messages::Act
   return id;
 }
 
-void DenService::receive(std::span<const std::uint8_t> payload) {
+void DenService::receive(std::span<const std::uint8_t> payload,
+                         std::optional<std::span<const std::uint8_t>> ssp) {
   auto denm = messages::decode_denm(payload);
   if (!denm) {
     ++counters_.decode_errors;
@@ -250,6 +252,14 @@ void DenService::receive(std::span<const std::uint8_t> payload) {
   const auto& mc = denm->denm.management;
   if (denm->header.stationID == config_.station_id)
     return;  // our own, heard back
+  if (ssp) {
+    if (const auto missing = denm_not_permitted(*denm, *ssp)) {
+      ++counters_.not_permitted;
+      spdlog::debug("DEN service: dropped DENM of {}: its AT does not permit {}",
+                    denm->header.stationID, missing->name);
+      return;
+    }
+  }
   ++counters_.received;
   // Another station negated one of our events: stop repeating it.
   if (mc.actionID.originatingStationID == config_.station_id && mc.termination) {

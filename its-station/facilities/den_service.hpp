@@ -65,6 +65,8 @@ class DenService {
     std::uint64_t received = 0;
     std::uint64_t decode_errors = 0;
     std::uint64_t dropped = 0;  ///< repetitions, outdated, expired, unknown terminations
+    /// Signed DENMs whose cause code their signer's SSP does not permit (ssp_permissions.hpp).
+    std::uint64_t not_permitted = 0;
   };
   using SentListener = std::function<void(const messages::Denm&)>;
 
@@ -83,7 +85,10 @@ class DenService {
   Expected<messages::ActionID, DenError> terminate(const messages::ActionID& id);
 
   /// A BTP-B packet for port 2002 arrived.
-  void receive(std::span<const std::uint8_t> payload);
+  /// @p ssp: the signer AT's DENM SSP of a DENM that came signed and verified, checked against
+  /// its cause code; none for an unsecured DENM.
+  void receive(std::span<const std::uint8_t> payload,
+               std::optional<std::span<const std::uint8_t>> ssp = std::nullopt);
 
   void on_sent(SentListener l) { sent_listeners_.push_back(std::move(l)); }
   const Counters& counters() const { return counters_; }

@@ -59,6 +59,8 @@ std::string to_string(DropReason r) {
       return "location table full";
     case DropReason::kSecurity:
       return "refused by security";
+    case DropReason::kUnsecured:
+      return "unsecured packet at a signing station";
     case DropReason::kCount:
       break;
   }
@@ -165,7 +167,17 @@ void Router::on_beacon_timer() {
     BasicHeader basic{kGnProtocolVersion, BasicNextHeader::kCommonHeader,
                       Lifetime::from_duration(config_.default_lifetime), 1};
     CommonHeader common{UpperProtocol::kAny, PacketType::kBeacon, {}, config_.is_mobile, 0, 1};
-    const std::size_t n = serialize(basic, common, BeaconHeader{*epv}, {}, tx_);
+    std::size_t n = serialize(basic, common, BeaconHeader{*epv}, {}, tx_);
+    // Clause 10.3.6.2 with security enabled: the beacon is a secured packet too, signed for
+    // GN-MGMT (TS 102 965 ITS-AID 141) under the generic profile of TS 103 097 7.1.3. An AT of
+    // an older test PKI lacks that permission: its beacons go unsigned (strict peers drop them).
+    if (n > 0 && security_on()) {
+      if (security_->can_sign(security::kPsidGnMgmt)) {
+        n = secure(security::kPsidGnMgmt, n, *epv);
+      } else {
+        ++stats_.beacons_unsigned;
+      }
+    }
     if (n > 0 && send_frame(link::kBroadcastMac, std::span(tx_).first(n))) {
       ++stats_.sent;
       ++stats_.beacons_sent;
@@ -232,19 +244,9 @@ DataConfirm Router::request(const DataRequest& req, std::span<const std::uint8_t
   if (n == 0)
     return DataConfirm::kMaxSduSizeExceeded;
   if (security_on()) {
-    // Clause 9.3 / TS 103 097: the basic header stays in clear, the rest goes signed.
-    std::optional<security::ThreeDLocation> where;
-    if (req.its_aid == security::kPsidDenm)
-      where = security::ThreeDLocation{epv->latitude, epv->longitude, 4096};  // 0 m: unknown
-    const security::Bytes secured =
-        security_->encapsulate(req.its_aid, std::span(tx_).subspan(4, n - 4),
-                               security::to_time64(runtime_.wall_now()), where);
-    if (4 + secured.size() > tx_.size())
+    n = secure(req.its_aid, n, *epv);
+    if (n == 0)
       return DataConfirm::kMaxSduSizeExceeded;
-    tx_[0] = static_cast<std::uint8_t>((tx_[0] & 0xf0) |
-                                       static_cast<unsigned>(BasicNextHeader::kSecuredPacket));
-    std::copy(secured.begin(), secured.end(), tx_.begin() + 4);
-    n = 4 + secured.size();
   }
   if (!send_frame(destination, std::span(tx_).first(n)))
     return DataConfirm::kLinkError;
@@ -253,6 +255,21 @@ DataConfirm Router::request(const DataRequest& req, std::span<const std::uint8_t
   if (req.transport == TransportType::kSingleHopBroadcast)
     schedule_beacon(config_.beacon_interval + jitter());
   return DataConfirm::kAccepted;
+}
+
+std::size_t Router::secure(std::uint64_t its_aid, std::size_t n, const LongPositionVector& epv) {
+  // Clause 9.3 / TS 103 097: the basic header stays in clear, the rest goes signed.
+  std::optional<security::ThreeDLocation> where;
+  if (its_aid == security::kPsidDenm)
+    where = security::ThreeDLocation{epv.latitude, epv.longitude, 4096};  // 0 m: unknown
+  const security::Bytes secured = security_->encapsulate(
+      its_aid, std::span(tx_).subspan(4, n - 4), security::to_time64(runtime_.wall_now()), where);
+  if (4 + secured.size() > tx_.size())
+    return 0;
+  tx_[0] = static_cast<std::uint8_t>((tx_[0] & 0xf0) |
+                                     static_cast<unsigned>(BasicNextHeader::kSecuredPacket));
+  std::copy(secured.begin(), secured.end(), tx_.begin() + 4);
+  return 4 + secured.size();
 }
 
 void Router::drop(DropReason reason, std::optional<ParseError> pe) {
@@ -303,16 +320,21 @@ void Router::deliver(const Packet& packet, const link::ReceivedFrame& frame,
   if (unwrapped_ != nullptr) {
     ind.security_report = unwrapped_->reason;
     ind.its_aid = unwrapped_->psid;
+    ind.permissions = unwrapped_->ssp;
   }
   indication_(ind, packet.payload);
 }
 
+std::span<const std::uint8_t> Router::as_received(const Packet& packet,
+                                                  std::span<const std::uint8_t> bytes) const {
+  if (unwrapped_ != nullptr)
+    return secured_frame_;  // the secured packet ends the frame: its decoder insists on that
+  return bytes.first(static_cast<std::size_t>(packet.payload.data() - bytes.data()) +
+                     packet.payload.size());
+}
+
 void Router::forward(const Packet& packet, std::span<const std::uint8_t> bytes,
                      const std::optional<GeoArea>& area, bool inside) {
-  if (unwrapped_ != nullptr) {
-    drop(DropReason::kSecurity);  // re-sending it would strip the signature
-    return;
-  }
   // Clause 10.3.9.3 / 10.3.11.3: decrement RHL; at 0 the packet goes no further.
   const std::uint8_t rhl = packet.basic.remaining_hop_limit - 1;
   if (rhl == 0) {
@@ -330,13 +352,12 @@ void Router::forward(const Packet& packet, std::span<const std::uint8_t> bytes,
     }
     destination = *next;
   }
-  // Forward the packet as received, headers and payload unchanged but for the RHL (byte 3 of
-  // the basic header); link padding after the payload is not copied.
-  const std::size_t length =
-      static_cast<std::size_t>(packet.payload.data() - bytes.data()) + packet.payload.size();
-  std::copy_n(bytes.begin(), length, tx_.begin());
+  // Forward the packet as received, headers and payload (or the signed part) unchanged but for
+  // the RHL (byte 3 of the basic header); link padding after the payload is not copied.
+  const auto out = as_received(packet, bytes);
+  std::copy(out.begin(), out.end(), tx_.begin());
   tx_[3] = rhl;
-  if (!send_frame(destination, std::span(tx_).first(length))) {
+  if (!send_frame(destination, std::span(tx_).first(out.size()))) {
     drop(DropReason::kForwardLinkError);
     return;
   }
@@ -345,10 +366,6 @@ void Router::forward(const Packet& packet, std::span<const std::uint8_t> bytes,
 
 void Router::contend(const Packet& packet, std::span<const std::uint8_t> bytes,
                      const link::MacAddress& sender, std::uint64_t key) {
-  if (unwrapped_ != nullptr) {
-    drop(DropReason::kSecurity);  // as in forward()
-    return;
-  }
   const std::uint8_t rhl = packet.basic.remaining_hop_limit - 1;
   if (rhl == 0) {
     drop(DropReason::kNotForwardedHopLimit);
@@ -366,10 +383,8 @@ void Router::contend(const Packet& packet, std::span<const std::uint8_t> bytes,
     timeout = config_.cbf_max_time - std::chrono::duration_cast<clock::Duration>(
                                          (config_.cbf_max_time - config_.cbf_min_time) * share);
   }
-  const std::size_t length =
-      static_cast<std::size_t>(packet.payload.data() - bytes.data()) + packet.payload.size();
-  std::vector<std::uint8_t> copy(bytes.begin(),
-                                 bytes.begin() + static_cast<std::ptrdiff_t>(length));
+  const auto out = as_received(packet, bytes);
+  std::vector<std::uint8_t> copy(out.begin(), out.end());
   copy[3] = rhl;
   const auto id = std::make_pair(key, std::get<GbcHeader>(packet.extended).sequence_number);
   const clock::TimerId timer = runtime_.schedule_in(timeout, [this, id] {
@@ -391,24 +406,51 @@ void Router::on_secured_frame(const link::ReceivedFrame& frame) {
   // The secured packet (clause 9.3): basic header, then the Ieee1609Dot2Data whose payload is
   // common header onwards. What passes verification (or a permissive station passes up) goes
   // through the ordinary receive path as basic header + that payload.
-  const auto outcomes =
-      security_->decapsulate(frame.payload.subspan(4), security::to_time64(runtime_.wall_now()));
+  const std::uint64_t ticket = ++next_ticket_;
+  const auto outcomes = security_->decapsulate(frame.payload.subspan(4),
+                                               security::to_time64(runtime_.wall_now()), ticket);
+  if (std::none_of(outcomes.begin(), outcomes.end(),
+                   [&](const auto& o) { return o.ticket == ticket; })) {
+    // Held until its signer's certificate comes: keep the frame it came in.
+    HeldFrame& h = held_frames_[ticket];
+    h.payload.assign(frame.payload.begin(), frame.payload.end());
+    h.frame = frame;
+    h.frame.payload = h.payload;
+  }
   for (const auto& o : outcomes) {
-    if (!o.pass_up) {
-      ++stats_.received;
-      drop(DropReason::kSecurity);
+    if (o.ticket == ticket) {
+      on_unwrapped(o, frame);
       continue;
     }
-    std::vector<std::uint8_t> plain(frame.payload.begin(), frame.payload.begin() + 4);
-    plain[0] = static_cast<std::uint8_t>((plain[0] & 0xf0) |
-                                         static_cast<unsigned>(BasicNextHeader::kCommonHeader));
-    plain.insert(plain.end(), o.payload.begin(), o.payload.end());
-    link::ReceivedFrame inner = frame;
-    inner.payload = plain;
-    unwrapped_ = &o;
-    on_frame(inner);
-    unwrapped_ = nullptr;
+    auto it = held_frames_.find(o.ticket);
+    if (it == held_frames_.end())
+      continue;
+    const HeldFrame held = std::move(it->second);
+    held_frames_.erase(it);
+    link::ReceivedFrame f = held.frame;
+    f.payload = held.payload;
+    on_unwrapped(o, f);
   }
+}
+
+void Router::on_unwrapped(const security::SecuredIndication& o,
+                          const link::ReceivedFrame& secured) {
+  if (!o.pass_up) {
+    ++stats_.received;
+    drop(DropReason::kSecurity);
+    return;
+  }
+  std::vector<std::uint8_t> plain(secured.payload.begin(), secured.payload.begin() + 4);
+  plain[0] = static_cast<std::uint8_t>((plain[0] & 0xf0) |
+                                       static_cast<unsigned>(BasicNextHeader::kCommonHeader));
+  plain.insert(plain.end(), o.payload.begin(), o.payload.end());
+  link::ReceivedFrame inner = secured;
+  inner.payload = plain;
+  unwrapped_ = &o;
+  secured_frame_ = secured.payload;
+  on_frame(inner);
+  unwrapped_ = nullptr;
+  secured_frame_ = {};
 }
 
 void Router::on_frame(const link::ReceivedFrame& frame) {
@@ -435,11 +477,11 @@ void Router::on_frame(const link::ReceivedFrame& frame) {
     return;
   }
   const Packet& p = *parsed;
-  // TS 103 097 with a strict station: only secured packets carry data (beacons stay in clear:
-  // our ATs carry no GN-management permission to sign them with).
-  if (security_on() && unwrapped_ == nullptr && p.common.type != PacketType::kBeacon &&
+  // A strict station (itsGnSnDecapResultHandling STRICT) takes only secured packets, beacons
+  // included (they are signed for GN-MGMT).
+  if (security_on() && unwrapped_ == nullptr &&
       security_->mode() == security::SecurityMode::kSigned) {
-    drop(DropReason::kSecurity);
+    drop(DropReason::kUnsecured);
     return;
   }
   const LongPositionVector& so = source_position(p.extended);

@@ -125,6 +125,9 @@ struct DataIndication {
   /// it up with); empty for an unsecured packet.
   std::optional<security::VerifyResult> security_report;
   std::uint64_t its_aid = 0;  ///< the psid a secured packet was signed for
+  /// The signer's SSP for its_aid (Annex J "permissions"), for the service to check the
+  /// content against; empty for an unsecured packet or a permission without SSP.
+  std::vector<std::uint8_t> permissions;
 };
 
 using IndicationHandler =
@@ -146,6 +149,7 @@ enum class DropReason {
   kContentionLost,     ///< CBF: another router rebroadcast it first, so we do not
   kLocationTableFull,  ///< a new source while max_location_entries live entries exist
   kSecurity,           ///< the security entity refused it (its verifier counts the reason)
+  kUnsecured,          ///< a station in mode signed: an unsecured packet (beacons too)
   kCount
 };
 std::string to_string(DropReason r);
@@ -161,6 +165,8 @@ struct RouterStats {
   std::uint64_t delivered = 0;
   std::uint64_t sent = 0;  ///< originated packets, beacons included
   std::uint64_t beacons_sent = 0;
+  /// Beacons sent unsigned by a securing router whose AT lacks GN-MGMT (an older test PKI).
+  std::uint64_t beacons_unsigned = 0;
   std::uint64_t forwarded = 0;
   std::uint64_t cbf_buffered = 0;  ///< GBCs that entered contention
   std::array<std::uint64_t, static_cast<std::size_t>(DropReason::kCount)> drops{};
@@ -182,8 +188,10 @@ class Router {
 
   void set_indication_handler(IndicationHandler h) { indication_ = std::move(h); }
   void set_drop_hook(DropHook h) { drop_hook_ = std::move(h); }
-  /// Signs what the station sends and verifies what it receives (EN 302 636-4-1 10.3.x "if
-  /// security is enabled"); null or mode none: unsecured packets only, as without security.
+  /// Signs what the station sends, beacons included, and verifies what it receives (EN 302
+  /// 636-4-1 10.3.x "if security is enabled"); null or mode none: unsecured packets only, as
+  /// without security. A secured packet that is forwarded goes on as it was received: only the
+  /// basic header (remaining hop limit) changes, the signed part does not (clause 9.3).
   void set_security(security::SecurityEntity* entity) { security_ = entity; }
 
   /// The receive path; the constructor binds it to the link. Public so that a caller holding
@@ -211,6 +219,13 @@ class Router {
                const link::MacAddress& sender, std::uint64_t key);
   void forward(const Packet& packet, std::span<const std::uint8_t> bytes,
                const std::optional<GeoArea>& area, bool inside);
+  /// The octets to forward of a received packet: the secured packet as received when it came
+  /// secured, else the packet without link padding.
+  std::span<const std::uint8_t> as_received(const Packet& packet,
+                                            std::span<const std::uint8_t> bytes) const;
+  /// Wraps the packet of @p n octets in tx_ into a secured packet signed for @p its_aid;
+  /// returns its new length, or 0 when it no longer fits a frame.
+  std::size_t secure(std::uint64_t its_aid, std::size_t n, const LongPositionVector& epv);
   void deliver(const Packet& packet, const link::ReceivedFrame& frame,
                clock::Duration remaining_lifetime);
 
@@ -234,14 +249,26 @@ class Router {
   DropHook drop_hook_;
   RouterStats stats_;
   std::array<std::uint8_t, link::kMaxPayload> tx_{};
-  /// Secured packets: the entity, and whether the packet being processed was unwrapped from
-  /// one (it is delivered, not forwarded: forwarding re-sends the signed original, to come).
+  /// Secured packets: the entity; while a packet unwrapped from one goes through on_frame(),
+  /// its outcome and the secured packet as received (basic header onwards), which forwarding
+  /// re-sends.
   void on_secured_frame(const link::ReceivedFrame& frame);
+  void on_unwrapped(const security::SecuredIndication& o, const link::ReceivedFrame& secured);
   bool security_on() const {
     return security_ != nullptr && security_->mode() != security::SecurityMode::kNone;
   }
   security::SecurityEntity* security_ = nullptr;
   const security::SecuredIndication* unwrapped_ = nullptr;
+  std::span<const std::uint8_t> secured_frame_;
+  /// Frames whose secured packet the entity holds (signer not known yet), by the ticket they
+  /// were given with: when the entity releases one, it goes on with its own basic header,
+  /// sender and receive time. Bounded by the entity's hold (it answers every ticket).
+  struct HeldFrame {
+    link::ReceivedFrame frame;
+    std::vector<std::uint8_t> payload;
+  };
+  std::map<std::uint64_t, HeldFrame> held_frames_;
+  std::uint64_t next_ticket_ = 0;
 };
 
 }  // namespace tb::its::geonet

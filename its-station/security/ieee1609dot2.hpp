@@ -39,9 +39,11 @@ using Time64 = std::uint64_t;
 /// Seconds since 2004-01-01 00:00:00 TAI (1609.2 6.4.13).
 using Time32 = std::uint32_t;
 
-/// ITS-AIDs of ETSI TS 102 965: CA basic service, DEN basic service.
+/// ITS-AIDs of ETSI TS 102 965: CA basic service, DEN basic service, GeoNetworking management
+/// (GN-MGMT: the beacons a secured router signs, EN 302 636-4-1 10.3.6.2 with TS 103 097 7.1.3).
 inline constexpr Psid kPsidCam = 36;
 inline constexpr Psid kPsidDenm = 37;
+inline constexpr Psid kPsidGnMgmt = 141;
 
 enum class HashAlgorithm : std::uint8_t { kSha256 = 0, kSha384 = 1 };
 

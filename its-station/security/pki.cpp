@@ -29,12 +29,19 @@ ToBeSignedCertificate base_tbs(const EcKey& key, ValidityPeriod validity) {
   return t;
 }
 
-std::vector<PsidSspRange> cam_denm_ranges() {
+}  // namespace
+
+std::vector<PsidSspRange> authority_issue_permissions() {
   return {PsidSspRange{kPsidCam, SspRange{SspRange::Kind::kAll, {}, {}, {}}},
-          PsidSspRange{kPsidDenm, SspRange{SspRange::Kind::kAll, {}, {}, {}}}};
+          PsidSspRange{kPsidDenm, SspRange{SspRange::Kind::kAll, {}, {}, {}}},
+          PsidSspRange{kPsidGnMgmt, std::nullopt}};
 }
 
-}  // namespace
+std::vector<PsidSsp> ticket_permissions() {
+  return {PsidSsp{kPsidCam, Ssp{Ssp::Kind::kBitmap, kCamSsp}},
+          PsidSsp{kPsidDenm, Ssp{Ssp::Kind::kBitmap, kDenmSsp}},
+          PsidSsp{kPsidGnMgmt, std::nullopt}};
+}
 
 Certificate make_root(const EcKey& key, const std::string& name, ValidityPeriod validity) {
   Certificate c;
@@ -54,7 +61,7 @@ Certificate make_authority(const EcKey& key, const std::string& name, ValidityPe
   c.tbs = base_tbs(key, validity);
   c.tbs.id = {CertificateId::Kind::kName, Bytes(name.begin(), name.end())};
   PsidGroupPermissions perms;
-  perms.psids = cam_denm_ranges();
+  perms.psids = authority_issue_permissions();
   c.tbs.cert_issue_permissions = std::vector{perms};
   sign_certificate(c, &root, root_key);
   return c;
@@ -65,9 +72,7 @@ Certificate make_ticket(const EcKey& key, ValidityPeriod validity, const Certifi
   Certificate c;
   c.tbs = base_tbs(key, validity);
   c.tbs.id = {CertificateId::Kind::kNone, {}};
-  c.tbs.app_permissions =
-      std::vector<PsidSsp>{PsidSsp{kPsidCam, Ssp{Ssp::Kind::kBitmap, kCamSsp}},
-                           PsidSsp{kPsidDenm, Ssp{Ssp::Kind::kBitmap, kDenmSsp}}};
+  c.tbs.app_permissions = ticket_permissions();
   sign_certificate(c, &aa, aa_key);
   return c;
 }

@@ -28,12 +28,18 @@ void sign_certificate(Certificate& c, const Certificate* issuer, const EcKey& is
 inline const Bytes kCamSsp{0x01, 0x00, 0x00};
 inline const Bytes kDenmSsp{0x01, 0xff, 0xff, 0xff};
 
+/// What an AA may issue: CAM, DENM (any SSP) and GN-MGMT.
+std::vector<PsidSspRange> authority_issue_permissions();
+/// An AT's appPermissions: CAM (kCamSsp), DENM (kDenmSsp), GN-MGMT (no SSP, the beacons).
+std::vector<PsidSsp> ticket_permissions();
+
 /// The root CA: names itself, may issue everything through one more level (minChainLength 2).
 Certificate make_root(const EcKey& key, const std::string& name, ValidityPeriod validity);
-/// An AA under @p root that may issue CAM and DENM ATs.
+/// An AA under @p root that may issue CAM, DENM and GN-MGMT ATs.
 Certificate make_authority(const EcKey& key, const std::string& name, ValidityPeriod validity,
                            const Certificate& root, const EcKey& root_key);
-/// An AT (id none, TS 103 097 7.2.1) with CAM and DENM permissions.
+/// An AT (id none, TS 103 097 7.2.1) with CAM and DENM permissions (kCamSsp, kDenmSsp) and
+/// GN-MGMT (no SSP) for the router's beacons.
 Certificate make_ticket(const EcKey& key, ValidityPeriod validity, const Certificate& aa,
                         const EcKey& aa_key);
 

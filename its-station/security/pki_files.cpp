@@ -1,5 +1,6 @@
 #include "its-station/security/pki_files.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <iterator>
 
@@ -50,6 +51,42 @@ StationCredentials load_station_credentials(const PkiPaths& paths, std::uint32_t
   return c;
 }
 
+namespace {
+
+/// Whether @p c is still valid @p margin seconds after @p now.
+bool lasts(const Certificate& c, Time32 now, std::uint32_t margin) {
+  return c.tbs.validity.start <= now &&
+         c.tbs.validity.end_seconds() > static_cast<std::uint64_t>(now) + margin;
+}
+
+/// Whether @p aa may issue every psid today's its-pki gives its ATs.
+bool issues_all(const Certificate& aa) {
+  if (!aa.tbs.cert_issue_permissions)
+    return false;
+  for (const auto& want : authority_issue_permissions()) {
+    bool found = false;
+    for (const auto& g : *aa.tbs.cert_issue_permissions)
+      for (const auto& p : g.psids)
+        found = found || p.psid == want.psid;
+    if (!found)
+      return false;
+  }
+  return true;
+}
+
+/// Whether @p at has every permission (with its SSP) today's its-pki gives an AT.
+bool permits_all(const Certificate& at) {
+  if (!at.tbs.app_permissions)
+    return false;
+  for (const auto& want : ticket_permissions())
+    if (std::find(at.tbs.app_permissions->begin(), at.tbs.app_permissions->end(), want) ==
+        at.tbs.app_permissions->end())
+      return false;
+  return true;
+}
+
+}  // namespace
+
 std::vector<fs::path> make_pki(const PkiPaths& paths, const std::vector<std::uint32_t>& stations,
                                const PkiOptions& o) {
   std::vector<fs::path> written;
@@ -66,13 +103,21 @@ std::vector<fs::path> make_pki(const PkiPaths& paths, const std::vector<std::uin
     }
     written.push_back(p);
   };
-  bool fresh_ca = false;
+  constexpr std::uint32_t kCaMargin = 24 * 3600;
+  constexpr std::uint32_t kTicketMargin = 3600;
+
+  bool fresh_ca = !fs::exists(paths.root_cert()) || !fs::exists(paths.root_key()) ||
+                  !fs::exists(paths.aa_cert()) || !fs::exists(paths.aa_key());
   Certificate root;
   EcKey root_key;
   Certificate aa;
   EcKey aa_key;
-  if (!fs::exists(paths.root_cert()) || !fs::exists(paths.root_key()) ||
-      !fs::exists(paths.aa_cert()) || !fs::exists(paths.aa_key())) {
+  if (!fresh_ca) {
+    root = read_certificate(paths.root_cert());
+    aa = read_certificate(paths.aa_cert());
+    fresh_ca = !lasts(root, o.now, kCaMargin) || !lasts(aa, o.now, kCaMargin) || !issues_all(aa);
+  }
+  if (fresh_ca) {
     fresh_ca = true;
     root_key = EcKey::generate(EccCurve::kNistP256);
     root = make_root(root_key, o.name + " root", {start, DurationUnit::kHours, o.ca_hours});
@@ -86,16 +131,20 @@ std::vector<fs::path> make_pki(const PkiPaths& paths, const std::vector<std::uin
     write_certificate(paths.aa_cert(), aa);
     written.push_back(paths.aa_cert());
   } else {
-    aa = read_certificate(paths.aa_cert());
     try {
       aa_key = EcKey::load_private_pem(paths.aa_key().string());
     } catch (const CryptoError& e) {
       throw PkiFileError(e.what());
     }
   }
+  const HashedId8 aa_id = certificate_id(aa);
   for (const auto station : stations) {
-    if (!fresh_ca && fs::exists(paths.at_cert(station)) && fs::exists(paths.at_key(station)))
-      continue;
+    if (!fresh_ca && fs::exists(paths.at_cert(station)) && fs::exists(paths.at_key(station))) {
+      const Certificate at = read_certificate(paths.at_cert(station));
+      if (at.issuer.kind == IssuerIdentifier::Kind::kSha256AndDigest && at.issuer.digest == aa_id &&
+          lasts(at, o.now, kTicketMargin) && permits_all(at))
+        continue;
+    }
     EcKey k = EcKey::generate(EccCurve::kNistP256);
     const Certificate at =
         make_ticket(k, {start, DurationUnit::kHours, o.ticket_hours}, aa, aa_key);

@@ -57,7 +57,10 @@ struct PkiOptions {
 };
 
 /// Makes the root and AA when missing, and the ATs of @p stations that are missing (all of
-/// them anew when the root or AA was made). Returns the files written.
+/// them anew when the root or AA was made). What is there but would not work any more is made
+/// anew too: a root or AA that expires within a day or whose AA lacks a permission its-pki gives
+/// today (GN-MGMT came later), an AT that expires within an hour, was issued by another AA or
+/// lacks a permission. Returns the files written.
 std::vector<std::filesystem::path> make_pki(const PkiPaths& paths,
                                             const std::vector<std::uint32_t>& stations,
                                             const PkiOptions& options);

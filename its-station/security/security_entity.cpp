@@ -34,17 +34,23 @@ Bytes SecurityEntity::encapsulate(Psid psid, std::span<const std::uint8_t> paylo
   const std::int64_t start_ns = trace::Tracer::now_ns();
   Bytes out = psid == kPsidCam               ? signer_.sign_cam(payload, now)
               : (psid == kPsidDenm && where) ? signer_.sign_denm(payload, now, *where)
-                                             : signer_.sign(psid, payload, now, where, true);
-  trace::global().record_at(
-      start_ns, "its.sign",
-      {{"psid", psid}, {"bytes", out.size()}, {"end_ns", trace::Tracer::now_ns()}});
+              : psid == kPsidDenm            ? signer_.sign(psid, payload, now, where, true)
+                                             : signer_.sign_other(psid, payload, now);
+  trace::global().record_at(start_ns, "its.sign",
+                            {{"station", trace_station_},
+                             {"psid", psid},
+                             {"bytes", out.size()},
+                             {"certificate", signer_.last_with_certificate()},
+                             {"end_ns", trace::Tracer::now_ns()}});
   return out;
 }
 
-SecuredIndication SecurityEntity::outcome(Verification& v) {
+SecuredIndication SecurityEntity::outcome(Verification& v, std::uint64_t ticket) {
   SecuredIndication ind;
   ind.reason = v.result;
   ind.time_base = v.time_base;
+  ind.ticket = ticket;
+  ind.ssp = std::move(v.ssp);
   if (v.result != VerifyResult::kMalformed &&
       v.data.content == Ieee1609Dot2Data::Content::kSignedData)
     ind.psid = v.data.signed_data.tbs.header.psid;
@@ -60,15 +66,22 @@ SecuredIndication SecurityEntity::outcome(Verification& v) {
 }
 
 std::vector<SecuredIndication> SecurityEntity::decapsulate(std::span<const std::uint8_t> secured,
-                                                           Time64 now) {
+                                                           Time64 now, std::uint64_t ticket) {
   std::vector<SecuredIndication> out = expire(now);
   // Tracing: the verify stage of the receive path (decode included).
   const std::int64_t start_ns = trace::Tracer::now_ns();
   Verification v = verifier_.verify(secured, now);
-  trace::global().record_at(start_ns, "its.verify",
-                            {{"result", to_string(v.result)},
-                             {"certificate", v.signer_certificate_included},
-                             {"end_ns", trace::Tracer::now_ns()}});
+  const std::int64_t end_ns = trace::Tracer::now_ns();
+  trace::global().record_at(
+      start_ns, "its.verify",
+      {{"station", trace_station_},
+       {"psid", v.result != VerifyResult::kMalformed &&
+                        v.data.content == Ieee1609Dot2Data::Content::kSignedData
+                    ? v.data.signed_data.tbs.header.psid
+                    : Psid{0}},
+       {"result", to_string(v.result)},
+       {"certificate", v.signer_certificate_included},
+       {"end_ns", end_ns}});
   if (v.result != VerifyResult::kMalformed &&
       v.data.content == Ieee1609Dot2Data::Content::kSignedData) {
     const auto& h = v.data.signed_data.tbs.header;
@@ -79,21 +92,27 @@ std::vector<SecuredIndication> SecurityEntity::decapsulate(std::span<const std::
     if (h.requested_certificate)
       verifier_.add_authority(*h.requested_certificate, now);
   }
+  // An AT whose AA we do not know: ask its sender for the AA (1609.2 P2PCD). A peer of our PKI
+  // answers with it, a station of another PKI with one that add_authority() refuses and
+  // remembers, so that its packets are dropped as untrusted_root from then on.
+  if (v.result == VerifyResult::kUnknownIssuer && v.missing_issuer)
+    signer_.request_certificate(*v.missing_issuer);
   if (v.result == VerifyResult::kUnknownSigner && mode_ == SecurityMode::kSigned && v.signer) {
     signer_.request_certificate(*v.signer);
     signer_.on_unknown_station();
     if (held_.size() >= kMaxHeld) {
-      out.push_back(SecuredIndication{false, VerifyResult::kUnknownSigner, 0, {}, {}});
+      out.push_back(SecuredIndication{
+          false, VerifyResult::kUnknownSigner, 0, {}, {}, held_.front().ticket, {}});
       held_.pop_front();
     }
-    held_.push_back(Held{*v.signer, now + kHoldUs, Bytes(secured.begin(), secured.end())});
+    held_.push_back(Held{*v.signer, now + kHoldUs, Bytes(secured.begin(), secured.end()), ticket});
     return out;
   }
   if (v.result == VerifyResult::kUnknownSigner && v.signer) {
     signer_.request_certificate(*v.signer);
     signer_.on_unknown_station();
   }
-  out.push_back(outcome(v));
+  out.push_back(outcome(v, ticket));
   if (v.result == VerifyResult::kOk && v.signer_learned) {
     signer_.on_unknown_station();  // TS 103 097 7.1.1: a new station hears our AT next
     // Its held packets can be verified now.
@@ -104,7 +123,7 @@ std::vector<SecuredIndication> SecurityEntity::decapsulate(std::span<const std::
         continue;
       }
       Verification again = verifier_.verify(it->packet, now);
-      out.push_back(outcome(again));
+      out.push_back(outcome(again, it->ticket));
       it = held_.erase(it);
     }
   }
@@ -114,7 +133,8 @@ std::vector<SecuredIndication> SecurityEntity::decapsulate(std::span<const std::
 std::vector<SecuredIndication> SecurityEntity::expire(Time64 now) {
   std::vector<SecuredIndication> out;
   while (!held_.empty() && held_.front().until <= now) {
-    out.push_back(SecuredIndication{false, VerifyResult::kUnknownSigner, 0, {}, {}});
+    out.push_back(SecuredIndication{
+        false, VerifyResult::kUnknownSigner, 0, {}, {}, held_.front().ticket, {}});
     held_.pop_front();
   }
   return out;

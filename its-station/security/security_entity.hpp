@@ -34,6 +34,10 @@ struct SecuredIndication {
   Psid psid = 0;
   Bytes payload;  ///< the signed payload: GN common header onwards
   std::optional<TimeBase> time_base;
+  /// The caller's ticket of the packet this outcome is about (decapsulate()): the packet just
+  /// given, or one held earlier and released now.
+  std::uint64_t ticket = 0;
+  Bytes ssp;  ///< the signer AT's SSP for psid (Verification::ssp)
 };
 
 class SecurityEntity {
@@ -46,15 +50,24 @@ class SecurityEntity {
   SecurityEntity(SecurityMode mode, Signer signer, Verifier verifier);
 
   SecurityMode mode() const { return mode_; }
+  /// The station id its trace records (its.sign, its.verify) carry, for the latency report to
+  /// join them to the station's CAMs.
+  void set_trace_station(std::uint32_t id) { trace_station_ = id; }
 
   /// The signed data for @p payload of service @p psid (CAM and DENM after their profiles;
   /// @p where is the DENM's generationLocation).
   Bytes encapsulate(Psid psid, std::span<const std::uint8_t> payload, Time64 now,
                     const std::optional<ThreeDLocation>& where = std::nullopt);
 
-  /// Verifies @p secured; returns its outcome first, then those of held packets it released
-  /// (verified now that their certificate came, or timed out).
-  std::vector<SecuredIndication> decapsulate(std::span<const std::uint8_t> secured, Time64 now);
+  /// Verifies @p secured; returns the outcomes of held packets whose hold ended, then its own
+  /// (none while it is held), then those of held packets it released (verified now that their
+  /// certificate came). Each outcome carries the @p ticket its packet was given with, so that
+  /// the caller can tell which of its packets it is about.
+  std::vector<SecuredIndication> decapsulate(std::span<const std::uint8_t> secured, Time64 now,
+                                             std::uint64_t ticket = 0);
+
+  /// Whether our AT lets us sign for @p psid.
+  bool can_sign(Psid psid) const { return signer_.permits(psid); }
 
   /// Drops held packets whose hold ended; their outcomes (unknown_signer).
   std::vector<SecuredIndication> expire(Time64 now);
@@ -71,14 +84,16 @@ class SecurityEntity {
     HashedId8 digest{};
     Time64 until = 0;
     Bytes packet;
+    std::uint64_t ticket = 0;
   };
-  SecuredIndication outcome(Verification& v);
+  SecuredIndication outcome(Verification& v, std::uint64_t ticket);
 
   SecurityMode mode_;
   Signer signer_;
   Verifier verifier_;
   std::deque<Held> held_;
   std::uint64_t passed_unverified_ = 0;
+  std::uint32_t trace_station_ = 0;
 };
 
 }  // namespace tb::its::security

@@ -31,11 +31,24 @@ void Signer::request_certificate(const HashedId8& unknown) {
     requests_.push_back(id);
 }
 
+bool Signer::permits(Psid psid) const {
+  if (!at_.tbs.app_permissions)
+    return false;
+  return std::any_of(at_.tbs.app_permissions->begin(), at_.tbs.app_permissions->end(),
+                     [&](const PsidSsp& p) { return p.psid == psid; });
+}
+
 Bytes Signer::sign_cam(std::span<const std::uint8_t> payload, Time64 now) {
   // "Not in the last second" on the clock going backwards too: send it rather than wait.
   const bool due = certificate_due_ || !last_certificate_ || now < *last_certificate_ ||
                    now - *last_certificate_ >= kCamCertificateInterval;
   return sign(kPsidCam, payload, now, std::nullopt, due);
+}
+
+Bytes Signer::sign_other(Psid psid, std::span<const std::uint8_t> payload, Time64 now) {
+  const bool due = !last_certificate_ || now < *last_certificate_ ||
+                   now - *last_certificate_ >= kCamCertificateInterval;
+  return sign(psid, payload, now, std::nullopt, due);
 }
 
 Bytes Signer::sign_denm(std::span<const std::uint8_t> payload, Time64 now,
@@ -60,6 +73,7 @@ Bytes Signer::sign(Psid psid, std::span<const std::uint8_t> payload, Time64 now,
       h.requested_certificate = *aa_;
     aa_requested_ = false;
   }
+  last_with_certificate_ = with_certificate;
   if (with_certificate) {
     s.signer.kind = SignerIdentifier::Kind::kCertificate;
     s.signer.certificates = {at_};

@@ -6,6 +6,9 @@
 /// AT by its HashedId3 (inlineP2pcdRequest); our AA goes out as requestedCertificate when asked
 /// for. HashedId3s of certificates we miss go out as inlineP2pcdRequest.
 /// DENM (7.1.2): psid 37, generationTime, generationLocation, always the whole AT.
+/// Other messages (7.1.3), here the router's beacons (GN-MGMT, psid 141): generationTime; signer
+/// digest, or the whole AT when none went out in a CAM in the last second (a station that sends
+/// no CAMs, the only one whose beacons go out at all, is then known by its beacons).
 
 #include <optional>
 #include <span>
@@ -25,6 +28,9 @@ class Signer {
   Bytes sign_cam(std::span<const std::uint8_t> payload, Time64 now);
   Bytes sign_denm(std::span<const std::uint8_t> payload, Time64 now, const ThreeDLocation& where);
 
+  /// The generic profile (7.1.3) for @p psid, signer as above.
+  Bytes sign_other(Psid psid, std::span<const std::uint8_t> payload, Time64 now);
+
   /// Any psid with the signer form chosen by the caller (tests, other services).
   Bytes sign(Psid psid, std::span<const std::uint8_t> payload, Time64 now,
              const std::optional<ThreeDLocation>& where, bool with_certificate);
@@ -36,6 +42,12 @@ class Signer {
   void on_certificate_request(const HashedId3& id);
   /// We hold a packet signed by an unknown digest: ask for its certificate in the next CAM.
   void request_certificate(const HashedId8& unknown);
+
+  /// Whether our AT's appPermissions hold @p psid (an AT of an older its-pki lacks GN-MGMT).
+  bool permits(Psid psid) const;
+
+  /// Whether the last packet signed carried the AT (else its digest).
+  bool last_with_certificate() const { return last_with_certificate_; }
 
   const Certificate& certificate() const { return at_; }
   const HashedId8& id() const { return id_; }
@@ -49,6 +61,7 @@ class Signer {
   std::optional<HashedId3> aa_id3_;
   std::optional<Time64> last_certificate_;
   bool certificate_due_ = true;
+  bool last_with_certificate_ = false;
   bool aa_requested_ = false;
   std::vector<HashedId3> requests_;
 };

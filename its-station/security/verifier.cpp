@@ -69,6 +69,8 @@ namespace {
 /// A cache of verified ATs that cannot grow without bound when a peer changes pseudonyms or
 /// floods certificates; past it, new ATs are verified every time.
 constexpr std::size_t kMaxKnownCertificates = 4096;
+/// Refused AAs remembered: a handful of foreign PKIs at most; past it, the set starts again.
+constexpr std::size_t kMaxRefusedAuthorities = 64;
 
 bool within_validity(const Certificate& c, Time64 at) {
   const std::uint64_t s = at / 1000000;
@@ -89,18 +91,23 @@ bool issuer_permits(const Certificate& aa, Psid psid) {
 }
 
 /// 1609.2 5.2.4.2.3 consistency of the packet with the AT's permissions. The SSP layouts of
-/// CAM (TS 103 900 6.2.2.1) and DENM (TS 103 831) start with an SSP version octet, 1; the
-/// testbed's stations send no special-vehicle container or restricted cause code, so they
-/// need no further bit.
-VerifyResult ticket_permits(const Certificate& at, Psid psid) {
+/// CAM (TS 103 900 6.2.2.2: version 1) and DENM (TS 103 831 6.2.2.2: version 1, or 2 with a
+/// fourth octet) start with their version octet; an SSP of another version is not one the
+/// station can read. The bits are the services' to check against the content
+/// (facilities/ssp_permissions.hpp): the permission's SSP octets go to @p ssp.
+VerifyResult ticket_permits(const Certificate& at, Psid psid, Bytes& ssp) {
   if (!at.tbs.app_permissions)
     return VerifyResult::kPsidNotPermitted;
   for (const auto& p : *at.tbs.app_permissions) {
     if (p.psid != psid)
       continue;
-    if (p.ssp && (psid == kPsidCam || psid == kPsidDenm) &&
-        (p.ssp->bytes.empty() || p.ssp->bytes[0] != 0x01))
+    const bool readable =
+        p.ssp && !p.ssp->bytes.empty() &&
+        (p.ssp->bytes[0] == 0x01 || (psid == kPsidDenm && p.ssp->bytes[0] == 0x02));
+    if (p.ssp && (psid == kPsidCam || psid == kPsidDenm) && !readable)
       return VerifyResult::kSspNotPermitted;
+    if (p.ssp)
+      ssp = p.ssp->bytes;
     return VerifyResult::kOk;
   }
   return VerifyResult::kPsidNotPermitted;
@@ -135,26 +142,40 @@ VerifyResult Verifier::check_issued(const Certificate& c, const Entry& issuer, T
   return VerifyResult::kOk;
 }
 
+std::optional<VerifyResult> Verifier::refused_authority(const HashedId8& id) const {
+  if (auto it = refused_.find(id); it != refused_.end())
+    return it->second;
+  return std::nullopt;
+}
+
 VerifyResult Verifier::add_authority(const Certificate& aa, Time64 now) {
   const Octets32 hash = certificate_hash(aa);
   const HashedId8 id = hashed_id8(hash);
   if (entries_.contains(id))
     return VerifyResult::kOk;
+  const auto refuse = [&](VerifyResult r) {
+    if (refused_.size() >= kMaxRefusedAuthorities)
+      refused_.clear();
+    refused_[id] = r;
+    return r;
+  };
   if (aa.issuer.kind != IssuerIdentifier::Kind::kSha256AndDigest)
-    return VerifyResult::kUntrustedRoot;
+    return refuse(VerifyResult::kUntrustedRoot);
   auto root = entries_.find(aa.issuer.digest);
   if (root == entries_.end() || root->second.issuer != nullptr)
-    return VerifyResult::kUntrustedRoot;
+    return refuse(VerifyResult::kUntrustedRoot);
+  // Expiry is not remembered: the same AA may be valid for the next packet's time.
   if (const auto r = check_issued(aa, root->second, now); r != VerifyResult::kOk)
-    return r;
+    return r == VerifyResult::kCertificateNotValid ? r : refuse(r);
   Entry e;
   e.cert = aa;
   e.hash = hash;
   try {
     e.key = EcKey::from_point(aa.tbs.verify_key.curve, aa.tbs.verify_key.point);
   } catch (const CryptoError&) {
-    return VerifyResult::kCertificateSignature;
+    return refuse(VerifyResult::kCertificateSignature);
   }
+  refused_.erase(id);
   e.issuer = &root->second;
   entries_.emplace(id, std::move(e));
   return VerifyResult::kOk;
@@ -170,8 +191,11 @@ VerifyResult Verifier::ticket_entry(const Certificate& c, Psid psid, Time64 at, 
   if (c.issuer.kind != IssuerIdentifier::Kind::kSha256AndDigest)
     return VerifyResult::kUnknownIssuer;
   auto aa = entries_.find(c.issuer.digest);
-  if (aa == entries_.end())
+  if (aa == entries_.end()) {
+    if (auto why = refused_authority(c.issuer.digest))
+      return *why;
     return VerifyResult::kUnknownIssuer;
+  }
   if (aa->second.issuer == nullptr)
     return VerifyResult::kUnknownIssuer;  // an AT straight under a root is not the EU chain
   if (!issuer_permits(aa->second.cert, psid))
@@ -254,15 +278,19 @@ VerifyResult Verifier::check(Verification& v, std::optional<Psid> expected, Time
       v.signer_certificate_included = true;
       v.signer = certificate_id(at_cert);
       const bool known = entries_.contains(*v.signer);
-      if (const auto r = ticket_entry(at_cert, psid, at, &signer); r != VerifyResult::kOk)
+      if (const auto r = ticket_entry(at_cert, psid, at, &signer); r != VerifyResult::kOk) {
+        if (r == VerifyResult::kUnknownIssuer &&
+            at_cert.issuer.kind == IssuerIdentifier::Kind::kSha256AndDigest)
+          v.missing_issuer = at_cert.issuer.digest;
         return r;
+      }
       v.signer_learned = !known && entries_.contains(*v.signer);
       if (!within_validity(signer->cert, at) || !within_validity(signer->issuer->cert, at))
         return VerifyResult::kCertificateNotValid;
       break;
     }
   }
-  if (const auto r = ticket_permits(signer->cert, psid); r != VerifyResult::kOk)
+  if (const auto r = ticket_permits(signer->cert, psid, v.ssp); r != VerifyResult::kOk)
     return r;
   if (!issuer_permits(signer->issuer->cert, psid))
     return VerifyResult::kIssuerNotPermitted;

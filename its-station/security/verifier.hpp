@@ -33,8 +33,8 @@ enum class VerifyResult : std::uint8_t {
   kGenerationLocationMissing,  ///< TS 103 097 7.1.2: DENM carries generationLocation
   kSelfSigned,                 ///< signer self: no certificate vouches for the key
   kUnknownSigner,              ///< signer digest of a certificate not seen yet
-  kUnknownIssuer,              ///< the AT's AA is not known
-  kUntrustedRoot,              ///< an AA whose issuer is not a trusted root
+  kUnknownIssuer,              ///< the AT's AA is not known (yet: it is asked for)
+  kUntrustedRoot,              ///< an AA whose issuer is not a trusted root (another PKI's)
   kCertificateSignature,       ///< a certificate in the chain whose signature fails
   kCertificateNotValid,        ///< generation time outside the AT's (or its AA's) validity
   kPsidNotPermitted,           ///< the AT's appPermissions lack the psid
@@ -64,6 +64,11 @@ struct Verification {
   bool signer_certificate_included = false;
   bool signer_learned = false;  ///< the included AT was new to the verifier (and now is known)
   std::optional<TimeBase> time_base;  ///< the base the generation time matched
+  /// kUnknownIssuer: the HashedId8 of the AA the included AT names, to be asked for (P2PCD).
+  std::optional<HashedId8> missing_issuer;
+  /// The signer AT's SSP octets for the packet's psid (empty when it has none): what the
+  /// service checks the content against (TS 103 900 / TS 103 831 "permissions").
+  Bytes ssp;
 
   /// The signed payload (empty when there is none).
   std::span<const std::uint8_t> payload() const;
@@ -74,8 +79,12 @@ class Verifier {
   /// Throws CryptoError when a root is not self-signed or its signature fails.
   Verifier(std::vector<Certificate> trusted_roots, VerifierConfig config = {});
 
-  /// Adds an AA certificate after checking it against the trusted roots at @p now.
+  /// Adds an AA certificate after checking it against the trusted roots at @p now. An AA that
+  /// fails is remembered with the reason (a bounded set), so that the ATs it issued are refused
+  /// with that reason (an AT of another PKI's AA: untrusted_root) rather than unknown_issuer.
   VerifyResult add_authority(const Certificate& aa, Time64 now);
+  /// Why the AA @p id was refused, if it was.
+  std::optional<VerifyResult> refused_authority(const HashedId8& id) const;
 
   /// Verifies one Ieee1609Dot2Data for the service @p psid at TAI time @p now.
   Verification verify(std::span<const std::uint8_t> secured, Psid psid, Time64 now) {
@@ -117,6 +126,7 @@ class Verifier {
 
   VerifierConfig config_;
   std::unordered_map<HashedId8, Entry, Id8Hash> entries_;
+  std::unordered_map<HashedId8, VerifyResult, Id8Hash> refused_;
   std::array<std::uint64_t, static_cast<std::size_t>(VerifyResult::kCount)> counts_{};
 };
 

@@ -11,7 +11,7 @@ namespace tb::emu {
 Emulator::Emulator(const scenario::Scenario& scenario, const tb::can::Database& dbc,
                    const std::vector<StationEndpoints>& stations, const StationIoFactory& make_io,
                    const clock::Clock& clock, trace::Tracer& tracer, std::uint64_t seed)
-    : scenario_(scenario), clock_(clock), tracer_(tracer), frame_(scenario.origin) {
+    : scenario_(scenario), clock_(clock), tracer_(tracer), map_(scenario) {
   std::optional<can::CanFeeder> first_feeder;
   for (const StationEndpoints& e : stations) {
     const scenario::Vehicle* v = scenario.find_station(e.station_id);
@@ -35,10 +35,10 @@ Emulator::Emulator(const scenario::Scenario& scenario, const tb::can::Database& 
         throw std::runtime_error(feeder.error().message());
       first_feeder.emplace(std::move(*feeder));
     }
-    stations_.emplace(e.station_id,
-                      std::unique_ptr<Station>(new Station{
-                          e.station_id, e, gnss::GpsAgent(gc, frame_), first_feeder->sibling(cc),
-                          make_io(e), PeerHealth(clock), PeerHealth(clock)}));
+    stations_.emplace(e.station_id, std::unique_ptr<Station>(new Station{
+                                        e.station_id, e, gnss::GpsAgent(gc, map_.georeferencing()),
+                                        first_feeder->sibling(cc), make_io(e), PeerHealth(clock),
+                                        PeerHealth(clock)}));
   }
 }
 

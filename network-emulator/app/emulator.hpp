@@ -19,7 +19,7 @@
 #include "common/can/can_bus.hpp"
 #include "common/can/dbc.hpp"
 #include "common/clock/clock.hpp"
-#include "common/geodesy/local_frame.hpp"
+#include "common/map/scenario_map.hpp"
 #include "common/scenario/scenario.hpp"
 #include "common/trace/tracer.hpp"
 #include "common/wire/vehicle_state.hpp"
@@ -60,7 +60,7 @@ class Emulator {
   Emulator(const scenario::Scenario& scenario, const tb::can::Database& dbc,
            const std::vector<StationEndpoints>& stations, const StationIoFactory& make_io,
            const clock::Clock& clock, trace::Tracer& tracer, std::uint64_t seed = 1);
-  // The GPS agents refer to frame_: the emulator stays where it was made.
+  // The GPS agents refer to map_: the emulator stays where it was made.
   Emulator(const Emulator&) = delete;
   Emulator& operator=(const Emulator&) = delete;
 
@@ -96,7 +96,8 @@ class Emulator {
   const scenario::Scenario& scenario_;
   const clock::Clock& clock_;
   trace::Tracer& tracer_;
-  geodesy::LocalFrame frame_;
+  /// Where the map's frame lies on the Earth (its geoReference, or the scenario's origin).
+  map::ScenarioMap map_;
   std::unordered_map<std::uint32_t, std::unique_ptr<Station>> stations_;
   Counters counters_;
   std::vector<wire::VehicleState> batch_;  ///< the datagram being handled; capacity reused

@@ -12,7 +12,7 @@ namespace {
 constexpr double kCourseMinSpeed = 0.2;  // m/s
 }  // namespace
 
-GpsAgent::GpsAgent(const AgentConfig& config, const geodesy::LocalFrame& frame)
+GpsAgent::GpsAgent(const AgentConfig& config, const geodesy::Georeferencing& frame)
     : config_(config),
       frame_(frame),
       errors_(config.errors, mix_seed(config.seed, config.station_id)),
@@ -46,16 +46,19 @@ std::optional<std::string_view> GpsAgent::on_state(const wire::VehicleState& s) 
   const double cy = std::cos(s.yaw), sy = std::sin(s.yaw);
   const double ax = s.position[0] + config_.antenna.forward_m * cy - config_.antenna.left_m * sy;
   const double ay = s.position[1] + config_.antenna.forward_m * sy + config_.antenna.left_m * cy;
+  // Altitude: the state's z, which follows the road's elevation (sim-server's road surface).
+  const geodesy::Enu antenna{ax, ay, s.position[2]};
   fix_.position =
       frame_.to_geodetic({ax + e.offset.east, ay + e.offset.north, s.position[2] + e.offset.up});
   // Course over ground is the direction of motion, as a receiver measures it from Doppler: out
   // of the tail while reversing. The station turns it into the orientation (it knows the gear).
   const double vx = s.velocity[0], vy = s.velocity[1];
   fix_.speed_mps = std::hypot(vx, vy);
+  // Headings are from true north: on a projected map grid north differs (the convergence).
   if (fix_.speed_mps >= kCourseMinSpeed)
-    course_deg_ = geodesy::yaw_to_heading_deg(std::atan2(vy, vx));
+    course_deg_ = frame_.heading_deg(antenna, std::atan2(vy, vx));
   else if (!course_deg_)
-    course_deg_ = geodesy::yaw_to_heading_deg(s.yaw);
+    course_deg_ = frame_.heading_deg(antenna, s.yaw);
   fix_.course_deg = *course_deg_;
   fix_.sigma_lat_m = e.sigma_north;
   fix_.sigma_lon_m = e.sigma_east;

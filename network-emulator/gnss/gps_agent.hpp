@@ -13,7 +13,7 @@
 #include <string>
 #include <string_view>
 
-#include "common/geodesy/local_frame.hpp"
+#include "common/geodesy/georeferencing.hpp"
 #include "common/scenario/scenario.hpp"
 #include "common/wire/vehicle_state.hpp"
 #include "network-emulator/gnss/error_model.hpp"
@@ -33,8 +33,10 @@ struct AgentConfig {
 
 class GpsAgent {
  public:
-  /// @p frame must outlive the agent. @throws std::invalid_argument for a rate ≤ 0.
-  GpsAgent(const AgentConfig& config, const geodesy::LocalFrame& frame);
+  /// @p frame (the scenario map's georeferencing: the ENU frame at the scenario's origin, or
+  /// the map's geoReference) must outlive the agent. @throws std::invalid_argument for a
+  /// rate ≤ 0.
+  GpsAgent(const AgentConfig& config, const geodesy::Georeferencing& frame);
 
   /// Feeds the station's latest state. Returns one epoch's sentences (valid until the next
   /// call) when an epoch falls due, otherwise nothing.
@@ -47,7 +49,7 @@ class GpsAgent {
 
  private:
   AgentConfig config_;
-  const geodesy::LocalFrame& frame_;
+  const geodesy::Georeferencing& frame_;
   ErrorModel errors_;
   std::int64_t period_ns_;
   std::optional<std::int64_t> next_epoch_ns_;

@@ -8,8 +8,9 @@ namespace {
 // EN 302 636-4-1 9.6/9.7/9.8.4: Basic (4) and Common (8) header, SHB extended header: the
 // sender's long position vector (24) and 4 bytes of media-dependent data.
 constexpr std::size_t kBasicHeader = 4, kCommonHeader = 8, kShbHeader = 28;
-constexpr unsigned kNextHeaderCommon = 1;  // Basic header NH: 2 would be a secured packet
-constexpr unsigned kNextHeaderBtpB = 2;    // Common header NH
+constexpr unsigned kNextHeaderCommon = 1;  // Basic header NH
+constexpr unsigned kNextHeaderSecured = 2;
+constexpr unsigned kNextHeaderBtpB = 2;  // Common header NH
 constexpr unsigned kHeaderTypeTsb = 5, kSubtypeSingleHop = 0;
 constexpr std::size_t kBtpHeader = 4;        // EN 302 636-5-1 7.3: destination port, port info
 constexpr std::uint16_t kBtpPortCam = 2001;  // TS 103 248
@@ -51,18 +52,44 @@ std::optional<std::size_t> gn_offset(std::span<const std::uint8_t> f, LinkFramin
   return at + 8;
 }
 
+/// Where the signed payload (common header onwards) of the secured packet at @p at starts
+/// (TS 103 097 / IEEE 1609.2 in COER): Ieee1609Dot2Data {protocolVersion 3, content signedData
+/// (tag 0x81)}, SignedData {hashId, tbsData {payload {data present, nothing else: preamble
+/// 0x40}: Ieee1609Dot2Data {3, unsecuredData (tag 0x80), OCTET STRING length, octets}}}.
+std::optional<std::size_t> signed_payload(std::span<const std::uint8_t> f, std::size_t at) {
+  if (f.size() < at + 7 || f[at] != 3 || f[at + 1] != 0x81 || f[at + 3] != 0x40 || f[at + 4] != 3 ||
+      f[at + 5] != 0x80)
+    return std::nullopt;
+  const std::uint8_t first = f[at + 6];
+  if (first < 0x80)
+    return at + 7;                          // the length in one octet
+  const std::size_t octets = first & 0x7F;  // X.696 8.6.5: the length's own length
+  if (octets == 0 || octets > 2)
+    return std::nullopt;  // a GN payload is shorter than 64 KiB
+  return at + 7 + octets;
+}
+
 }  // namespace
 
 std::optional<CamTag> peek_cam(std::span<const std::uint8_t> frame, LinkFraming framing) {
   const auto gn = gn_offset(frame, framing);
   if (!gn)
     return std::nullopt;
-  const std::size_t common = *gn + kBasicHeader, btp = common + kCommonHeader + kShbHeader,
-                    cam = btp + kBtpHeader;
+  if (frame.size() <= *gn)
+    return std::nullopt;
+  std::size_t common = *gn + kBasicHeader;
+  if ((frame[*gn] & 0x0F) == kNextHeaderSecured) {
+    const auto inner = signed_payload(frame, common);
+    if (!inner)
+      return std::nullopt;
+    common = *inner;
+  } else if ((frame[*gn] & 0x0F) != kNextHeaderCommon) {
+    return std::nullopt;
+  }
+  const std::size_t btp = common + kCommonHeader + kShbHeader, cam = btp + kBtpHeader;
   if (frame.size() < cam + kCamIdentityBytes)
     return std::nullopt;
-  if ((frame[*gn] & 0x0F) != kNextHeaderCommon || (frame[common] >> 4) != kNextHeaderBtpB ||
-      (frame[common + 1] >> 4) != kHeaderTypeTsb ||
+  if ((frame[common] >> 4) != kNextHeaderBtpB || (frame[common + 1] >> 4) != kHeaderTypeTsb ||
       (frame[common + 1] & 0x0F) != kSubtypeSingleHop || be16(frame, btp) != kBtpPortCam ||
       frame[cam + 1] != kMessageIdCam)
     return std::nullopt;

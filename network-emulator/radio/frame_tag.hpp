@@ -1,9 +1,11 @@
 #pragma once
 /// @file What the medium's trace may say about a frame on the air without decoding it: the
 /// station and generation time of the CAM it carries, the identity DESIGN.md's tracing follows
-/// (a CAM names its sender and its generationDeltaTime). Read at the fixed offsets of an
-/// unsecured GeoNetworking single-hop broadcast with BTP-B to port 2001; anything else, or too
-/// short, is no CAM. Frames come from the stations, so every read is bounds-checked.
+/// (a CAM names its sender and its generationDeltaTime). Read at the fixed offsets of a
+/// GeoNetworking single-hop broadcast with BTP-B to port 2001, unsecured or as the unsecured
+/// payload of a TS 103 097 signed packet (whose head has one variable part, the payload's
+/// length); anything else, or too short, is no CAM. Frames come from the stations, so every
+/// read is bounds-checked.
 
 #include <cstdint>
 #include <optional>

@@ -22,7 +22,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/clock/asio_runtime.hpp"
-#include "common/map/road_map.hpp"
+#include "common/map/scenario_map.hpp"
 #include "common/scenario/loader.hpp"
 #include "common/trace/tracer.hpp"
 #include "common/wire/vehicle_state.hpp"
@@ -133,19 +133,10 @@ asio::ip::udp::endpoint parse_udp(const std::string& url) {
 
 // Where each vehicle starts, so the channel has distances before the first state arrives.
 void seed_positions(const tb::scenario::Scenario& sc, radio::PositionTable& table) {
-  const tb::map::RoadMap map(sc.map);
+  const tb::map::ScenarioMap map(sc);
   for (const auto& v : sc.vehicles) {
-    double x = 0, y = 0;
-    if (const auto* pose = std::get_if<tb::scenario::PoseSpawn>(&v.spawn.where)) {
-      x = pose->x;
-      y = pose->y;
-    } else {
-      const auto& lane = std::get<tb::scenario::LaneSpawn>(v.spawn.where);
-      const auto p = map.lane_pose(lane.road, lane.lane, lane.s);
-      x = p.p.x;
-      y = p.p.y;
-    }
-    table.set(v.station_id, radio::StationPosition{{x, y, 0.0}, -1});
+    const tb::map::Placement p = map.place(v.spawn);
+    table.set(v.station_id, radio::StationPosition{{p.x, p.y, p.z}, -1});
   }
 }
 

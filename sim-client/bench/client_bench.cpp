@@ -67,7 +67,7 @@ BENCHMARK(BM_ForwardStateUdp);
 void BM_LaneFollowUpdate(benchmark::State& st) {
   scenario::MapSpec spec;
   spec.type = scenario::MapType::kRing;
-  const DriveMap map(std::make_shared<const map::odr::RoadNetwork>(map::generate_network(spec)));
+  const DriveMap map(std::make_shared<const map::ScenarioMap>(spec, std::nullopt));
   scenario::LaneFollowDriver d;
   d.profile = {{0, 10}, {100, 15}};
   const map::LaneStart start{0, -1, 10.0, false};

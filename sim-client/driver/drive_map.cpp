@@ -89,8 +89,11 @@ bool goes_before(const Observed& a, const Observed& b) {
   return a.state.station_id < b.state.station_id;
 }
 
-DriveMap::DriveMap(std::shared_ptr<const odr::RoadNetwork> network)
-    : net_(std::move(network)), graph_(*net_), locator_(*net_) {
+DriveMap::DriveMap(std::shared_ptr<const map::ScenarioMap> map)
+    : map_(std::move(map)),
+      net_(&map_->network()),
+      graph_(map_->graph()),
+      locator_(map_->locator()) {
   junction_.resize(graph_.size());
   for (std::size_t i = 0; i < graph_.size(); ++i)
     junction_[i] = net_->roads[static_cast<std::size_t>(graph_.node(i).road)].junction_index;

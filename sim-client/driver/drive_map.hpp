@@ -12,6 +12,7 @@
 
 #include "common/map/opendrive/lane_graph.hpp"
 #include "common/map/opendrive/queries.hpp"
+#include "common/map/scenario_map.hpp"
 #include "common/wire/vehicle_state.hpp"
 
 namespace tb::client {
@@ -52,9 +53,10 @@ bool goes_before(const Observed& a, const Observed& b);
 
 class DriveMap {
  public:
-  explicit DriveMap(std::shared_ptr<const map::odr::RoadNetwork> network);
+  explicit DriveMap(std::shared_ptr<const map::ScenarioMap> map);
 
-  const map::odr::RoadNetwork& network() const { return *net_; }
+  const map::ScenarioMap& scenario_map() const { return *map_; }
+  const map::odr::RoadNetwork& network() const { return map_->network(); }
   const map::odr::LaneGraph& graph() const { return graph_; }
   const map::odr::LaneLocator& locator() const { return locator_; }
 
@@ -86,9 +88,10 @@ class DriveMap {
   void find_approaches();
   void observe_one(Observed& o) const;
 
-  std::shared_ptr<const map::odr::RoadNetwork> net_;
-  map::odr::LaneGraph graph_;
-  map::odr::LaneLocator locator_;
+  std::shared_ptr<const map::ScenarioMap> map_;
+  const map::odr::RoadNetwork* net_;
+  const map::odr::LaneGraph& graph_;
+  const map::odr::LaneLocator& locator_;
   std::vector<int> junction_;                       ///< per node
   std::vector<std::vector<std::size_t>> conflict_;  ///< per node: conflicting nodes, sorted
   std::vector<std::optional<Approach>> approach_;   ///< per node

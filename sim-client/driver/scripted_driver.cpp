@@ -492,7 +492,7 @@ std::unique_ptr<ScriptedDriver> make_scripted_driver(const scenario::Vehicle& v,
   const auto* l = std::get_if<scenario::LaneFollowDriver>(&v.driver);
   if (l == nullptr)
     return nullptr;
-  const auto start = map::vehicle_start(v, sc.map, map.network(), map.locator());
+  const auto start = map::vehicle_start(v, map.scenario_map());
   if (!start) {
     throw std::invalid_argument("vehicle \"" + v.id + "\": spawn is on no drivable lane, so " +
                                 "a lane_follow driver has no lane to follow");

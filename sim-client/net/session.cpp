@@ -5,7 +5,6 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include "common/map/builtin_network.hpp"
 #include "common/scenario/loader.hpp"
 
 namespace tb::client {
@@ -154,13 +153,17 @@ bool SimSession::on_welcome(const sim::Welcome& w) {
     phase_ = Phase::kListed;
     return false;
   }
-  const bool same_world = welcome_ && welcome_->scenario_json == w.scenario_json;
+  const bool same_world =
+      welcome_ && welcome_->scenario_json == w.scenario_json && welcome_->map_text == w.map_text;
   if (!same_world) {
     try {
-      scenario_ = scenario::parse(w.scenario_json, "scenario sent by the server");
-      network_ =
-          std::make_shared<const map::odr::RoadNetwork>(map::generate_network(scenario_->map));
-      drive_map_ = std::make_unique<DriveMap>(network_);
+      // The map comes with the scenario: an OpenDRIVE map's text in Welcome, so that this
+      // computer needs no copy of the file.
+      scenario_ = scenario::parse(
+          w.scenario_json, "scenario sent by the server",
+          w.map_text.empty() ? std::nullopt : std::optional<std::string_view>(w.map_text));
+      map_ = std::make_shared<const map::ScenarioMap>(*scenario_);
+      drive_map_ = std::make_unique<DriveMap>(map_);
       sizes_.clear();
       for (const scenario::Vehicle& v : scenario_->vehicles)
         sizes_.push_back({v.station_id, v.model.length_m, v.model.width_m});

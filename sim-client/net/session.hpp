@@ -14,6 +14,7 @@
 
 #include "common/clock/clock.hpp"
 #include "common/map/opendrive/road_network.hpp"
+#include "common/map/scenario_map.hpp"
 #include "common/scenario/scenario.hpp"
 #include "common/trace/tracer.hpp"
 #include "common/wire/sim_protocol.hpp"
@@ -73,8 +74,12 @@ class SimSession {
   // What the view draws.
   const wire::sim::Welcome* welcome() const { return welcome_ ? &*welcome_ : nullptr; }
   const scenario::Scenario* scenario() const { return scenario_ ? &*scenario_ : nullptr; }
-  /// The world's road network (common/map's one model): what drivers and views read.
-  const map::odr::RoadNetwork* network() const { return network_.get(); }
+  /// The world's map (common/map's one model: network, lane locator and graph, WGS84), built
+  /// from the scenario and map text of the server's Welcome.
+  const map::ScenarioMap* map() const { return map_.get(); }
+  std::shared_ptr<const map::ScenarioMap> shared_map() const { return map_; }
+  /// The world's road network: what drivers and views read.
+  const map::odr::RoadNetwork* network() const { return map_ ? &map_->network() : nullptr; }
   const wire::sim::StateFrame* latest() const { return latest_ ? &*latest_ : nullptr; }
   /// Indices (Welcome order) of the vehicles this connection drives.
   std::vector<std::uint16_t> driven() const;
@@ -108,7 +113,7 @@ class SimSession {
   wire::sim::FrameParser parser_{wire::sim::Sender::kServer};
   std::optional<wire::sim::Welcome> welcome_;
   std::optional<scenario::Scenario> scenario_;
-  std::shared_ptr<const map::odr::RoadNetwork> network_;
+  std::shared_ptr<const map::ScenarioMap> map_;
   std::unique_ptr<DriveMap> drive_map_;  ///< what the scripted drivers share about the map
   std::vector<VehicleSize> sizes_;       ///< of the scenario's vehicles, for Traffic
   std::optional<wire::sim::StateFrame> latest_;

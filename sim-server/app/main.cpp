@@ -8,11 +8,14 @@
 #include <boost/asio/signal_set.hpp>
 #include <boost/asio/steady_timer.hpp>
 
+#include <fmt/format.h>
+
 #include <csignal>
 #include <fstream>
 #include <sstream>
 
 #include "common/clock/asio_runtime.hpp"
+#include "common/map/scenario_map.hpp"
 #include "common/scenario/loader.hpp"
 #include "common/trace/tracer.hpp"
 #include "sim-server/physics/world.hpp"
@@ -24,14 +27,18 @@ namespace {
 
 constexpr int kExitRuntimeError = 1;
 
-const char* map_name(tb::scenario::MapType t) {
-  switch (t) {
+/// The map for the log: the built-in layout, or the OpenDRIVE file with its size.
+std::string map_name(const tb::scenario::Scenario& s) {
+  switch (s.map.type) {
     case tb::scenario::MapType::kStraight:
-      return "straight";
+      return "straight (built-in)";
     case tb::scenario::MapType::kRing:
-      return "ring";
+      return "ring (built-in)";
     case tb::scenario::MapType::kCrossing:
-      return "crossing";
+      return "crossing (built-in)";
+    case tb::scenario::MapType::kOpenDrive:
+      return fmt::format("{} (OpenDRIVE, {} roads, {} junctions)", s.map.file,
+                         s.network->roads.size(), s.network->junctions.size());
   }
   return "?";
 }
@@ -85,11 +92,15 @@ int main(int argc, char** argv) {
     return tb::scenario::kExitBadScenario;
   }
   const std::string scenario_text = read_text(scenario_file);
+  const std::size_t map_bytes = scenario.map_text ? scenario.map_text->size() : 0;
   if (scenario_text.size() > tb::wire::sim::kMaxScenarioText ||
-      scenario.vehicles.size() > tb::wire::sim::kMaxVehicles) {
-    spdlog::error("{}: too large for the protocol ({} bytes, {} vehicles; limits {} and {})",
-                  scenario_file, scenario_text.size(), scenario.vehicles.size(),
-                  tb::wire::sim::kMaxScenarioText, tb::wire::sim::kMaxVehicles);
+      scenario.vehicles.size() > tb::wire::sim::kMaxVehicles ||
+      map_bytes > tb::wire::sim::kMaxMapText) {
+    spdlog::error(
+        "{}: too large for the protocol ({} bytes, {} vehicles, a map of {} bytes; limits {}, {} "
+        "and {})",
+        scenario_file, scenario_text.size(), scenario.vehicles.size(), map_bytes,
+        tb::wire::sim::kMaxScenarioText, tb::wire::sim::kMaxVehicles, tb::wire::sim::kMaxMapText);
     return tb::scenario::kExitBadScenario;
   }
   if (!duration)
@@ -107,11 +118,23 @@ int main(int argc, char** argv) {
 
   std::unique_ptr<tb::server::physics::World> world;
   try {
+    const auto map = std::make_shared<const tb::map::ScenarioMap>(scenario);
+    for (const auto& note : map->notes())
+      spdlog::info("map: {}", note);
+    for (const auto& warning : scenario.network->warnings)
+      spdlog::warn("map {}: {}", scenario.network->source, warning);
     world = std::make_unique<tb::server::physics::World>(
-        scenario, tb::server::physics::WorldOptions{
-                      .step_s = 1.0 / scenario.rates.physics_hz,
-                      .ground_cast = mesh_cast ? tb::server::physics::GroundCast::kMesh
-                                               : tb::server::physics::GroundCast::kFlat});
+        scenario, map,
+        tb::server::physics::WorldOptions{
+            .step_s = 1.0 / scenario.rates.physics_hz,
+            .ground_cast =
+                mesh_cast ? std::optional(tb::server::physics::GroundCast::kMesh) : std::nullopt});
+    const auto& o = map->origin();
+    spdlog::info(
+        "map frame placed by the {} at {:.7f}, {:.7f}, {:.2f} m; wheels ray-test {} ({} "
+        "ground triangles)",
+        o.source, o.origin->latitude_deg, o.origin->longitude_deg, o.origin->altitude_m,
+        world->mesh_cast() ? "the road mesh" : "the flat ground", world->ground_triangles());
   } catch (const std::exception& e) {
     spdlog::error("{}: cannot build the world: {}", scenario_file, e.what());
     return tb::scenario::kExitBadScenario;
@@ -169,7 +192,7 @@ int main(int argc, char** argv) {
   });
 
   spdlog::info("scenario '{}' ({}): {} vehicle(s), map {}, physics {} Hz{}", scenario.name,
-               scenario_file, world->size(), map_name(scenario.map.type), scenario.rates.physics_hz,
+               scenario_file, world->size(), map_name(scenario), scenario.rates.physics_hz,
                fast ? ", fast" : ", real time");
   spdlog::info("listening on {}:{}", bind, server->port());
   loop.start();
@@ -182,6 +205,10 @@ int main(int argc, char** argv) {
       world->tick(), world->sim_time_ns() * 1e-9, st.connections, st.protocol_errors, st.slow_drops,
       st.clamped_values, st.watchdog_stops, loop.late_steps(), loop.resyncs(),
       loop.driver_waits_timed_out());
+  const auto& off = world->off_road();
+  spdlog::info(
+      "off the road: {} departure(s) from the drivable lanes, {} vehicle(s) off them now{}",
+      off.departures(), off.off_now(), tb::server::off_road_list(*world));
   tb::trace::global().flush();
   return 0;
 }

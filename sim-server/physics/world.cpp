@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "common/geodesy/local_frame.hpp"
+#include "sim-server/physics/ground.hpp"
 #include "sim-server/physics/powertrain.hpp"
 
 namespace tb::server::physics {
@@ -34,43 +35,6 @@ constexpr double kBrakeLightThreshold = 0.02;
 
 btVector3 to_bt(double x, double y, double z) {
   return btVector3(static_cast<btScalar>(x), static_cast<btScalar>(y), static_cast<btScalar>(z));
-}
-
-/// Where the ground is: the rectangle the road mesh covers.
-struct GroundBounds {
-  double min_x = 0, min_y = 0, max_x = 0, max_y = 0;
-  bool contains(double x, double y) const {
-    return x >= min_x && x <= max_x && y >= min_y && y <= max_y;
-  }
-};
-
-GroundBounds bounds_of(const map::RoadMap& m, double margin) {
-  GroundBounds b{1e300, 1e300, -1e300, -1e300};
-  auto add = [&b](double x, double y, double r) {
-    b.min_x = std::min(b.min_x, x - r);
-    b.min_y = std::min(b.min_y, y - r);
-    b.max_x = std::max(b.max_x, x + r);
-    b.max_y = std::max(b.max_y, y + r);
-  };
-  for (const auto& road : m.roads()) {
-    std::visit(
-        [&](const auto& line) {
-          using T = std::decay_t<decltype(line)>;
-          if constexpr (std::is_same_v<T, map::Segment>) {
-            add(line.start.x, line.start.y, road.width);
-            add(line.start.x + line.dir.x * line.length, line.start.y + line.dir.y * line.length,
-                road.width);
-          } else {
-            add(line.centre.x, line.centre.y, line.radius + road.width);
-          }
-        },
-        road.reference);
-  }
-  b.min_x -= margin;
-  b.min_y -= margin;
-  b.max_x += margin;
-  b.max_y += margin;
-  return b;
 }
 
 /// Model geometry derived once per vehicle; body frame: origin at the centre of mass, x
@@ -116,46 +80,28 @@ Geometry geometry(const scenario::VehicleModel& m) {
 /// stand on is the ground, so nothing else needs testing.
 class GroundCaster final : public btVehicleRaycaster {
  public:
-  GroundCaster(GroundCast mode, GroundBounds bounds, btRigidBody* ground)
-      : mode_(mode), bounds_(bounds), ground_(ground) {}
+  GroundCaster(const Ground& ground, btRigidBody* body) : ground_(ground), body_(body) {}
 
   void* castRay(const btVector3& from, const btVector3& to,
                 btVehicleRaycasterResult& result) override {
-    if (mode_ == GroundCast::kFlat) {
-      if (from.z() < 0 || to.z() > 0 || from.z() == to.z())
-        return nullptr;
-      const btScalar f = from.z() / (from.z() - to.z());
-      const btVector3 hit = from.lerp(to, f);
-      if (!bounds_.contains(hit.x(), hit.y()))
-        return nullptr;
-      result.m_hitPointInWorld = btVector3(hit.x(), hit.y(), 0);
-      result.m_hitNormalInWorld = btVector3(0, 0, 1);
-      result.m_distFraction = f;
-      return ground_;
-    }
-    btCollisionWorld::ClosestRayResultCallback cb(from, to);
-    btTransform tf_from, tf_to;
-    tf_from.setIdentity();
-    tf_to.setIdentity();
-    tf_from.setOrigin(from);
-    tf_to.setOrigin(to);
-    btCollisionWorld::rayTestSingle(tf_from, tf_to, ground_, ground_->getCollisionShape(),
-                                    ground_->getWorldTransform(), cb);
-    if (!cb.hasHit())
+    const auto hit = ground_.cast({from.x(), from.y(), from.z()}, {to.x(), to.y(), to.z()});
+    if (!hit)
       return nullptr;
-    result.m_hitPointInWorld = cb.m_hitPointWorld;
-    result.m_hitNormalInWorld = cb.m_hitNormalWorld.normalized();
-    result.m_distFraction = cb.m_closestHitFraction;
-    return ground_;
+    result.m_hitPointInWorld = to_bt(hit->point.x, hit->point.y, hit->point.z);
+    result.m_hitNormalInWorld = to_bt(hit->normal.x, hit->normal.y, hit->normal.z);
+    result.m_distFraction = static_cast<btScalar>(hit->fraction);
+    return body_;
   }
 
  private:
-  GroundCast mode_;
-  GroundBounds bounds_;
-  btRigidBody* ground_;
+  const Ground& ground_;
+  btRigidBody* body_;
 };
 
 struct World::Bullet {
+  explicit Bullet(const map::ScenarioMap& map, double margin, bool mesh)
+      : ground(map, margin, mesh) {}
+  Ground ground;
   btDefaultCollisionConfiguration config;
   btCollisionDispatcher dispatcher{&config};
   btDbvtBroadphase broadphase;
@@ -163,9 +109,8 @@ struct World::Bullet {
   btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &config};
   btTriangleMesh mesh;
   std::unique_ptr<btBvhTriangleMeshShape> ground_shape;
-  std::unique_ptr<btRigidBody> ground;
+  std::unique_ptr<btRigidBody> ground_body;
   std::unique_ptr<GroundCaster> caster;
-  GroundBounds bounds;
 };
 
 struct World::Car {
@@ -186,66 +131,74 @@ struct World::Car {
       : model(m), geo(geometry(m)), powertrain(model), box(geo.half), shape(false, 1) {}
 };
 
-SpawnPose spawn_pose(const map::RoadMap& map, const scenario::Spawn& spawn) {
-  SpawnPose p;
-  p.speed = spawn.speed;
-  if (const auto* lane = std::get_if<scenario::LaneSpawn>(&spawn.where)) {
-    const map::Pose pose = map.lane_pose(lane->road, lane->lane, lane->s);
-    p.x = pose.p.x;
-    p.y = pose.p.y;
-    p.yaw = lane->against ? pose.yaw + std::numbers::pi : pose.yaw;
-  } else {
-    const auto& pose = std::get<scenario::PoseSpawn>(spawn.where);
-    p.x = pose.x;
-    p.y = pose.y;
-    p.yaw = geodesy::heading_deg_to_yaw(pose.heading_deg);
-  }
-  return p;
+SpawnPose spawn_pose(const map::ScenarioMap& map, const scenario::Spawn& spawn) {
+  const map::Placement p = map.place(spawn);
+  return {p.x, p.y, p.yaw, spawn.speed, p.z, p.pitch, p.roll};
 }
 
-World::World(const scenario::MapSpec& map_spec, WorldOptions options)
-    : options_(options), map_(map_spec), bt_(std::make_unique<Bullet>()) {
+namespace {
+bool wants_mesh(const map::ScenarioMap& map, const WorldOptions& o) {
+  if (!o.ground_cast)
+    return !map.flat();
+  if (*o.ground_cast == GroundCast::kFlat && !map.flat()) {
+    throw std::invalid_argument(
+        "the flat ground cast needs a flat map (this one has elevation or superelevation)");
+  }
+  return *o.ground_cast == GroundCast::kMesh;
+}
+}  // namespace
+
+World::World(std::shared_ptr<const map::ScenarioMap> map, WorldOptions options)
+    : options_(options),
+      map_(std::move(map)),
+      bt_(std::make_unique<Bullet>(*map_, options_.ground_margin_m, wants_mesh(*map_, options_))),
+      off_road_(*map_) {
   if (!(options_.step_s > 0.0))
     throw std::invalid_argument("physics step must be positive");
   bt_->world.setGravity(btVector3(0, 0, static_cast<btScalar>(-kGravity)));
-  // The road surface as a flat mesh over the map's extent, in cells small enough that the
-  // BVH has something to cull with.
-  bt_->bounds = bounds_of(map_, options_.ground_margin_m);
-  const auto& b = bt_->bounds;
-  constexpr double kCell = 50.0;
-  const int nx = std::max(1, static_cast<int>(std::ceil((b.max_x - b.min_x) / kCell)));
-  const int ny = std::max(1, static_cast<int>(std::ceil((b.max_y - b.min_y) / kCell)));
-  const double dx = (b.max_x - b.min_x) / nx, dy = (b.max_y - b.min_y) / ny;
-  for (int i = 0; i < nx; ++i) {
-    for (int j = 0; j < ny; ++j) {
-      const double x0 = b.min_x + i * dx, y0 = b.min_y + j * dy;
-      const btVector3 p00 = to_bt(x0, y0, 0), p10 = to_bt(x0 + dx, y0, 0),
-                      p01 = to_bt(x0, y0 + dy, 0), p11 = to_bt(x0 + dx, y0 + dy, 0);
-      bt_->mesh.addTriangle(p00, p10, p11);
-      bt_->mesh.addTriangle(p00, p11, p01);
-    }
+  const Ground& g = bt_->ground;
+  for (std::size_t t = 0; t < g.triangles(); ++t) {
+    const auto& a = g.vertices()[g.indices()[3 * t]];
+    const auto& b = g.vertices()[g.indices()[3 * t + 1]];
+    const auto& c = g.vertices()[g.indices()[3 * t + 2]];
+    bt_->mesh.addTriangle(btVector3(a[0], a[1], a[2]), btVector3(b[0], b[1], b[2]),
+                          btVector3(c[0], c[1], c[2]));
   }
   bt_->ground_shape = std::make_unique<btBvhTriangleMeshShape>(&bt_->mesh, true);
   btRigidBody::btRigidBodyConstructionInfo info(0, nullptr, bt_->ground_shape.get());
   info.m_friction = 0.8f;
-  bt_->ground = std::make_unique<btRigidBody>(info);
-  bt_->world.addRigidBody(bt_->ground.get());
-  bt_->caster =
-      std::make_unique<GroundCaster>(options_.ground_cast, bt_->bounds, bt_->ground.get());
+  bt_->ground_body = std::make_unique<btRigidBody>(info);
+  bt_->world.addRigidBody(bt_->ground_body.get());
+  bt_->caster = std::make_unique<GroundCaster>(bt_->ground, bt_->ground_body.get());
+}
+
+World::World(const scenario::MapSpec& map_spec, WorldOptions options)
+    : World(std::make_shared<const map::ScenarioMap>(map_spec, std::nullopt), options) {}
+
+World::World(const scenario::Scenario& scenario, std::shared_ptr<const map::ScenarioMap> map,
+             WorldOptions options)
+    : World(std::move(map), options) {
+  for (const auto& v : scenario.vehicles)
+    add_vehicle(v.model, v.station_id, spawn_pose(*map_, v.spawn));
 }
 
 World::World(const scenario::Scenario& scenario, WorldOptions options)
-    : World(scenario.map, options) {
-  for (const auto& v : scenario.vehicles)
-    add_vehicle(v.model, v.station_id, spawn_pose(map_, v.spawn));
-}
+    : World(scenario, std::make_shared<const map::ScenarioMap>(scenario), options) {}
 
 World::~World() {
   for (auto& car : cars_) {
     bt_->world.removeAction(car->vehicle.get());
     bt_->world.removeRigidBody(car->body.get());
   }
-  bt_->world.removeRigidBody(bt_->ground.get());
+  bt_->world.removeRigidBody(bt_->ground_body.get());
+}
+
+bool World::mesh_cast() const {
+  return !bt_->ground.flat();
+}
+
+std::size_t World::ground_triangles() const {
+  return bt_->ground.triangles();
 }
 
 std::size_t World::size() const {
@@ -274,15 +227,21 @@ std::size_t World::add_vehicle(const scenario::VehicleModel& model, std::uint32_
   btRigidBody::btRigidBodyConstructionInfo info(static_cast<btScalar>(m), nullptr, &car->shape,
                                                 inertia);
   info.m_friction = 0.5f;
+  // Resting on the surface: the reference point (the ground under the bounding box's centre,
+  // body (box_x, 0, -com_h)) on the spawn's ground point, the body turned by yaw, pitch, roll.
   btTransform start;
   start.setIdentity();
-  start.setRotation(btQuaternion(btVector3(0, 0, 1), static_cast<btScalar>(pose.yaw)));
-  const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
-  start.setOrigin(to_bt(pose.x - c * g.box_x, pose.y - s * g.box_x, g.com_h));
+  btMatrix3x3 rot;
+  rot.setEulerZYX(static_cast<btScalar>(pose.roll), static_cast<btScalar>(pose.pitch),
+                  static_cast<btScalar>(pose.yaw));
+  start.setBasis(rot);
+  const Vec3& o = bt_->ground.origin();
+  const btVector3 ref_in_body = to_bt(g.box_x, 0.0, -g.com_h);
+  start.setOrigin(to_bt(pose.x - o.x, pose.y - o.y, pose.z - o.z) - rot * ref_in_body);
   info.m_startWorldTransform = start;
   car->body = std::make_unique<btRigidBody>(info);
   car->body->setActivationState(DISABLE_DEACTIVATION);
-  car->body->setLinearVelocity(to_bt(c * pose.speed, s * pose.speed, 0));
+  car->body->setLinearVelocity(rot.getColumn(0) * static_cast<btScalar>(pose.speed));
   car->last_velocity = car->body->getLinearVelocity();
   bt_->world.addRigidBody(car->body.get());
 
@@ -306,9 +265,9 @@ std::size_t World::add_vehicle(const scenario::VehicleModel& model, std::uint32_
     // step, yet the grip limit and the spawn state read them.
     wi.m_raycastInfo.m_isInContact = false;
     wi.m_raycastInfo.m_contactPointWS = start(g.wheel_at[w]);
-    wi.m_raycastInfo.m_contactNormalWS = btVector3(0, 0, 1);
+    wi.m_raycastInfo.m_contactNormalWS = rot.getColumn(2);
     wi.m_raycastInfo.m_hardPointWS = start(g.wheel_at[w]);
-    wi.m_raycastInfo.m_wheelDirectionWS = down;
+    wi.m_raycastInfo.m_wheelDirectionWS = rot * down;
     wi.m_raycastInfo.m_wheelAxleWS = start.getBasis() * axle;
     wi.m_raycastInfo.m_suspensionLength = static_cast<btScalar>(kSuspensionRestLength);
     wi.m_raycastInfo.m_groundObject = nullptr;
@@ -399,6 +358,7 @@ void World::step(std::int64_t step_wall_ns) {
   ++tick_;
   for (std::size_t i = 0; i < cars_.size(); ++i)
     update_state(i, step_wall_ns);
+  off_road_.update(tick_, states_);
 }
 
 void World::update_state(std::size_t i, std::int64_t step_wall_ns) {
@@ -415,7 +375,8 @@ void World::update_state(std::size_t i, std::int64_t step_wall_ns) {
   s.tick = tick_;
   s.sim_time_ns = sim_time_ns();
   s.step_wall_ns = step_wall_ns;
-  s.position = {ref.x(), ref.y(), ref.z()};
+  const Vec3& o = bt_->ground.origin();
+  s.position = {ref.x() + o.x, ref.y() + o.y, ref.z() + o.z};
   btScalar yaw, pitch, roll;
   rot.getEulerZYX(yaw, pitch, roll);
   s.roll = roll;
@@ -450,12 +411,22 @@ void World::update_state(std::size_t i, std::int64_t step_wall_ns) {
   s.lights = lights;
 }
 
+std::array<bool, 4> World::wheels_in_contact(std::size_t vehicle) const {
+  const Car& car = *cars_.at(vehicle);
+  std::array<bool, 4> out{};
+  for (int k = 0; k < 4; ++k)
+    out[k] = car.vehicle->getWheelInfo(k).m_raycastInfo.m_isInContact;
+  return out;
+}
+
 std::array<std::array<double, 3>, 4> World::wheel_contacts(std::size_t vehicle) const {
   const Car& car = *cars_.at(vehicle);
   std::array<std::array<double, 3>, 4> out{};
+  const Vec3& o = bt_->ground.origin();
   for (int k = 0; k < 4; ++k) {
     const auto& ri = car.vehicle->getWheelInfo(k).m_raycastInfo;
-    out[k] = {ri.m_contactPointWS.x(), ri.m_contactPointWS.y(), ri.m_contactPointWS.z()};
+    out[k] = {ri.m_contactPointWS.x() + o.x, ri.m_contactPointWS.y() + o.y,
+              ri.m_contactPointWS.z() + o.z};
   }
   return out;
 }

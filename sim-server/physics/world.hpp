@@ -3,10 +3,12 @@
 /// at a fixed rate on Bullet.
 ///
 /// Each vehicle is a btRaycastVehicle (a rigid chassis on four ray-cast suspension struts)
-/// driven by a Powertrain. The wheels do not ray-cast through Bullet's broadphase: they ask a
-/// GroundCaster for the road surface only, which never tests the cars' own chassis and is the
-/// bulk of the saving at 1000 cars (sim-server/README.md, Performance). The chassis still
-/// collide with each other and with the road mesh through the ordinary collision pipeline.
+/// driven by a Powertrain. The wheels do not ray-cast through Bullet's broadphase: they ask the
+/// Ground (ground.hpp) for the road surface only, which never tests the cars' own chassis and
+/// is the bulk of the saving at 1000 cars (sim-server/README.md, Performance). The chassis
+/// still collide with each other and with the ground mesh through the ordinary pipeline.
+/// Positions in and out are the map's frame (common/map/scenario_map.hpp); inside, Bullet
+/// computes in the Ground's physics frame.
 ///
 /// Same scenario, same controls in the same steps ⇒ bit-identical states: the world is stepped
 /// single-threaded, in a fixed order, and reads no clock.
@@ -14,26 +16,32 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
-#include "common/map/road_map.hpp"
+#include "common/map/scenario_map.hpp"
 #include "common/scenario/scenario.hpp"
 #include "common/wire/vehicle_state.hpp"
+#include "sim-server/physics/off_road.hpp"
 
 namespace tb::server::physics {
 
 /// How wheels find the road.
 enum class GroundCast {
-  /// The built-in layouts are flat (z = 0 inside the ground's bounds): an exact ray–plane test.
+  /// Flat maps (every built-in layout; z = 0 inside the ground's bounds): an exact ray–plane
+  /// test. Refused on a map that is not flat.
   kFlat,
-  /// Bullet's ray test against the road mesh alone, for surfaces that are not flat.
+  /// A ray test against the road surface's triangles (and the verges beside it), through a
+  /// grid of their own: what maps with elevation or superelevation get.
   kMesh,
 };
 
 struct WorldOptions {
   double step_s = 0.01;
-  GroundCast ground_cast = GroundCast::kFlat;
+  /// Empty: kFlat on flat maps, kMesh on the others. kMesh on a flat map builds the road's
+  /// triangles too (tests, benchmarks: `sim-server --mesh-raycast`).
+  std::optional<GroundCast> ground_cast = std::nullopt;
   /// Ground beyond the roads' extent, so that a car leaving the road still has something to
   /// drive on, m.
   double ground_margin_m = 200.0;
@@ -44,18 +52,26 @@ struct SpawnPose {
   double x = 0.0, y = 0.0;  ///< ground position of the vehicle's reference point, m
   double yaw = 0.0;         ///< rad, counter-clockwise from east
   double speed = 0.0;       ///< m/s along the heading
+  double z = 0.0;           ///< height of that ground point, m
+  double pitch = 0.0;       ///< rad, ZYX (wire::VehicleState): resting on the road's slope
+  double roll = 0.0;        ///< rad, ZYX: resting on its superelevation
 };
 
-/// The scenario's spawn as a pose on the map. @throws std::out_of_range for a lane that does
+/// The scenario's spawn as a pose on the map. @throws map::odr::MapError for a lane that does
 /// not exist.
-SpawnPose spawn_pose(const map::RoadMap& map, const scenario::Spawn& spawn);
+SpawnPose spawn_pose(const map::ScenarioMap& map, const scenario::Spawn& spawn);
 
 class World {
  public:
-  /// Builds the ground for @p map_spec; vehicles are added with add_vehicle().
+  /// Builds the ground of @p map; vehicles are added with add_vehicle().
+  World(std::shared_ptr<const map::ScenarioMap> map, WorldOptions options);
+  /// A built-in layout (tests, benchmarks).
   World(const scenario::MapSpec& map_spec, WorldOptions options);
   /// Builds the scenario's map and spawns its vehicles in order.
   explicit World(const scenario::Scenario& scenario, WorldOptions options = {});
+  /// The scenario's vehicles on a map already built from it.
+  World(const scenario::Scenario& scenario, std::shared_ptr<const map::ScenarioMap> map,
+        WorldOptions options);
   ~World();
   World(const World&) = delete;
   World& operator=(const World&) = delete;
@@ -78,10 +94,18 @@ class World {
   std::int64_t sim_time_ns() const;
   double step_s() const { return options_.step_s; }
   std::span<const wire::VehicleState> states() const { return states_; }
-  const map::RoadMap& map() const { return map_; }
+  const map::ScenarioMap& map() const { return *map_; }
+  /// Whether the wheels ray-test the road mesh (GroundCast::kMesh).
+  bool mesh_cast() const;
+  std::size_t ground_triangles() const;
+  /// Vehicles that left every drivable lane (the server logs the events).
+  OffRoadMonitor& off_road() { return off_road_; }
+  const OffRoadMonitor& off_road() const { return off_road_; }
 
-  /// Ground contact point of each wheel (FL, FR, RL, RR), for tests and drawing.
+  /// Ground contact point of each wheel (FL, FR, RL, RR) in the map's frame, for tests and
+  /// drawing; whether each is in contact.
   std::array<std::array<double, 3>, 4> wheel_contacts(std::size_t vehicle) const;
+  std::array<bool, 4> wheels_in_contact(std::size_t vehicle) const;
 
  private:
   struct Bullet;
@@ -89,8 +113,9 @@ class World {
   void update_state(std::size_t i, std::int64_t step_wall_ns);
 
   WorldOptions options_;
-  map::RoadMap map_;
+  std::shared_ptr<const map::ScenarioMap> map_;
   std::unique_ptr<Bullet> bt_;
+  OffRoadMonitor off_road_;
   std::vector<std::unique_ptr<Car>> cars_;
   std::vector<wire::VehicleState> states_;
   std::uint64_t tick_ = 0;

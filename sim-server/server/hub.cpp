@@ -300,6 +300,8 @@ sim::Welcome Hub::welcome() const {
   w.server_name = server_name_;
   w.step_ns = std::llround(world_.step_s() * 1e9);
   w.scenario_json = scenario_json_;
+  if (scenario_.map_text)
+    w.map_text = *scenario_.map_text;
   for (std::size_t i = 0; i < scenario_.vehicles.size() && i < vehicles_.size(); ++i) {
     const auto& v = scenario_.vehicles[i];
     sim::VehicleInfo info;

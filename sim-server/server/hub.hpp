@@ -58,7 +58,8 @@ class Hub {
   /// can react to, rather than an emergency stop.
   static constexpr float kStopBrake = 0.5f;
 
-  /// @p scenario_json is the scenario file's text, sent to clients in Welcome.
+  /// @p scenario_json is the scenario file's text, sent to clients in Welcome with the
+  /// scenario's OpenDRIVE text (Scenario::map_text).
   Hub(physics::World& world, const scenario::Scenario& scenario, std::string scenario_json,
       const clock::Clock& clock, std::string server_name = "sim-server");
 

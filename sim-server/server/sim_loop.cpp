@@ -1,5 +1,6 @@
 #include "sim-server/server/sim_loop.hpp"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <cmath>
@@ -116,6 +117,46 @@ void SimLoop::drivers_changed() {
   post_step();
 }
 
+std::string describe(const physics::OffRoadEvent& e) {
+  std::string s = fmt::format("vehicle {} (station {}) at ({:.1f}, {:.1f}, {:.1f})", e.vehicle,
+                              e.station_id, e.x, e.y, e.z);
+  if (!e.last_road.empty()) {
+    s += fmt::format(", {} road {} lane {} s {:.1f}", e.left ? "last on" : "on", e.last_road,
+                     e.last_lane, e.last_s);
+  }
+  return s;
+}
+
+std::string off_road_list(const physics::World& world) {
+  const auto& m = world.off_road();
+  std::string out;
+  for (std::size_t i = 0; i < world.size(); ++i) {
+    if (m.off(i))
+      out += (out.empty() ? ": " : "; ") + describe(m.where(i));
+  }
+  return out;
+}
+
+void report_off_road(physics::World& world, trace::Tracer& tracer, std::int64_t at_ns) {
+  for (const auto& e : world.off_road().take_events()) {
+    if (e.left) {
+      spdlog::warn("{} left every drivable lane; {} vehicle(s) off the road now", describe(e),
+                   world.off_road().off_now());
+    } else {
+      spdlog::info("{} is back on a drivable lane", describe(e));
+    }
+    if (tracer.enabled()) {
+      tracer.record_at(at_ns, "server.off_road",
+                       {{"station", e.station_id},
+                        {"tick", e.tick},
+                        {"left", e.left},
+                        {"x", e.x},
+                        {"y", e.y},
+                        {"z", e.z}});
+    }
+  }
+}
+
 void SimLoop::step() {
   if (!running_)
     return;
@@ -133,6 +174,7 @@ void SimLoop::step() {
                       {"dur_ns", clock::to_unix_ns(rt_.wall_now()) - start_ns},
                       {"vehicles", world_.size()}});
   }
+  report_off_road(world_, tracer, start_ns);
   if (hub_)
     hub_->after_step();
   if (options_.duration_s && world_.sim_time_ns() >= std::llround(*options_.duration_s * 1e9)) {

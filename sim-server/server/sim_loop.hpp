@@ -11,12 +11,23 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <string>
 
 #include "common/clock/runtime.hpp"
+#include "common/trace/tracer.hpp"
 #include "sim-server/physics/world.hpp"
 #include "sim-server/server/hub.hpp"
 
 namespace tb::server {
+
+/// A vehicle leaving (or regaining) the drivable lanes, for the log: index, station, where,
+/// the lane it was last on.
+std::string describe(const physics::OffRoadEvent& e);
+/// The vehicles off the road now, for the final status line ("" when none).
+std::string off_road_list(const physics::World& world);
+/// Logs (warning when leaving) and traces (`server.off_road`) what the world's off-road
+/// monitor saw in the last step.
+void report_off_road(physics::World& world, trace::Tracer& tracer, std::int64_t at_ns);
 
 class SimLoop {
  public:

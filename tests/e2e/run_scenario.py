@@ -19,6 +19,10 @@ CASE is one of:
                    driver's HMI open in headless Chromium (?trace=1): scripts/report must find
                    records for every stage, and state → CAM on the air p99 ≤ 250 ms (the
                    thesis's ceiling)
+  foreign-root     scenarios/lcrw-frontal.json signed, for 15 s, with the black car's station
+                   from another test PKI ("station": {"pki": "foreign"}; issue 20): neither
+                   station's LDM, MQTT CAM topics or LCRW ever hold the other, each counts the
+                   other's packets as untrusted_root in its status and says so in its log
   scale            20 scripted vehicles on the ring of tests/e2e/gen_scale_scenario.py for 20 s
                    with tracing (issue 21): scripts/report must find records for every stage
                    from the client's input to the CAM received by the others' LDM and LCRW
@@ -51,7 +55,9 @@ CASES = {
     "curve": ("lcrw-curve.json", 25),
     "reversing": ("lcrw-reversing.json", 25),
     "scale": (None, 20),  # the scenario is generated: SCALE_STATIONS on the ring
+    "foreign-root": (None, 15),  # generated: lcrw-frontal with black from another PKI
 }
+FOREIGN_STATION = 1002
 SCALE_STATIONS = 20
 # The stages a run without an HMI and without warnings has (scripts/report's ORDER).
 SCALE_STAGES = ("t1,t1.send,p1,fanout,t3.period,t2,p2,t3.gpsd,t3.uptake,t3.stack,p3,t4,p4.t5,air,"
@@ -97,13 +103,58 @@ def main():
     return rc
 
 
+def foreign_root_failures(out, messages):
+    """The foreign-root case's checks: the stations of two PKIs ignore each other, and say so."""
+    failures = []
+    statuses = {}
+    for status in sorted(out.glob("run-*/station-*.status.json")):
+        st = json.loads(status.read_text())
+        statuses[st["station_id"]] = st
+        sec = st.get("security", {})
+        print(f"e2e: {status.name}: security {sec.get('mode')} {sec.get('verify')}, "
+              f"neighbours {[n['station_id'] for n in st.get('neighbours', [])]}")
+    if set(statuses) != {1001, FOREIGN_STATION}:
+        return [f"status files of stations {sorted(statuses)}, not 1001 and {FOREIGN_STATION}"]
+    for sid, other in ((1001, FOREIGN_STATION), (FOREIGN_STATION, 1001)):
+        st = statuses[sid]
+        verify = st.get("security", {}).get("verify", {})
+        if st.get("security", {}).get("mode") != "signed":
+            failures.append(f"station {sid}: security mode {st.get('security', {}).get('mode')}")
+        if any(n["station_id"] == other for n in st.get("neighbours", [])):
+            failures.append(f"station {sid}'s LDM holds the station of the other PKI, {other}")
+        if verify.get("ok", 0) != 0:
+            failures.append(f"station {sid} verified {verify['ok']} packet(s) of the other PKI")
+        if verify.get("untrusted_root", 0) == 0:
+            failures.append(f"station {sid} never named the other's packets untrusted_root "
+                            f"({verify})")
+        logs = list(out.glob(f"run-*/its-station-{sid}.log"))
+        said = logs and "dropping received packets: untrusted_root" in logs[0].read_text(
+            errors="replace")
+        if not said:
+            failures.append(f"station {sid}'s log never says it drops untrusted_root packets")
+        if any(t == f"its/{sid}/in/cam/{other}" for t, _ in messages):
+            failures.append(f"station {sid} published a CAM of {other} on MQTT")
+    if any(t.endswith("/app/lcrw") and m.get("event") == "raised" for t, m in messages):
+        failures.append("an LCRW warning was raised about a station nobody may trust")
+    return failures
+
+
 def run_case(args):
     """One run of the case. Returns (exit status, % of CPU time the host stole meanwhile)."""
     scenario, duration = CASES[args.case]
     cpu0 = cpu_times()
     out = Path(tempfile.mkdtemp(prefix=f"e2e-{args.case}-"))
     out.chmod(0o755)  # the broker drops root and must reach its configuration in there
-    if scenario is None:
+    if args.case == "foreign-root":
+        scenario_file = out / "lcrw-frontal-foreign.json"
+        doc = json.loads((ROOT / "scenarios/lcrw-frontal.json").read_text())
+        doc["security"] = "signed"
+        for v in doc["vehicles"]:
+            if v["station_id"] == FOREIGN_STATION:
+                v["station"] = {"pki": "foreign"}
+        scenario_file.write_text(json.dumps(doc, indent=2))
+        scenario_file.chmod(0o644)
+    elif scenario is None:
         # Long enough to outlast the stations' start-up and the measured window.
         scenario_file = out / f"scale-{SCALE_STATIONS}.json"
         subprocess.run([sys.executable, str(ROOT / "tests/e2e/gen_scale_scenario.py"),
@@ -171,7 +222,9 @@ def run_case(args):
     if testbed.returncode != 0:
         failures.append(f"scripts/testbed exited with {testbed.returncode}")
 
-    if args.security in ("signed", "signed-permissive"):
+    if args.case == "foreign-root":
+        failures += foreign_root_failures(out, messages)
+    elif args.security in ("signed", "signed-permissive"):
         # Every station verified the others' signed CAMs and refused none.
         for status in sorted(out.glob("run-*/station-*.status.json")):
             sec = json.loads(status.read_text()).get("security", {})
@@ -237,7 +290,9 @@ def run_case(args):
             # Its own interpreter (Debian's, with matplotlib), not this test's.
             r = subprocess.run([str(ROOT / "scripts/report"), str(trace),
                                 "--out", str(runs[-1] / "histograms"),
-                                "--require", "all" if args.case == "latency" else SCALE_STAGES,
+                                "--require", ("all" + (",security" if args.security in
+                                                       ("signed", "signed-permissive") else "")
+                                              if args.case == "latency" else SCALE_STAGES),
                                 "--max-p99", "state_to_cam=250"], capture_output=True, text=True)
             print(r.stdout + r.stderr)
             if r.returncode != 0:
@@ -256,6 +311,8 @@ def run_case(args):
     if failures:
         print(f"e2e: logs in {out}")
         return 1, steal
+    if args.case in ("latency", "scale"):
+        print(f"e2e {args.case}: run folder {out} (tests/e2e/median_of_runs.py takes it)")
     print(f"e2e {args.case}: PASS")
     return 0, steal
 

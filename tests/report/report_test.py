@@ -58,7 +58,7 @@ def vehicle(trace, station, ticks, moving):
                       trigger="time")
             cams[tick] = step_ns(tick) + 30 * MS
             trace.add(cams[tick], "its.cam_tx", station=station, fix_ms=fix_ms, gdt=g, bytes=50,
-                      sent_ns=cams[tick] + 40_000)
+                      encode_ns=cams[tick] - 300_000, sent_ns=cams[tick] + 40_000)
     return cams
 
 
@@ -97,6 +97,10 @@ class ReportTest(unittest.TestCase):
         self.assertAlmostEqual(st["t3.period"]["mean"], st["state_to_cam"]["mean"] - 30, places=6)
         self.assertAlmostEqual(st["t3.uptake"]["mean"], 0.02, places=6)
         self.assertAlmostEqual(st["t3.gpsd"]["mean"], 0.65, places=6)
+        # p3 (1 ms from cam_build to cam_tx) splits at encode_ns: build 0.7, encode 0.3.
+        self.assertAlmostEqual(st["p3"]["mean"], 1.0, places=6)
+        self.assertAlmostEqual(st["p3.build"]["mean"], 0.7, places=6)
+        self.assertAlmostEqual(st["p3.encode"]["mean"], 0.3, places=6)
 
     def test_air_splits_at_the_medium(self):
         # Station 1's CAM of epoch 20 is on the interface 0.04 ms after it was handed to the
@@ -112,6 +116,36 @@ class ReportTest(unittest.TestCase):
         self.assertEqual(st["t4"]["n"], 4)
         self.assertAlmostEqual(st["p4.t5"]["mean"], 0.5, places=6)
         self.assertAlmostEqual(st["air"]["mean"], 0.7, places=6)
+
+    def test_security_stages_of_a_signing_run(self):
+        # Station 1's CAM of epoch 20: signed 10 µs after the hand-over (25 µs, with the AT),
+        # received by station 2, whose CAM verification ends 0.6 ms after the CAM's hand-over
+        # and the decoded CAM 0.1 ms after that. A beacon (psid 141) signed and verified meanwhile
+        # is no CAM's: left out of both.
+        fix_ms = START_MS + 200
+        t = self.moving[20]
+        self.trace.add(t + 10_000, "its.sign", station=1, psid=36, bytes=316, certificate=True,
+                       end_ns=t + 35_000)
+        self.trace.add(t + 50_000, "its.sign", station=1, psid=141, bytes=150, end_ns=t + 90_000)
+        self.trace.add(self.moving[10] + 10_000, "its.sign", station=1, psid=36, bytes=174,
+                       certificate=False, end_ns=self.moving[10] + 30_000)
+        self.trace.add(t + 540_000, "its.verify", station=2, psid=36, result="ok",
+                       end_ns=t + 600_000)
+        self.trace.add(t + 650_000, "its.verify", station=2, psid=141, result="ok",
+                       end_ns=t + 690_000)
+        self.trace.add(t + 700_000, "its.cam_rx", station=2, **{"from": 1}, gdt=gdt(fix_ms))
+        r, st = run_report(self.trace, "--require", "security")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertEqual(st["t4.sign"]["n"], 2)
+        self.assertAlmostEqual(st["t4.sign"]["max"], 0.025, places=6)
+        self.assertEqual(st["rx.verify"]["n"], 1)
+        self.assertAlmostEqual(st["rx.verify"]["mean"], 0.06, places=6)
+        # The decoded CAM follows the CAM's verification, not the beacon's after it.
+        self.assertEqual(st["rx.decode"]["n"], 1)
+        self.assertAlmostEqual(st["rx.decode"]["mean"], 0.1, places=6)
+        # Sizes: the CAMs are 50 octets (vehicle()), so 316 - 40 - 50 of security with the AT.
+        self.assertIn("certificate signer: GN packet 320, of it security 226 (n=1); "
+                      "digest signer: GN packet 178, of it security 84 (n=1)", r.stdout)
 
     def test_old_traces_count_every_step(self):
         for r in self.trace.records:
@@ -185,8 +219,9 @@ class ReportTest(unittest.TestCase):
         self.assertNotIn("stage state_to_cam has no records", r.stderr)
         # An unsigned run has no security stages: "all" leaves them out, naming one asks for it.
         self.assertNotIn("stage t4.sign has no records", r.stderr)
-        r, _ = run_report(self.trace, "--require", "all,t4.sign")
-        self.assertIn("stage t4.sign has no records", r.stderr)
+        r, _ = run_report(self.trace, "--require", "all,security")
+        for stage in ("t4.sign", "rx.verify", "rx.decode"):
+            self.assertIn(f"stage {stage} has no records", r.stderr)
 
     def test_bounds(self):
         r, _ = run_report(self.trace, "--max-p99", "state_to_cam=100")

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numbers>
 #include <string>
@@ -12,6 +13,19 @@ namespace {
 std::string road_path(const RoadNetwork& net, int road) {
   return "road[@id='" + net.roads[static_cast<std::size_t>(road)].id + "']";
 }
+
+/// A number for messages: millimetres at most, no trailing zeros ("30", "2.5", "100.125").
+std::string num(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.3f", v);
+  std::string s(buf);
+  if (s.find('.') != std::string::npos) {
+    s.erase(s.find_last_not_of('0') + 1);
+    if (s.back() == '.')
+      s.pop_back();
+  }
+  return s == "-0" ? "0" : s;
+}
 }  // namespace
 
 const Lane& lane_at(const RoadNetwork& net, int road, int lane, double s) {
@@ -20,14 +34,13 @@ const Lane& lane_at(const RoadNetwork& net, int road, int lane, double s) {
   }
   const Road& r = net.roads[static_cast<std::size_t>(road)];
   if (!(s >= 0.0 && s <= r.length)) {
-    throw MapError(
-        net.source, road_path(net, road),
-        "s " + std::to_string(s) + " outside the road (length " + std::to_string(r.length) + ")");
+    throw MapError(net.source, road_path(net, road),
+                   "s " + num(s) + " outside the road (length " + num(r.length) + ")");
   }
   const Lane* l = r.sections[r.section_index(s)].lane(lane);
   if (l == nullptr) {
     throw MapError(net.source, road_path(net, road),
-                   "lane " + std::to_string(lane) + " does not exist at s " + std::to_string(s));
+                   "lane " + std::to_string(lane) + " does not exist at s " + num(s));
   }
   return *l;
 }
@@ -62,17 +75,15 @@ SurfacePose spawn_pose(const RoadNetwork& net, const LaneSpawn& spawn) {
   const Road& r = net.roads[static_cast<std::size_t>(road)];
   if (!(spawn.s >= 0.0 && spawn.s <= r.length)) {
     throw MapError(net.source, path,
-                   "s " + std::to_string(spawn.s) + " past the road's end (length " +
-                       std::to_string(r.length) + ")");
+                   "s " + num(spawn.s) + " past the road's end (length " + num(r.length) + ")");
   }
   const Lane& lane = lane_at(net, road, spawn.lane, spawn.s);
   const LaneBorders b = r.borders(r.section_index(spawn.s), spawn.s);
   const double width = std::fabs(b.outer(spawn.lane) - b.inner(spawn.lane));
   if (spawn.lane == 0 || !lane.drivable || width < 1.0) {
     throw MapError(net.source, path,
-                   "lane " + std::to_string(spawn.lane) + " (" + lane.type + ", " +
-                       std::to_string(width) + " m wide) is not drivable at s " +
-                       std::to_string(spawn.s));
+                   "lane " + std::to_string(spawn.lane) + " (" + lane.type + ", " + num(width) +
+                       " m wide) is not drivable at s " + num(spawn.s));
   }
   SurfacePose p = lane_pose(net, road, spawn.lane, spawn.s, spawn.offset);
   if (!r.forward(spawn.lane)) {

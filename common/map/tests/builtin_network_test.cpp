@@ -11,6 +11,13 @@
 #include "common/map/opendrive/writer.hpp"
 #include "common/map/road_map.hpp"
 
+namespace tb::scenario {
+// Test names carry the layout rather than the bytes of the struct (which hold a pointer).
+void PrintTo(const MapSpec& m, std::ostream* os) {
+  *os << static_cast<int>(m.type) << ":" << m.lanes << "/" << m.oncoming_lanes;
+}
+}  // namespace tb::scenario
+
 namespace tb::map {
 namespace {
 

@@ -68,6 +68,30 @@ const BadCase kBadCases[] = {
     {"station-command-empty.json", "/vehicles/0/station/command",
      "expected 1 to 256 elements, found 0"},
     {"bad-security.json", "/security", "\"sign\" is not one of \"none\", \"signed\""},
+    // OpenDRIVE maps (issue 17, "Bad input"); the maps are in tests/maps.
+    {"opendrive-missing-file.json", "/map/file", "../maps/no-such-map.xodr: no such file"},
+    {"opendrive-malformed.json", "/map/file", "malformed XML"},
+    {"opendrive-bad-proj.json", "/map/file",
+     "header/geoReference: unreadable PROJ string '+proj=no_such_projection +lat_0=48'"},
+    {"opendrive-no-origin.json", "/origin",
+     "the map ../maps/straight-100.xodr has no geoReference, so the origin must place"},
+    {"opendrive-builtin-field.json", "/map/lanes",
+     "field \"lanes\" is not allowed here: only for the built-in layouts"},
+    {"opendrive-spawn-missing-road.json", "/vehicles/0/spawn/road",
+     "road \"99\" does not exist in ../maps/straight-100.xodr"},
+    {"opendrive-spawn-missing-lane.json", "/vehicles/0/spawn/lane",
+     "road[@id='12']: lane -3 does not exist at s 30"},
+    {"opendrive-spawn-not-drivable.json", "/vehicles/0/spawn/lane",
+     "maps/straight-100.xodr: road[@id='12']: lane -2 (sidewalk, 2 m wide) is not drivable at s "
+     "30"},
+    {"opendrive-spawn-past-end.json", "/vehicles/0/spawn/s",
+     "s 150 is past the end of road \"12\" (length 100.000 m)"},
+    {"opendrive-spawn-lane-zero.json", "/vehicles/0/spawn/lane",
+     "lane 0 is the centre line, not a lane"},
+    {"opendrive-spawn-pose-off-road.json", "/vehicles/0/spawn",
+     "spawn point (50, -4.5) is off the road (on no drivable lane of ../maps/straight-100.xodr)"},
+    {"opendrive-spawn-builtin-form.json", "/vehicles/0/spawn/road",
+     "missing required field \"road\""},
     {"route-missing-road.json", "/vehicles/0/driver/route/1",
      "road \"7\" does not exist in the map"},
     {"route-disconnected.json", "/vehicles/0/driver/route/1",
@@ -127,7 +151,7 @@ TEST(ScenarioLoader, DefaultsAreFilledAndDocumentedValuesRead) {
   EXPECT_EQ(s.map.type, MapType::kRing);
   EXPECT_EQ(s.map.oncoming_lanes, 0);  // rings default to one-way
   EXPECT_DOUBLE_EQ(s.map.radius, 150.0);
-  EXPECT_DOUBLE_EQ(s.origin.altitude_m, 0.0);
+  EXPECT_DOUBLE_EQ(s.origin->altitude_m, 0.0);
   EXPECT_DOUBLE_EQ(s.rates.physics_hz, 100.0);
   EXPECT_DOUBLE_EQ(s.rates.gnss_hz, 10.0);
   EXPECT_EQ(s.cam.kind, CamPolicy::Kind::kEtsi);
@@ -239,7 +263,34 @@ TEST(ScenarioLoader, AVehicleMayBringItsOwnStationProgram) {
           "inline.json");
     FAIL() << "a misspelled station field loaded";
   } catch (const ScenarioError& e) {
-    EXPECT_EQ(e.path(), "/vehicles/0/station/command") << e.what();
+    EXPECT_EQ(e.path(), "/vehicles/0/station/cmd") << e.what();
+  }
+}
+
+TEST(ScenarioLoader, AStationMayComeFromAnotherPki) {
+  const char* fmt = R"({
+    "name": "foreign", "map": {"type": "ring", "lanes": 2}, "origin": {"lat": 48.1, "lon": 11.5},
+    "security": "signed",
+    "vehicles": [{"id": "v1", "station_id": 7, "spawn": {"lane": 1, "s": 3.5}},
+                 {"id": "v2", "station_id": 8, "spawn": {"lane": 1, "s": 30},
+                  "station": {"pki": %s}}]
+  })";
+  auto with = [&](const std::string& pki) {
+    std::string text(std::snprintf(nullptr, 0, fmt, pki.c_str()), '\0');
+    std::snprintf(text.data(), text.size() + 1, fmt, pki.c_str());
+    return text;
+  };
+  const Scenario s = parse(with("\"elsewhere\""), "inline.json");
+  EXPECT_TRUE(s.vehicles[0].station_pki.empty());  // the scenario's PKI
+  EXPECT_EQ(s.vehicles[1].station_pki, "elsewhere");
+  EXPECT_TRUE(s.vehicles[1].station_command.empty());  // still its-station
+  for (const std::string bad : {"\"\"", "\"../x\"", "7"}) {
+    try {
+      parse(with(bad), "inline.json");
+      FAIL() << "PKI name " << bad << " loaded";
+    } catch (const ScenarioError& e) {
+      EXPECT_EQ(e.path(), "/vehicles/1/station/pki") << e.what();
+    }
   }
 }
 

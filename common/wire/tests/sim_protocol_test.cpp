@@ -93,7 +93,8 @@ Welcome sample_welcome() {
   b.driver_kind = DriverKind::kLaneFollow;
   b.driver = "";
   w.vehicles = {a, b};
-  w.scenario_json = R"({"name":"x","map":{"type":"straight"}})";
+  w.scenario_json = R"({"name":"x","map":{"type":"opendrive","file":"maps/x.xodr"}})";
+  w.map_text = "<OpenDRIVE><header revMajor=\"1\" revMinor=\"7\"/></OpenDRIVE>\n";
   return w;
 }
 
@@ -111,12 +112,12 @@ TEST(SimProtocol, ClientMessagesRoundTrip) {
     EXPECT_EQ(client_roundtrip(m), m);
 }
 
-TEST(SimProtocol, ControlsLayoutOfVersion2) {
+TEST(SimProtocol, ControlsLayout) {
   // PROTOCOL.md: u16 vehicle, f32 throttle, brake, steer, u8 flags, u16 lights, i64 input_ns.
   const auto b = encode(
       ControlsMsg{0x0102, Controls{1.0f, 0.0f, 0.0f, true, false}, 0x0304, 0x1122334455667788});
   ASSERT_EQ(b.size(), kHeaderSize + 25);
-  EXPECT_EQ(b[2], 2);          // version
+  EXPECT_EQ(b[2], 3);          // version
   EXPECT_EQ(b[4], 25);         // payload length
   EXPECT_EQ(b[8], 0x02);       // vehicle, little-endian
   EXPECT_EQ(b[8 + 14], 0x01);  // flags: reverse
@@ -250,10 +251,13 @@ TEST(SimProtocol, RejectsUnknownTypeBadMagicAndVersion) {
   EXPECT_EQ(*feed(d, Bytes{'G', 'E', 'T', ' ', '/', ' ', 'H', 'T'}, 64).error,
             ProtocolError::kBadMagic);
   FrameParser e(Sender::kClient);
-  EXPECT_EQ(*feed(e, header(0x01, 1, 3), 64).error, ProtocolError::kUnsupportedVersion);
+  EXPECT_EQ(*feed(e, header(0x01, 1, 4), 64).error, ProtocolError::kUnsupportedVersion);
   // Version 1 (Controls without the input time) is refused, not misread.
   FrameParser g(Sender::kClient);
   EXPECT_EQ(*feed(g, header(0x03, 17, 1), 64).error, ProtocolError::kUnsupportedVersion);
+  // Version 2 (a Welcome without the map) likewise.
+  FrameParser h(Sender::kServer);
+  EXPECT_EQ(*feed(h, header(0x81, 100, 2), 64).error, ProtocolError::kUnsupportedVersion);
 }
 
 TEST(SimProtocol, StaysFailedAfterAnError) {
@@ -321,6 +325,38 @@ TEST(SimProtocol, WelcomeRejectsTruncationAtEveryLength) {
         decode_server(frame(MessageType::kWelcome, Bytes(payload.begin(), payload.begin() + n)));
     EXPECT_FALSE(d) << "accepted a Welcome cut at " << n;
   }
+}
+
+TEST(SimProtocol, WelcomeEndsWithTheScenarioAndTheMapText) {
+  // PROTOCOL.md, version 3: ... u32 json_length, JSON, u32 map_length, map.
+  const Welcome w = sample_welcome();
+  const auto b = encode(w);
+  const std::size_t map = w.map_text.size(), json = w.scenario_json.size();
+  ASSERT_GT(b.size(), kHeaderSize + 8 + map + json);
+  EXPECT_EQ(std::string(b.end() - static_cast<long>(map), b.end()), w.map_text);
+  const auto at = b.end() - static_cast<long>(map) - 4;
+  EXPECT_EQ(at[0] | at[1] << 8 | at[2] << 16 | at[3] << 24, static_cast<int>(map));
+  EXPECT_EQ(std::string(at - static_cast<long>(json), at), w.scenario_json);
+  // A built-in layout: no map text, four zero bytes.
+  Welcome builtin = w;
+  builtin.map_text.clear();
+  EXPECT_EQ(server_roundtrip(builtin), ServerMessage{builtin});
+}
+
+TEST(SimProtocol, WelcomeAndStateHaveTheirOwnBounds) {
+  // A Welcome may carry a map of up to 32 MiB; a State frame stays within 4 MiB.
+  FrameParser p(Sender::kServer);
+  auto f = feed(p, header(0x81, static_cast<std::uint32_t>(kMaxWelcomePayload + 1)), 64);
+  ASSERT_TRUE(f.error);
+  EXPECT_EQ(*f.error, ProtocolError::kOversized);
+  FrameParser q(Sender::kServer);
+  f = feed(q, header(0x81, static_cast<std::uint32_t>(kMaxWelcomePayload)), 64);
+  EXPECT_FALSE(f.error);
+  FrameParser r(Sender::kServer);
+  f = feed(r, header(0x83, static_cast<std::uint32_t>(kMaxServerPayload + 1)), 64);
+  ASSERT_TRUE(f.error);
+  EXPECT_EQ(*f.error, ProtocolError::kOversized);
+  EXPECT_GE(kMaxWelcomePayload, kMaxMapText + kMaxScenarioText);
 }
 
 TEST(SimProtocol, ClampCountsOutOfRangeValues) {

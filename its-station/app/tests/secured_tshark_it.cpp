@@ -1,7 +1,7 @@
 // Interoperability with Wireshark for signed packets: CAMs (certificate, then digest signer)
 // and a DENM as the stack sends them with security `signed` (router + security entity + BTP),
 // written to a pcap and decoded by Debian's tshark 4.0 down to the CAM/DENM fields, with no
-// malformed packet and no expert information.
+// malformed packet and no expert information but the note tshark gives every secured SHB.
 
 #include <gtest/gtest.h>
 #include <stdlib.h>
@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include "its-station/btp/dispatcher.hpp"
 #include "its-station/geonet/router.hpp"
@@ -20,8 +21,7 @@
 #include "its-station/messages/denm.hpp"
 #include "its-station/messages/tests/run_command.hpp"
 #include "its-station/messages/tests/samples.hpp"
-#include "its-station/security/pki.hpp"
-#include "its-station/security/time.hpp"
+#include "its-station/security/tests/test_pki.hpp"
 
 namespace tb::its {
 namespace {
@@ -60,25 +60,17 @@ TEST(SecuredTshark, SignedCamsAndDenmDecodeDownToTheirFields) {
   if (std::system("command -v tshark >/dev/null 2>&1") != 0)
     GTEST_SKIP() << "tshark not installed (scripts/install-deps installs it)";
   clock::ManualRuntime rt;
-  const sec::Time32 start = sec::to_time32(rt.wall_now()) - 3600;
-  sec::EcKey root_key = sec::EcKey::generate(sec::EccCurve::kNistP256);
-  sec::EcKey aa_key = sec::EcKey::generate(sec::EccCurve::kNistP256);
-  const auto root = sec::make_root(root_key, "root", {start, sec::DurationUnit::kHours, 100});
-  const auto aa =
-      sec::make_authority(aa_key, "aa", {start, sec::DurationUnit::kHours, 100}, root, root_key);
-  sec::EcKey at_key = sec::EcKey::generate(sec::EccCurve::kNistP256);
-  auto at = sec::make_ticket(at_key, {start, sec::DurationUnit::kHours, 10}, aa, aa_key);
-  sec::Verifier verifier({root});
-  sec::SecurityEntity entity(sec::SecurityMode::kSigned, sec::Signer(at, std::move(at_key), aa),
-                             std::move(verifier));
-
+  sec::testing::TestPki pki{rt.wall_now()};
+  auto entity = pki.entity(sec::SecurityMode::kSigned);
   link::TestLink link(geonet::testing::mac(1));
   geonet::StaticPositionProvider position;
   position.set({rt.wall_now(), 41.0255, 28.9742, 13.89, 90.0, true});
+  // A beacon 2 s after the last CAM (each SHB puts it off), signed for GN-MGMT.
   geonet::RouterConfig cfg;
-  cfg.beacon_interval = std::chrono::hours(1);
+  cfg.beacon_interval = std::chrono::seconds(2);
+  cfg.beacon_max_jitter = std::chrono::milliseconds(0);
   geonet::Router router(rt, link, position, cfg);
-  router.set_security(&entity);
+  router.set_security(entity.get());
   btp::Dispatcher btp(router);
 
   const messages::Cam cam = messages::samples::cam_hf();
@@ -96,6 +88,7 @@ TEST(SecuredTshark, SignedCamsAndDenmDecodeDownToTheirFields) {
                            geonet::testing::circle_at({41.0255, 28.9742}, 500)),
                        btp::kPortDenm, 0, *denm_bytes),
             geonet::DataConfirm::kAccepted);
+  rt.advance(std::chrono::milliseconds(2000));
 
   std::vector<Bytes> frames;
   for (const auto& s : link.sent()) {
@@ -107,7 +100,7 @@ TEST(SecuredTshark, SignedCamsAndDenmDecodeDownToTheirFields) {
     f.insert(f.end(), s.payload.begin(), s.payload.end());
     frames.push_back(std::move(f));
   }
-  ASSERT_EQ(frames.size(), 3u);
+  ASSERT_EQ(frames.size(), 4u);
   std::string tmpl = (std::filesystem::temp_directory_path() / "sec-tshark-XXXXXX").string();
   ASSERT_NE(mkdtemp(tmpl.data()), nullptr);
   const std::filesystem::path pcap = std::filesystem::path(tmpl) / "signed.pcap";
@@ -121,27 +114,39 @@ TEST(SecuredTshark, SignedCamsAndDenmDecodeDownToTheirFields) {
   const auto& rp = cam.cam.camParameters.basicContainer.referencePosition;
   const std::string id = std::to_string(cam.header.stationID);
   std::istringstream lines(got);
-  std::string l1, l2, l3;
+  std::string l1, l2, l3, l4;
   std::getline(lines, l1);
   std::getline(lines, l2);
   std::getline(lines, l3);
+  std::getline(lines, l4);
   // Signer: 1 = certificate, 0 = digest (the second CAM within the second).
   EXPECT_EQ(l1, "2|36|1|2001|2|" + id + "|" + std::to_string(rp.latitude));
   EXPECT_EQ(l2, "2|36|0|2001|2|" + id + "|" + std::to_string(rp.latitude));
   EXPECT_EQ(l3.substr(0, 12), "2|37|1|2002|");
   EXPECT_NE(l3.find("|1|" + std::to_string(denm.header.stationID)), std::string::npos) << l3;
+  EXPECT_EQ(l4, "2|141|1||||");  // the beacon: no CAM carried the AT in the last second
 
-  const std::string expert = run("tshark -r '" + pcap.string() + "' -q -z expert 2>/dev/null");
-  // tshark notes every packet with remaining hop limit 1 when it is secured (an SHB always
-  // has it); nothing else may show: no warning, error or malformed packet.
+  // Expert information, packet by packet: tshark notes a secured packet whose remaining hop
+  // limit is below 5 (packet-geonw.c, ei_geonw_rhl_too_low, severity note), which every signed
+  // SHB and beacon has (RHL 1, clause 10.3.10.2); nothing else may show, in any packet: no
+  // other note, no warning, no error, no malformed packet. The DENM (a GBC, RHL 10) has none.
+  const std::string expert =
+      run("tshark -r '" + pcap.string() +
+          "' -T fields -E separator='|' -e frame.number -e _ws.expert.severity"
+          " -e _ws.expert.message -e _ws.malformed 2>/dev/null");
+  std::istringstream per_packet(expert);
+  std::vector<std::string> got_expert;
+  for (std::string line; std::getline(per_packet, line);)
+    got_expert.push_back(line);
+  const std::string note = std::to_string(0x00400000);  // PI_NOTE
+  EXPECT_EQ(got_expert,
+            (std::vector<std::string>{"1|" + note + "|\"Remain Hop Limit\" only 1|",
+                                      "2|" + note + "|\"Remain Hop Limit\" only 1|", "3|||",
+                                      "4|" + note + "|\"Remain Hop Limit\" only 1|"}))
+      << expert;
+  const std::string summary = run("tshark -r '" + pcap.string() + "' -q -z expert 2>/dev/null");
   for (const char* word : {"Error", "Warn", "Chat", "Malformed"})
-    EXPECT_EQ(expert.find(word), std::string::npos) << word << " in:\n" << expert;
-  std::istringstream notes(expert);
-  for (std::string line; std::getline(notes, line);) {
-    if (line.find("GNW") != std::string::npos || line.find("IEEE") != std::string::npos) {
-      EXPECT_NE(line.find("\"Remain Hop Limit\" only 1"), std::string::npos) << line;
-    }
-  }
+    EXPECT_EQ(summary.find(word), std::string::npos) << word << " in:\n" << summary;
   const std::string full = run("tshark -r '" + pcap.string() + "' -V 2>/dev/null");
   EXPECT_NE(full.find("CoopAwareness"), std::string::npos);
   EXPECT_NE(full.find("DecentralizedEnvironmentalNotificationMessage"), std::string::npos);

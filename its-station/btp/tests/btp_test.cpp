@@ -5,6 +5,7 @@
 #include "its-station/btp/dispatcher.hpp"
 #include "its-station/geonet/tests/router_fixture.hpp"
 #include "its-station/link/test_link.hpp"
+#include "its-station/security/tests/test_pki.hpp"
 
 namespace tb::its::btp {
 namespace {
@@ -148,6 +149,32 @@ TEST_F(BtpPair, OversizedPayloadIsRefusedBeforeTheRouter) {
             geonet::DataConfirm::kMaxSduSizeExceeded);  // 1399 > itsGnMaxSduSize
   EXPECT_EQ(btp_a.send_b(geonet::DataRequest::single_hop(), kPortCam, 0, Bytes(1394)),
             geonet::DataConfirm::kAccepted);
+}
+
+TEST_F(BtpPair, ASecuredPacketMustBeSignedForItsPortsService) {
+  // A payload for the CAM port signed for DENM (or the other way round) would pass verification
+  // under permissions that are not the CAM's: dropped.
+  security::testing::TestPki pki{rt.wall_now()};
+  auto entity_a = pki.entity(security::SecurityMode::kSigned);
+  auto entity_b = pki.entity(security::SecurityMode::kSigned);
+  router_a.set_security(entity_a.get());
+  router_b.set_security(entity_b.get());
+  std::vector<std::uint64_t> cams;
+  btp_b.register_port(kPortCam, [&](const Indication& i, auto) { cams.push_back(i.gn->its_aid); });
+  ASSERT_EQ(btp_a.send_b(geonet::DataRequest::single_hop(), kPortCam, 0, Bytes{2, 2, 0}),
+            geonet::DataConfirm::kAccepted);
+  carry_last_frame();
+  auto as_denm = geonet::DataRequest::single_hop();
+  as_denm.its_aid = 37;
+  rt.advance(1ms);
+  ASSERT_EQ(btp_a.send_b(as_denm, kPortCam, 0, Bytes{2, 2, 1}), geonet::DataConfirm::kAccepted);
+  carry_last_frame();
+  EXPECT_EQ(cams, std::vector<std::uint64_t>{36});
+  EXPECT_EQ(drops, std::vector{DropReason::kItsAidMismatch});
+  EXPECT_EQ(its_aid_of(kPortDenm), 37u);
+  EXPECT_EQ(its_aid_of(2003), 0u);
+  router_a.set_security(nullptr);
+  router_b.set_security(nullptr);
 }
 
 }  // namespace

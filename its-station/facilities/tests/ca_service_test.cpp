@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <functional>
 
@@ -20,6 +21,7 @@
 #include "its-station/facilities/ca_service.hpp"
 #include "its-station/facilities/its_time.hpp"
 #include "its-station/facilities/tests/test_support.hpp"
+#include "its-station/messages/tests/samples.hpp"
 
 namespace tb::its::facilities {
 namespace {
@@ -447,6 +449,33 @@ TEST(CaService, ReceivedCamsReachTheLdmButOwnAreDropped) {
   const std::uint8_t junk[] = {0x02, 0x02, 0xff};
   c.receive(junk, b.rt.wall_now());
   EXPECT_EQ(c.counters().decode_errors, 1u);
+}
+
+TEST(CaService, ASignedCamIsCheckedAgainstItsSignersSsp) {
+  CaHarness b;
+  InjectedPositionProvider pos;
+  CaConfig cfg;
+  cfg.station_id = 2002;
+  CaService c(b.rt, pos, nullptr, b.sender, b.ldm, cfg);
+  messages::Cam emergency = messages::samples::cams_special_vehicle()[5];
+  std::array<std::uint8_t, messages::kCamMaxEncodedSize> buf;
+  const auto n = messages::encode(emergency, buf);
+  ASSERT_TRUE(n);
+  const auto bytes = std::span(buf).first(*n);
+  // An ordinary car's AT (its-pki's CAM SSP 01 00 00): not an emergency vehicle.
+  const std::array<std::uint8_t, 3> car{0x01, 0x00, 0x00};
+  c.receive(bytes, b.rt.wall_now(), std::span<const std::uint8_t>(car));
+  EXPECT_EQ(c.counters().not_permitted, 1u);
+  EXPECT_EQ(c.counters().received, 0u);
+  EXPECT_EQ(b.ldm.neighbour(emergency.header.stationID), nullptr);
+  // Unsecured (security none): nothing to check it against.
+  c.receive(bytes, b.rt.wall_now());
+  EXPECT_EQ(c.counters().received, 1u);
+  // An emergency vehicle's AT with the right-of-way bit its emergencyPriority claims.
+  const std::array<std::uint8_t, 3> ambulance{0x01, 0x02, 0x40};
+  c.receive(bytes, b.rt.wall_now(), std::span<const std::uint8_t>(ambulance));
+  EXPECT_EQ(c.counters().received, 2u);
+  EXPECT_EQ(c.counters().not_permitted, 1u);
 }
 
 }  // namespace

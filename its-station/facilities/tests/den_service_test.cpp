@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <memory>
 
 #include "its-station/facilities/den_service.hpp"
@@ -220,6 +221,22 @@ TEST_F(DenTest, BadRequestsAreRefused) {
   EXPECT_EQ(a().den.trigger(r).error(), DenError::kBadRequest);
   EXPECT_TRUE(a().sender.packets.empty());
   EXPECT_EQ(b().den.terminate({999, 1}).error(), DenError::kUnknownAction);
+}
+
+TEST_F(DenTest, ASignedDenmNeedsItsCauseCodesSspBit) {
+  for (auto& s : stations)
+    s->sender.forward = nullptr;  // carried by hand below
+  auto id = a().den.trigger(collision_risk());
+  ASSERT_TRUE(id);
+  const auto payload = a().sender.packets[0].payload;
+  const std::array<std::uint8_t, 4> no_collision_risk{0x01, 0xff, 0xff, 0xfb};
+  b().den.receive(payload, std::span<const std::uint8_t>(no_collision_risk));
+  EXPECT_EQ(b().den.counters().not_permitted, 1u);
+  EXPECT_EQ(b().ldm.event(*id), nullptr);
+  const std::array<std::uint8_t, 4> all{0x01, 0xff, 0xff, 0xff};  // its-pki's
+  b().den.receive(payload, std::span<const std::uint8_t>(all));
+  EXPECT_NE(b().ldm.event(*id), nullptr);
+  EXPECT_EQ(b().den.counters().received, 1u);
 }
 
 TEST_F(DenTest, GarbageIsCountedAndDropped) {

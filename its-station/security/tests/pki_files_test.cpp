@@ -43,6 +43,50 @@ TEST(PkiFiles, MakesWhatIsMissingAndStationsVerifyEachOther) {
   EXPECT_EQ(v.verify(cam, kPsidCam, to_time64(kWall)).result, VerifyResult::kOk);
 }
 
+TEST(PkiFiles, MakesAgainWhatWouldNoLongerWork) {
+  const PkiPaths paths{fresh_dir("i20-pki-renew")};
+  PkiOptions o;
+  o.now = to_time32(kWall);
+  ASSERT_EQ(make_pki(paths, {1, 2}, o).size(), 8u);
+  const auto at1 = read_certificate(paths.at_cert(1));
+  // ATs are valid a week (from an hour before): with less than an hour left they are renewed,
+  // under the same root and AA.
+  PkiOptions later = o;
+  later.now = o.now + 7 * 24 * 3600 - 2 * 3600 - 60;
+  EXPECT_TRUE(make_pki(paths, {1, 2}, later).empty());
+  later.now += 120;
+  const auto renewed = make_pki(paths, {1, 2}, later);
+  EXPECT_EQ(renewed.size(), 4u);  // two ATs and their keys
+  const auto at1_new = read_certificate(paths.at_cert(1));
+  EXPECT_NE(at1_new, at1);
+  EXPECT_EQ(at1_new.issuer.digest, certificate_id(read_certificate(paths.aa_cert())));
+
+  // An AA of an older its-pki, without GN-MGMT among what it may issue: root, AA and every AT
+  // are made anew (an AT it issued could not get the permission).
+  Certificate aa = read_certificate(paths.aa_cert());
+  const Certificate root = read_certificate(paths.root_cert());
+  const EcKey root_key = EcKey::load_private_pem(paths.root_key().string());
+  auto& groups = *aa.tbs.cert_issue_permissions;
+  groups.front().psids.pop_back();
+  ASSERT_EQ(groups.front().psids.back().psid, kPsidDenm);
+  sign_certificate(aa, &root, root_key);
+  write_certificate(paths.aa_cert(), aa);
+  EXPECT_EQ(make_pki(paths, {1, 2}, later).size(), 8u);
+  auto c = load_station_credentials(paths, 2);
+  EXPECT_NE(c.root, root);
+  EXPECT_TRUE(Signer(c.at, std::move(c.at_key), c.aa).permits(kPsidGnMgmt));
+
+  // An AT without GN-MGMT (issued by this AA): that AT alone is made anew.
+  const EcKey aa_key = EcKey::load_private_pem(paths.aa_key().string());
+  Certificate at = read_certificate(paths.at_cert(2));
+  at.tbs.app_permissions->pop_back();
+  sign_certificate(at, &c.aa, aa_key);
+  write_certificate(paths.at_cert(2), at);
+  const auto again = make_pki(paths, {1, 2}, later);
+  ASSERT_EQ(again.size(), 2u);
+  EXPECT_EQ(again.back(), paths.at_cert(2));
+}
+
 TEST(PkiFiles, BadFilesAreNamed) {
   const PkiPaths paths{fresh_dir("i20-pki-bad")};
   PkiOptions o;

@@ -121,19 +121,44 @@ TEST(SecurityEntity, SocktapSelfSignerDroppedWhenSignedPassedUpWhenPermissive) {
   EXPECT_EQ(strict.verifier().count(VerifyResult::kSelfSigned), 1u);
 }
 
-TEST(SecurityEntity, ForeignRootStationIsIgnored) {
+TEST(SecurityEntity, ForeignRootStationIsIgnoredAndNamedUntrustedRoot) {
   Fixture ours;
   Fixture foreign;
   auto a = ours.station(SecurityMode::kSigned);
   auto stranger = foreign.station(SecurityMode::kSigned);
+  // Its first CAM carries its AT, whose AA we do not know: unknown_issuer, and we ask for the AA
+  // in our next CAM (1609.2 P2PCD).
   auto out = a.decapsulate(stranger.encapsulate(kPsidCam, kPayload, kNow), kNow);
   ASSERT_EQ(out.size(), 1u);
   EXPECT_FALSE(out[0].pass_up);
   EXPECT_EQ(out[0].reason, VerifyResult::kUnknownIssuer);
-  // Even when it hands out its AA: that AA's root is not ours.
-  auto aa_packet = decode_data(stranger.encapsulate(kPsidCam, kPayload, kNow + 1));
-  ASSERT_TRUE(aa_packet);
-  EXPECT_EQ(a.verifier().add_authority(foreign.aa, kNow), VerifyResult::kUntrustedRoot);
+  const Bytes asking = a.encapsulate(kPsidCam, kPayload, kNow + 1000);
+  const auto asked = decode_data(asking);
+  ASSERT_TRUE(asked);
+  ASSERT_TRUE(asked->signed_data.tbs.header.inline_p2pcd_request);
+  EXPECT_EQ(asked->signed_data.tbs.header.inline_p2pcd_request->front(),
+            hashed_id3(certificate_id(foreign.aa)));
+  // The stranger (which cannot verify us either) answers with its AA...
+  out = stranger.decapsulate(asking, kNow + 1000);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].reason, VerifyResult::kUnknownIssuer);
+  const Bytes answer = stranger.encapsulate(kPsidCam, kPayload, kNow + 2000);
+  const auto answered = decode_data(answer);
+  ASSERT_TRUE(answered);
+  ASSERT_TRUE(answered->signed_data.tbs.header.requested_certificate);
+  EXPECT_EQ(certificate_id(*answered->signed_data.tbs.header.requested_certificate),
+            certificate_id(foreign.aa));
+  // ... which is not under our root: refused and remembered, so that the stations of that PKI
+  // are dropped as untrusted_root from then on.
+  a.decapsulate(answer, kNow + 2000);
+  EXPECT_EQ(a.verifier().refused_authority(certificate_id(foreign.aa)),
+            VerifyResult::kUntrustedRoot);
+  auto other = foreign.station(SecurityMode::kSigned);
+  out = a.decapsulate(other.encapsulate(kPsidCam, kPayload, kNow + 3000), kNow + 3000);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_FALSE(out[0].pass_up);
+  EXPECT_EQ(out[0].reason, VerifyResult::kUntrustedRoot);
+  EXPECT_EQ(a.verifier().count(VerifyResult::kUntrustedRoot), 1u);
 }
 
 }  // namespace

@@ -59,11 +59,15 @@ TEST(Pki, CertificatesAreCanonicalAndVerifyUpTheChain) {
   ASSERT_TRUE(back) << asn1::to_string(back.error());
   EXPECT_EQ(*back, at);
   EXPECT_EQ(certificate_hash(*back), sha256(at.encoding));
-  // An AT of TS 103 097 7.2.1: explicit, id none, x-only r, compressed key, CAM+DENM.
+  // An AT of TS 103 097 7.2.1: explicit, id none, x-only r, compressed key, CAM + DENM with
+  // their SSPs and GN-MGMT (the beacons) without one.
   EXPECT_EQ(at.tbs.id.kind, CertificateId::Kind::kNone);
   EXPECT_EQ(at.signature->r.form, EccP256CurvePoint::Form::kXOnly);
   ASSERT_TRUE(at.tbs.app_permissions);
-  EXPECT_EQ(at.tbs.app_permissions->size(), 2u);
+  EXPECT_EQ(*at.tbs.app_permissions, ticket_permissions());
+  ASSERT_EQ(at.tbs.app_permissions->size(), 3u);
+  EXPECT_EQ(at.tbs.app_permissions->at(2).psid, kPsidGnMgmt);
+  EXPECT_FALSE(at.tbs.app_permissions->at(2).ssp);
 }
 
 TEST(Pki, KeysSurviveAPemFile) {
@@ -196,7 +200,7 @@ TEST(SignVerify, WrongPsidAndMissingPermissionAreRejected) {
   EXPECT_EQ(verifier.verify(other, 0x8007, kNow).result, VerifyResult::kIssuerNotPermitted);
   EcKey k = EcKey::generate(EccCurve::kNistP256);
   Certificate cam_only = make_ticket(k, week_from(kNowS - 60), pki.aa, pki.aa_key);
-  cam_only.tbs.app_permissions->pop_back();  // no DENM
+  cam_only.tbs.app_permissions->erase(cam_only.tbs.app_permissions->begin() + 1);  // no DENM
   sign_certificate(cam_only, &pki.aa, pki.aa_key);
   Signer s2(cam_only, std::move(k), pki.aa);
   const Bytes denm = s2.sign_denm(kPayload, kNow, ThreeDLocation{481351000, 115830000, 4096});
@@ -246,10 +250,19 @@ TEST(SignVerify, TicketFromAForeignRootIsRejected) {
   Pki ours;
   Pki foreign;
   Verifier verifier = ours.verifier();
-  EXPECT_EQ(verifier.add_authority(foreign.aa, kNow), VerifyResult::kUntrustedRoot);
   Signer stranger = foreign.signer();
-  EXPECT_EQ(verifier.verify(stranger.sign_cam(kPayload, kNow), kPsidCam, kNow).result,
-            VerifyResult::kUnknownIssuer);
+  // Its AA is unknown: named, and which AA it is, to be asked for.
+  auto first = verifier.verify(stranger.sign_cam(kPayload, kNow), kPsidCam, kNow);
+  EXPECT_EQ(first.result, VerifyResult::kUnknownIssuer);
+  EXPECT_EQ(first.missing_issuer, certificate_id(foreign.aa));
+  // Once its AA came and was refused (not under our root), its ATs are refused by that reason.
+  EXPECT_EQ(verifier.add_authority(foreign.aa, kNow), VerifyResult::kUntrustedRoot);
+  EXPECT_EQ(verifier.refused_authority(certificate_id(foreign.aa)), VerifyResult::kUntrustedRoot);
+  EXPECT_EQ(
+      verifier.verify(stranger.sign(kPsidCam, kPayload, kNow, std::nullopt, true), kPsidCam, kNow)
+          .result,
+      VerifyResult::kUntrustedRoot);
+  EXPECT_FALSE(verifier.refused_authority(certificate_id(ours.aa)));
   // An AA that claims our root but was signed by another key.
   Certificate forged = make_authority(foreign.aa_key, "forged", week_from(kNowS - 3600), ours.root,
                                       foreign.root_key);
@@ -258,6 +271,36 @@ TEST(SignVerify, TicketFromAForeignRootIsRejected) {
   Certificate bad_root = ours.root;
   bad_root.signature->s[0] ^= 1;
   EXPECT_THROW(Verifier({bad_root}), CryptoError);
+}
+
+TEST(SignVerify, BrainpoolP256r1SignaturesAreAccepted) {
+  // TS 103 097 5.3: a receiver verifies brainpoolP256r1 as well as P-256 (we sign with P-256).
+  Pki pki;
+  EcKey k = EcKey::generate(EccCurve::kBrainpoolP256r1);
+  Certificate at = make_ticket(k, week_from(kNowS - 60), pki.aa, pki.aa_key);
+  ASSERT_EQ(at.tbs.verify_key.curve, EccCurve::kBrainpoolP256r1);
+  Signer signer(std::move(at), std::move(k), pki.aa);
+  Verifier verifier = pki.verifier();
+  const ThreeDLocation where{481351000, 115830000, 4096};
+  const Bytes denm = signer.sign_denm(kPayload, kNow, where);
+  const auto d = decode_data(denm);
+  ASSERT_TRUE(d);
+  EXPECT_EQ(d->signed_data.signature.curve, EccCurve::kBrainpoolP256r1);
+  EXPECT_EQ(verifier.verify(denm, kPsidDenm, kNow).result, VerifyResult::kOk);
+  Bytes flipped = denm;
+  flipped.back() ^= 0x01;  // the signature's s
+  EXPECT_EQ(verifier.verify(flipped, kPsidDenm, kNow).result, VerifyResult::kSignatureInvalid);
+  // A chain on brainpoolP256r1 below our P-256 root: AA and AT, then a CAM by digest.
+  EcKey aa_key = EcKey::generate(EccCurve::kBrainpoolP256r1);
+  const Certificate aa =
+      make_authority(aa_key, "bp aa", week_from(kNowS - 3600), pki.root, pki.root_key);
+  ASSERT_EQ(verifier.add_authority(aa, kNow), VerifyResult::kOk);
+  EcKey k2 = EcKey::generate(EccCurve::kBrainpoolP256r1);
+  Certificate at2 = make_ticket(k2, week_from(kNowS - 60), aa, aa_key);
+  Signer bp(std::move(at2), std::move(k2), aa);
+  EXPECT_EQ(verifier.verify(bp.sign_cam(kPayload, kNow), kPsidCam, kNow).result, VerifyResult::kOk);
+  EXPECT_EQ(verifier.verify(bp.sign_cam(kPayload, kNow + 1000), kPsidCam, kNow + 1000).result,
+            VerifyResult::kOk);
 }
 
 TEST(SignVerify, GenerationTimeWindowOnTaiOrUtc) {

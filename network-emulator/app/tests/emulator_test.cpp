@@ -1,11 +1,15 @@
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "common/clock/clock.hpp"
+#include "common/geodesy/local_frame.hpp"
+#include "common/map/scenario_map.hpp"
 #include "common/scenario/loader.hpp"
 #include "network-emulator/app/emulator.hpp"
 #include "network-emulator/app/tests/test_scenario.hpp"
@@ -206,4 +210,69 @@ TEST_F(EmulatorTest, TracesStateNmeaAndCanWithStationAndTick) {
 }
 
 }  // namespace
+/// Degrees from an NMEA "ddmm.mmmmmm" field.
+double nmea_degrees(const std::string& field, int degree_digits) {
+  return std::stod(field.substr(0, static_cast<std::size_t>(degree_digits))) +
+         std::stod(field.substr(static_cast<std::size_t>(degree_digits))) / 60.0;
+}
+
+std::vector<std::string> fields_of(const std::string& epoch, const std::string& sentence) {
+  const auto at = epoch.find(sentence);
+  const std::string line = epoch.substr(at, epoch.find('*', at) - at);
+  std::vector<std::string> out;
+  std::size_t b = 0;
+  for (std::size_t e; (e = line.find(',', b)) != std::string::npos; b = e + 1)
+    out.push_back(line.substr(b, e - b));
+  out.push_back(line.substr(b));
+  return out;
+}
+
+TEST(EmulatorOnAnOpenDriveMap, FixesComeFromTheGeoReferenceAndFollowTheRoadsElevation) {
+  // A UTM map (zone 32, 2 degrees east of its central meridian): positions are the map's x, y,
+  // z; fixes are what PROJ says they are, heights are the road's elevation, and the course is
+  // from true north (grid north is 1.5 degrees off here).
+  const std::string map =
+      R"(<OpenDRIVE><header revMajor="1" revMinor="6"><geoReference><![CDATA[+proj=utm +zone=32 +ellps=WGS84 +units=m]]></geoReference></header>
+<road id="1" length="300" junction="-1"><planView><geometry s="0" x="650000" y="5330000" hdg="1.5707963267948966" length="300"><line/></geometry></planView>
+<elevationProfile><elevation s="0" a="520" b="0.05" c="0" d="0"/></elevationProfile>
+<lanes><laneSection s="0"><center><lane id="0" type="none"/></center><right><lane id="-1" type="driving"><width sOffset="0" a="3.5" b="0" c="0" d="0"/></lane></right></laneSection></lanes></road></OpenDRIVE>)";
+  const scenario::Scenario sc = scenario::parse(R"({
+    "name": "utm", "map": {"type": "opendrive", "file": "utm.xodr"},
+    "start_time": "2025-01-01T12:00:00Z",
+    "vehicles": [{"id": "a", "station_id": 1001, "spawn": {"road": "1", "lane": -1, "s": 100}}]
+  })",
+                                                "utm.json", map);
+  ASSERT_FALSE(sc.origin);  // the geoReference places the map
+  const map::ScenarioMap m(sc);
+  const auto dbc = *tb::can::Database::load(TESTBED_VEHICLE_DBC);
+  clock::ManualClock clock;
+  trace::Tracer no_trace;
+  Outbox out;
+  Emulator emu(
+      sc, dbc, default_stations(sc),
+      [&](const StationEndpoints&) {
+        return StationIo{std::make_unique<FakeSink>(out), std::make_unique<FakeBus>(out)};
+      },
+      clock, no_trace);
+  // Driving north along the road, 100 m up it: z = 520 + 0.05 * 100 (+ the car's ground point).
+  wire::VehicleState s;
+  s.station_id = 1001;
+  s.position = {650001.75, 5330100.0, 525.0};
+  s.velocity = {0.0f, 10.0f, 0.5f};
+  s.yaw = static_cast<float>(std::numbers::pi / 2);
+  s.speed = 10.0f;
+  emu.handle_datagram(wire::encode_batch({&s, 1}));
+  ASSERT_EQ(out.nmea.size(), 1u);
+  const auto gga = fields_of(out.nmea[0], "$GPGGA");
+  const geodesy::Geodetic want = m.to_wgs84(s.position[0], s.position[1], s.position[2]);
+  EXPECT_NEAR(nmea_degrees(gga[2], 2), want.latitude_deg, 1e-7);  // 1e-6 minute printed
+  EXPECT_NEAR(nmea_degrees(gga[4], 3), want.longitude_deg, 1e-7);
+  EXPECT_NEAR(std::stod(gga[9]), 525.0, 1e-3);
+  const auto rmc = fields_of(out.nmea[0], "$GPRMC");
+  const double course = std::stod(rmc[8]);
+  EXPECT_NEAR(course, m.georeferencing().heading_deg({s.position[0], s.position[1], 0}, s.yaw),
+              0.01);
+  EXPECT_GT(std::abs(geodesy::heading_difference_deg(course, 0.0)), 1.0);  // not grid north
+}
+
 }  // namespace tb::emu

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <tuple>
 #include <vector>
 
 namespace tb::emu::radio {
@@ -25,6 +26,23 @@ Bytes gn_cam(std::uint32_t station, std::uint16_t gdt, std::uint16_t port = 2001
                      static_cast<std::uint8_t>(station >> 8), static_cast<std::uint8_t>(station),
                      static_cast<std::uint8_t>(gdt >> 8), static_cast<std::uint8_t>(gdt)});
   b.insert(b.end(), {0x40, 0x03, 0x80});  // the rest of the CAM: not read
+  return b;
+}
+
+/// @p gn as TS 103 097 signs it: the basic header (NH secured packet), then the head of a
+/// signedData whose payload is the rest of @p gn, with a @p long_length form of its length;
+/// what follows the payload (header info, signer, signature) is not read.
+Bytes secured(const Bytes& gn, bool long_length = false) {
+  Bytes b(gn.begin(), gn.begin() + 4);
+  b[0] = static_cast<std::uint8_t>((b[0] & 0xF0) | 2);
+  const std::size_t n = gn.size() - 4;
+  b.insert(b.end(), {0x03, 0x81, 0x00, 0x40, 0x03, 0x80});
+  if (long_length)
+    b.insert(b.end(), {0x82, static_cast<std::uint8_t>(n >> 8), static_cast<std::uint8_t>(n)});
+  else
+    b.push_back(static_cast<std::uint8_t>(n));
+  b.insert(b.end(), gn.begin() + 4, gn.end());
+  b.insert(b.end(), {0x40, 0x01, 0x24});  // headerInfo ...
   return b;
 }
 
@@ -64,14 +82,32 @@ TEST(PeekCam, ReadsQosAndPlainDataFramesOf80211) {
   EXPECT_EQ(peek_cam(ieee80211(gn_cam(1002, 7), 0x08), LinkFraming::kIeee80211), (CamTag{1002, 7}));
 }
 
-TEST(PeekCam, AnythingButAnUnsecuredShbCamIsNoCam) {
+TEST(PeekCam, ReadsTheSignedPayloadOfASecuredPacket) {
+  EXPECT_EQ(peek_cam(ethernet(secured(gn_cam(1003, 4242))), LinkFraming::kEthernet),
+            (CamTag{1003, 4242}));
+  EXPECT_EQ(peek_cam(ieee80211(secured(gn_cam(1003, 4242), true)), LinkFraming::kIeee80211),
+            (CamTag{1003, 4242}));
+  // A head it does not know (another version, signer first, extDataHash, a length of three
+  // octets): no CAM.
+  for (std::size_t i : {4u, 5u, 7u, 8u, 9u}) {
+    auto s = secured(gn_cam(1, 1));
+    s[i] ^= i == 7 ? 0xC0 : 0x01;
+    EXPECT_FALSE(peek_cam(ethernet(s), LinkFraming::kEthernet)) << i;
+  }
+  auto three = secured(gn_cam(1, 1), true);
+  three[10] = 0x83;
+  EXPECT_FALSE(peek_cam(ethernet(three), LinkFraming::kEthernet));
+}
+
+TEST(PeekCam, AnythingButAShbCamIsNoCam) {
   const auto eth = LinkFraming::kEthernet;
   EXPECT_FALSE(peek_cam(ethernet(gn_cam(1, 1, 2002)), eth));     // BTP port of DENMs
   EXPECT_FALSE(peek_cam(ethernet(gn_cam(1, 1, 2001, 1)), eth));  // a DENM's messageID
   EXPECT_FALSE(peek_cam(ethernet(gn_cam(1, 1), 0x0800), eth));   // IPv4
-  auto secured = gn_cam(1, 1);
-  secured[0] = 0x12;  // Basic header NH: secured packet
-  EXPECT_FALSE(peek_cam(ethernet(secured), eth));
+  auto other = gn_cam(1, 1);
+  other[0] = 0x13;  // Basic header NH 3: neither common header nor secured packet
+  EXPECT_FALSE(peek_cam(ethernet(other), eth));
+  EXPECT_FALSE(peek_cam(ethernet(secured(gn_cam(1, 1, 2002))), eth));
   auto gbc = gn_cam(1, 1);
   gbc[5] = 0x41;  // Common header: GeoBroadcast circle
   EXPECT_FALSE(peek_cam(ethernet(gbc), eth));
@@ -88,11 +124,13 @@ TEST(PeekCam, AnythingButAnUnsecuredShbCamIsNoCam) {
 }
 
 TEST(PeekCam, EveryShorterFrameIsNoCam) {
-  for (const auto& [frame, framing] :
-       {std::pair{ethernet(gn_cam(1001, 9)), LinkFraming::kEthernet},
-        std::pair{ieee80211(gn_cam(1001, 9)), LinkFraming::kIeee80211}}) {
-    // The identity ends 3 bytes before the frame does (the rest of the CAM).
-    const std::size_t needed = frame.size() - 3;
+  for (const auto& [frame, framing, rest] :
+       {std::tuple{ethernet(gn_cam(1001, 9)), LinkFraming::kEthernet, 3},
+        std::tuple{ieee80211(gn_cam(1001, 9)), LinkFraming::kIeee80211, 3},
+        std::tuple{ethernet(secured(gn_cam(1001, 9))), LinkFraming::kEthernet, 6},
+        std::tuple{ethernet(secured(gn_cam(1001, 9), true)), LinkFraming::kEthernet, 6}}) {
+    // The identity ends 3 bytes before the CAM does (and 3 more of signedData follow).
+    const std::size_t needed = frame.size() - static_cast<std::size_t>(rest);
     for (std::size_t n = 0; n < needed; ++n)
       EXPECT_FALSE(peek_cam(std::span(frame).first(n), framing)) << n;
     EXPECT_TRUE(peek_cam(std::span(frame).first(needed), framing));

@@ -26,12 +26,12 @@ struct Pose {
 // lane spawns place them.
 struct World {
   explicit World(const scenario::MapSpec& s)
-      : spec(s), map(std::make_shared<const map::odr::RoadNetwork>(map::generate_network(s))) {}
+      : spec(s), map(std::make_shared<const map::ScenarioMap>(s, std::nullopt)) {}
   LaneFollowDriver driver(const scenario::LaneFollowDriver& d, const scenario::VehicleModel& m,
                           int lane, double s, bool against = false) const {
     scenario::Vehicle v;
     v.spawn.where = scenario::LaneSpawn{0, lane, s, against};
-    const auto start = map::vehicle_start(v, spec, map.network(), map.locator());
+    const auto start = map::vehicle_start(v, map.scenario_map());
     if (!start)
       throw std::invalid_argument("no lane there");
     return LaneFollowDriver(d, m, map,
@@ -41,7 +41,7 @@ struct World {
   Pose pose(int lane, double s) const {
     scenario::Vehicle v;
     v.spawn.where = scenario::LaneSpawn{0, lane, s, false};
-    const auto st = map::vehicle_start(v, spec, map.network(), map.locator());
+    const auto st = map::vehicle_start(v, map.scenario_map());
     const auto p = map::odr::lane_pose(map.network(), st->road, st->lane, st->s);
     const double yaw = map.network().roads[0].forward(st->lane) ? p.heading : p.heading + kPi;
     return {{p.x, p.y}, yaw};
@@ -228,7 +228,7 @@ TEST(ScriptedDriver, MadeFromTheScenarioDriverField) {
   EXPECT_NE(dynamic_cast<LaneFollowDriver*>(make_scripted_driver(v, sc, road.map).get()), nullptr);
   // A pose spawn heading west in the eastbound lane drives against it.
   v.spawn.where = scenario::PoseSpawn{100.0, -1.75, 270.0};
-  const auto r = map::vehicle_start(v, sc.map, road.map.network(), road.map.locator());
+  const auto r = map::vehicle_start(v, road.map.scenario_map());
   ASSERT_TRUE(r);
   EXPECT_EQ(r->lane, -1);
   EXPECT_TRUE(r->against);

@@ -85,7 +85,8 @@ bool overlap(const wire::VehicleState& a, const wire::VehicleState& b, double le
 // Cars on one map, driven step by step; records what the tests check.
 class Traffic {
  public:
-  explicit Traffic(std::shared_ptr<const odr::RoadNetwork> net) : map_(std::move(net)) {}
+  explicit Traffic(std::shared_ptr<const odr::RoadNetwork> net)
+      : map_(std::make_shared<const map::ScenarioMap>(std::move(net), std::nullopt)) {}
 
   /// A car on lane (road id, lane, s) facing its direction of travel.
   LaneFollowDriver& add(const std::string& road, int lane, double s, double speed,

@@ -219,4 +219,59 @@ TEST_F(SessionTest, StateBeforeWelcomeIsAnError) {
 }
 
 }  // namespace
+// An OpenDRIVE map travels in Welcome: a client on another computer has no copy of the file.
+constexpr const char* kOpenDriveScenario = R"({
+  "name": "opendrive-session",
+  "map": { "type": "opendrive", "file": "maps/only-on-the-server.xodr" },
+  "origin": { "lat": 41.1, "lon": 29.0, "alt": 60 },
+  "vehicles": [
+    { "id": "me", "station_id": 1001, "spawn": { "road": "12", "lane": -1, "s": 10 } },
+    { "id": "tl", "station_id": 1002, "spawn": { "road": "12", "lane": 1, "s": 90 },
+      "driver": { "type": "timeline", "steps": [ { "t": 0, "throttle": 0.25 } ] } }
+  ]
+})";
+constexpr const char* kOpenDriveMap =
+    R"(<OpenDRIVE><header revMajor="1" revMinor="6"/><road id="12" length="100" junction="-1">
+<planView><geometry s="0" x="0" y="0" hdg="0" length="100"><line/></geometry></planView>
+<lanes><laneSection s="0"><left><lane id="1" type="driving"><width sOffset="0" a="3.5" b="0" c="0" d="0"/></lane></left>
+<center><lane id="0" type="none"/></center><right><lane id="-1" type="driving"><width sOffset="0" a="3.5" b="0" c="0" d="0"/></lane></right>
+</laneSection></lanes></road></OpenDRIVE>)";
+
+sim::Welcome opendrive_welcome(std::string map_text) {
+  sim::Welcome w = testing::welcome();
+  w.vehicles.resize(2);
+  w.scenario_json = kOpenDriveScenario;
+  w.map_text = std::move(map_text);
+  return w;
+}
+
+TEST_F(SessionTest, AnOpenDriveMapArrivesWithTheWelcome) {
+  SessionOptions o;
+  o.vehicles = {"me"};
+  o.scripted = true;
+  SimSession s = make(o);
+  s.on_connected();
+  ASSERT_TRUE(feed(s, opendrive_welcome(kOpenDriveMap))) << s.fatal_error();
+  ASSERT_NE(s.network(), nullptr);
+  ASSERT_EQ(s.network()->roads.size(), 1u);
+  EXPECT_EQ(s.network()->roads[0].id, "12");
+  ASSERT_NE(s.map(), nullptr);
+  EXPECT_EQ(s.map()->origin().source, "scenario origin");
+  const auto msgs = take();
+  ASSERT_EQ(msgs.size(), 3u);  // Hello, then the human car and the timeline
+  EXPECT_EQ(std::get<sim::Attach>(msgs[1]), (sim::Attach{sim::Role::kDriver, 0}));
+  EXPECT_EQ(std::get<sim::Attach>(msgs[2]), (sim::Attach{sim::Role::kDriver, 1}));
+  EXPECT_FALSE(s.human_driven(1));
+}
+
+TEST_F(SessionTest, AnOpenDriveScenarioWithoutItsMapTextIsAFatalErrorNamingTheFile) {
+  SimSession s = make(SessionOptions{});
+  s.on_connected();
+  EXPECT_FALSE(feed(s, opendrive_welcome("")));
+  EXPECT_EQ(s.phase(), SimSession::Phase::kFailed);
+  EXPECT_NE(s.fatal_error().find("/map/file: maps/only-on-the-server.xodr: no such file"),
+            std::string::npos)
+      << s.fatal_error();
+}
+
 }  // namespace tb::client

@@ -14,6 +14,8 @@
 
 #include "common/map/opendrive/mesh.hpp"
 #include "common/map/opendrive/reader.hpp"
+#include "common/map/opendrive/tests/shared_maps.hpp"
+#include "common/map/opendrive/tests/stitch.hpp"
 
 namespace {
 
@@ -23,8 +25,7 @@ namespace fs = std::filesystem;
 std::string stitched_map() {
   static const std::string text = [] {
     std::vector<fs::path> files;
-    for (const auto& e :
-         fs::directory_iterator(fs::path(TB_SOURCE_DIR) / ".." / "shared" / "data" / "opendrive")) {
+    for (const auto& e : fs::directory_iterator(tb::map::odr::test::shared_maps())) {
       if (e.path().extension() == ".xodr")
         files.push_back(e.path());
     }
@@ -41,37 +42,8 @@ std::string stitched_map() {
         pugi::xml_document in;
         in.load_file(files[f].c_str());
         const std::string p = std::to_string(copy) + "_" + std::to_string(f) + "_";
-        const double dx = 5000.0 * static_cast<double>(f);
-        const double dy = 5000.0 * copy;
-        for (pugi::xml_node n : in.child("OpenDRIVE").children()) {
-          const std::string name = n.name();
-          if (name != "road" && name != "junction")
-            continue;
-          pugi::xml_node c = root.append_copy(n);
-          c.attribute("id").set_value((p + c.attribute("id").value()).c_str());
-          if (name == "road") {
-            ++roads;
-            if (std::string(c.attribute("junction").value()) != "-1") {
-              c.attribute("junction").set_value((p + c.attribute("junction").value()).c_str());
-            }
-            for (const char* l : {"predecessor", "successor"}) {
-              if (pugi::xml_node e = c.child("link").child(l)) {
-                e.attribute("elementId").set_value((p + e.attribute("elementId").value()).c_str());
-              }
-            }
-            for (pugi::xml_node g : c.child("planView").children("geometry")) {
-              g.attribute("x").set_value(g.attribute("x").as_double() + dx);
-              g.attribute("y").set_value(g.attribute("y").as_double() + dy);
-            }
-          } else {
-            for (pugi::xml_node con : c.children("connection")) {
-              for (const char* a : {"incomingRoad", "connectingRoad", "linkedRoad"}) {
-                if (pugi::xml_attribute at = con.attribute(a))
-                  at.set_value((p + at.value()).c_str());
-              }
-            }
-          }
-        }
+        roads += tb::map::odr::test::append_copy(root, in, p, 5000.0 * static_cast<double>(f),
+                                                 5000.0 * copy);
       }
       std::ostringstream s;
       out.save(s, "  ");

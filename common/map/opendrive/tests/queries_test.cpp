@@ -238,9 +238,8 @@ TEST(SpawnPose, NamedErrors) {
       load_opendrive((shared_maps() / "simple_4way_intersection.xodr").string());
   EXPECT_NE(spawn_error(net, {"12", -1, 30, 0}).find("road[@id='12']: road does not exist"),
             std::string::npos);
-  EXPECT_NE(
-      spawn_error(net, {"0", -1, 130, 0}).find("road[@id='0']: s 130.000000 past the road's end"),
-      std::string::npos);
+  EXPECT_NE(spawn_error(net, {"0", -1, 130, 0}).find("road[@id='0']: s 130 past the road's end"),
+            std::string::npos);
   EXPECT_NE(spawn_error(net, {"0", -2, 30, 0}).find("road[@id='0']: lane -2 does not exist"),
             std::string::npos);
   const RoadNetwork tw = parse_opendrive(
@@ -252,7 +251,7 @@ TEST(SpawnPose, NamedErrors) {
       </right></laneSection></lanes></road></OpenDRIVE>)",
       "w.xodr");
   EXPECT_NE(spawn_error(tw, {"r", -1, 10, 0})
-                .find("lane -1 (driving, 0.500000 m wide) is not drivable at s 10"),
+                .find("lane -1 (driving, 0.5 m wide) is not drivable at s 10"),
             std::string::npos);
   EXPECT_NO_THROW(spawn_pose(tw, {"r", -1, 60, 0}));
   EXPECT_NE(spawn_error(tw, {"r", -2, 60, 0}).find("lane -2 (sidewalk"), std::string::npos);
