@@ -14,6 +14,7 @@
 #include "common/geodesy/local_frame.hpp"
 #include "common/map/builtin_network.hpp"
 #include "common/map/opendrive/reader.hpp"
+#include "common/map/route_plan.hpp"
 #include "common/map/scenario_map.hpp"
 #include "common/scenario/json_reader.hpp"
 #include "common/wire/vehicle_state.hpp"
@@ -548,6 +549,31 @@ bool footprints_overlap(const map::Placement& a, const VehicleModel& ma, const m
   return true;
 }
 
+// OpenDRIVE road ids are strings; an integer is taken as its decimal text.
+std::string road_id(const Node& n) {
+  if (n.json().is_number_integer())
+    return std::to_string(n.integer(-(1LL << 53), 1LL << 53));
+  const std::string id = n.string();
+  if (id.empty())
+    n.fail("a road id must not be empty");
+  return id;
+}
+
+DriveRoute read_route(const Node& n) {
+  DriveRoute r;
+  if (n.is_string()) {
+    n.choice({"random"});
+    r.kind = DriveRoute::Kind::kRandom;
+    return r;
+  }
+  if (!n.json().is_array())
+    n.fail("a route is \"random\" or a list of road ids");
+  r.kind = DriveRoute::Kind::kRoads;
+  for (const Node& id : n.array(1, 10000))
+    r.roads.push_back(road_id(id));
+  return r;
+}
+
 Driver read_driver(Node n) {
   if (n.is_string()) {
     n.choice({"human"});
@@ -608,6 +634,24 @@ Driver read_driver(Node n) {
     first = false;
     f.profile.push_back(sp);
   }
+  f.max_lateral_accel = n.number_or("max_lateral_accel", f.max_lateral_accel, 0.5, 10.0);
+  if (auto r = n.optional("route"))
+    f.route = read_route(*r);
+  if (auto t = n.optional("to")) {
+    if (f.route.kind != DriveRoute::Kind::kLane)
+      t->fail("give either \"route\" or \"to\", not both");
+    t->expect_object("a goal (\"road\", \"lane\", \"s\")");
+    f.route.kind = DriveRoute::Kind::kTo;
+    f.route.to.road = road_id(t->required("road"));
+    f.route.to.lane = static_cast<int>(t->required("lane").integer(-100, 100));
+    if (f.route.to.lane == 0)
+      t->required("lane").fail("lane 0 is the centre line; give a lane id (negative: right)");
+    f.route.to.s = t->required("s").number(0.0, 1e7);
+    t->finish();
+  }
+  f.yield_to_traffic = f.route.kind != DriveRoute::Kind::kLane;
+  if (auto t = n.optional("traffic"))
+    f.yield_to_traffic = t->choice({"yield", "ignore"}) == "yield";
   n.finish();
   return f;
 }
@@ -725,6 +769,30 @@ Vehicle read_vehicle(Node n, const MapContext& m) {
   return v;
 }
 
+// Every route must be drivable from its vehicle's spawn lane: the plan is made as the driver
+// will make it, and its errors name the driver's field.
+void check_routes(const Scenario& s, const map::ScenarioMap& m, const std::vector<Node>& nodes) {
+  for (std::size_t i = 0; i < s.vehicles.size(); ++i) {
+    const Vehicle& v = s.vehicles[i];
+    const auto* f = std::get_if<LaneFollowDriver>(&v.driver);
+    if (f == nullptr || f->route.kind == DriveRoute::Kind::kLane)
+      continue;
+    const std::string driver = nodes[i].path() + "/driver";
+    const auto start = map::vehicle_start(v, m);
+    if (!start) {
+      throw ScenarioError(s.source, nodes[i].path() + "/spawn",
+                          "a vehicle with a route must spawn on a drivable lane");
+    }
+    try {
+      map::RoutePlan plan(m.network(), m.graph(), f->route, *start,
+                          map::vehicle_seed(s.seed, v.station_id));
+    } catch (const map::RouteError& e) {
+      throw ScenarioError(s.source, e.field().empty() ? driver : driver + "/" + e.field(),
+                          e.what());
+    }
+  }
+}
+
 /// The scenario's road network: the OpenDRIVE file (or @p map_text in its place) read and
 /// checked, or the built-in layout generated.
 void load_network(Scenario& s, Node& root, const std::string& file_name,
@@ -835,6 +903,9 @@ Scenario parse(std::string_view json_text, const std::string& file_name,
       sec->fail(fmt::format("\"{}\" is not one of \"none\", \"signed\", \"signed-permissive\"", m));
   }
 
+  if (auto seed = root.optional("seed"))
+    s.seed = static_cast<std::uint64_t>(seed->integer(0, (1LL << 53) - 1));
+
   std::unique_ptr<map::ScenarioMap> scenario_map;
   try {
     scenario_map = std::make_unique<map::ScenarioMap>(s);
@@ -873,6 +944,7 @@ Scenario parse(std::string_view json_text, const std::string& file_name,
     poses.push_back(pose);
     s.vehicles.push_back(std::move(v));
   }
+  check_routes(s, *scenario_map, vehicles);
   root.finish();
   return s;
 }

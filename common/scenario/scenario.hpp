@@ -147,11 +147,37 @@ struct SpeedPoint {
   double at = 0.0;     ///< s (time) or m (distance), see LaneFollowDriver::by_distance
   double speed = 0.0;  ///< m/s
 };
+/// A lane position named in the scenario: OpenDRIVE road id, lane id, s along the road (m).
+struct RouteGoal {
+  std::string road;
+  int lane = 0;
+  double s = 0.0;
+};
+
+/// Where a lane-following driver goes when its lane ends or forks (docs/scenario.md).
+struct DriveRoute {
+  enum class Kind {
+    kLane,    ///< no route given: the lane and its straightest continuation
+    kRandom,  ///< "random": a random successor at every fork, seeded by Scenario::seed
+    kRoads,   ///< a list of road ids driven in order
+    kTo,      ///< "to": the shortest path to a lane position
+  };
+  Kind kind = Kind::kLane;
+  std::vector<std::string> roads;  ///< kRoads
+  RouteGoal to;                    ///< kTo
+};
+
 struct LaneFollowDriver {
   std::vector<SpeedPoint> profile;
   bool by_distance = false;
-  double max_accel = 2.0;  ///< comfortable acceleration, m/s²
-  double max_decel = 3.0;  ///< comfortable deceleration, m/s²
+  double max_accel = 2.0;          ///< comfortable acceleration, m/s²
+  double max_decel = 3.0;          ///< comfortable deceleration, m/s²
+  double max_lateral_accel = 3.0;  ///< slows for curves to keep v²·curvature below this, m/s²
+  DriveRoute route;
+  /// Follow the vehicle ahead and yield at junctions ("traffic": "yield"), or drive the
+  /// profile whatever the others do ("ignore", the scripted near misses of the LCRW cases).
+  /// Default: yield when a route is given, ignore otherwise.
+  bool yield_to_traffic = false;
 };
 
 using Driver = std::variant<HumanDriver, TimelineDriver, LaneFollowDriver>;
@@ -289,6 +315,8 @@ struct Scenario {
   CamPolicy cam;
   ChannelModel channel;
   SecurityMode security = SecurityMode::kNone;
+  /// Seeds the scenario's random choices (random routes), so that a run repeats.
+  std::uint64_t seed = 1;
   std::vector<Vehicle> vehicles;
 
   const Vehicle* find_vehicle(std::string_view id) const;

@@ -270,7 +270,7 @@ int ClientApp::run() {
 
 ViewScene ClientApp::scene() const {
   ViewScene s;
-  s.road_map = session_->road_map();
+  s.network = session_->network();
   s.connection = link_->status();
   s.input = input_->status();
   s.help = input_->help_shown();

@@ -2,6 +2,7 @@
 // controls out), the lane-following driver alone, and one frame of the view.
 #include <benchmark/benchmark.h>
 
+#include "common/map/builtin_network.hpp"
 #include "sim-client/driver/scripted_driver.hpp"
 #include "sim-client/net/session.hpp"
 #include "sim-client/net/tests/fake_server.hpp"
@@ -66,14 +67,16 @@ BENCHMARK(BM_ForwardStateUdp);
 void BM_LaneFollowUpdate(benchmark::State& st) {
   scenario::MapSpec spec;
   spec.type = scenario::MapType::kRing;
-  const map::RoadMap road(spec);
+  const DriveMap map(std::make_shared<const map::ScenarioMap>(spec, std::nullopt));
   scenario::LaneFollowDriver d;
   d.profile = {{0, 10}, {100, 15}};
-  LaneFollowDriver driver(d, scenario::VehicleModel{}, road, {0, 0, false});
+  const map::LaneStart start{0, -1, 10.0, false};
+  LaneFollowDriver driver(d, scenario::VehicleModel{}, map,
+                          map::RoutePlan(map.network(), map.graph(), d.route, start, 1));
   wire::VehicleState s;
-  const map::Pose p = road.lane_pose(0, 0, 10.0);
-  s.position = {p.p.x, p.p.y, 0};
-  s.yaw = static_cast<float>(p.yaw);
+  const auto p = map::odr::lane_pose(map.network(), 0, -1, 10.0);
+  s.position = {p.x, p.y, 0};
+  s.yaw = static_cast<float>(p.heading);
   s.speed = 10.0f;
   for (auto _ : st) {
     s.sim_time_ns += 10'000'000;
@@ -89,9 +92,9 @@ void BM_ViewFrameSoftware(benchmark::State& st) {
   scenario::MapSpec spec;
   spec.type = scenario::MapType::kStraight;
   spec.length = 2000;
-  const map::RoadMap road(spec);
+  const map::odr::RoadNetwork road = map::generate_network(spec);
   ViewScene scene;
-  scene.road_map = &road;
+  scene.network = &road;
   for (int i = 0; i < 8; ++i) {
     ViewVehicle v;
     v.state.station_id = 1001 + i;

@@ -7,8 +7,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "common/geodesy/local_frame.hpp"
-
 namespace tb::client {
 namespace {
 
@@ -19,6 +17,7 @@ constexpr double kAirDensity = 1.2;
 constexpr double kLookaheadTime = 0.8;  // s
 constexpr double kLookaheadMin = 4.0;   // m
 constexpr double kLookaheadMax = 40.0;  // m
+constexpr double kSteerLead = 0.25;     // s of travel: where the fed-forward curvature is read
 // Speed controller gains on top of the model feed-forward (acceleration per m/s of error).
 constexpr double kSpeedP = 1.5;
 constexpr double kSpeedI = 0.3;
@@ -29,6 +28,21 @@ constexpr double kStandstill = 0.2;  // m/s
 // Stop short of the end of an open lane rather than run off the road.
 constexpr double kEndMargin = 5.0;     // m
 constexpr double kStopPlanning = 0.7;  // fraction of max_decel a planned stop uses
+// Following (a simple model, sim-client/README.md): keep kMinGap + kTimeGap x speed to the
+// vehicle ahead, approaching it at the comfortable deceleration; closer than that, fall back
+// to its speed within kRelaxTime. kSideMargin widens this car's path to find what is on it.
+constexpr double kMinGap = 2.5;      // m, bumper to bumper at a stop
+constexpr double kTimeGap = 1.2;     // s
+constexpr double kRelaxTime = 2.0;   // s
+constexpr double kSideMargin = 0.3;  // m
+// Traffic may demand more than the comfortable deceleration, up to full braking on a dry road
+// (or the brakes' limit); a car that cannot stop before a stop line even so goes on.
+constexpr double kFullBrake = 8.0;       // m/s²
+constexpr double kStopLineMargin = 1.0;  // m between the bumper and a junction's entry
+// Lane changes: a free gap of kChangeGap plus what the speeds need, ahead and behind.
+constexpr double kChangeGap = 4.0;      // m
+constexpr double kChangeClosing = 1.5;  // s per m/s of closing speed
+constexpr double kChangeFollow = 0.8;   // s of the follower's speed behind
 
 wire::Controls to_controls(const scenario::ControlStep& c) {
   wire::Controls out;
@@ -60,21 +74,31 @@ wire::Controls TimelineDriver::at(double t) const {
   return to_controls(*std::prev(it));
 }
 
-wire::Controls TimelineDriver::update(const wire::VehicleState& state) {
+wire::Controls TimelineDriver::update(const wire::VehicleState& state, const Traffic&) {
   return at(sim_seconds(state));
 }
 
+namespace {
+double max_profile_speed(const std::vector<scenario::SpeedPoint>& profile) {
+  double v = 0.0;
+  for (const auto& p : profile)
+    v = std::max(v, std::abs(p.speed));
+  return v;
+}
+}  // namespace
+
 LaneFollowDriver::LaneFollowDriver(scenario::LaneFollowDriver spec, scenario::VehicleModel model,
-                                   const map::RoadMap& road_map, LaneRef lane)
+                                   const DriveMap& map, map::RoutePlan plan)
     : spec_(std::move(spec)),
       model_(std::move(model)),
-      lane_(&road_map.lane(lane.road, lane.lane)),
-      against_(lane.against),
+      map_(&map),
+      path_(map, std::move(plan), max_profile_speed(spec_.profile)),
       max_steer_rad_(model_.max_steer_deg * std::numbers::pi / 180.0) {
   if (spec_.profile.empty())
     throw std::invalid_argument("lane_follow driver needs at least one profile point");
-  if (spec_.max_accel <= 0.0 || spec_.max_decel <= 0.0)
-    throw std::invalid_argument("lane_follow driver needs max_accel and max_decel > 0");
+  if (spec_.max_accel <= 0.0 || spec_.max_decel <= 0.0 || spec_.max_lateral_accel <= 0.0)
+    throw std::invalid_argument(
+        "lane_follow driver needs max_accel, max_decel and max_lateral_accel > 0");
   if (max_steer_rad_ <= 0.0 || model_.wheelbase_m <= 0.0 || model_.mass_kg <= 0.0)
     throw std::invalid_argument("vehicle model needs max_steer_deg, wheelbase and mass > 0");
 }
@@ -119,50 +143,238 @@ double LaneFollowDriver::resistance_accel(double speed) const {
   return (drag + rolling) / model_.mass_kg;
 }
 
-double LaneFollowDriver::steer_for(const wire::VehicleState& s, const map::Projection& pr,
-                                   bool backward) {
-  // Pure pursuit works from the rear axle; the state's position is the vehicle's centre.
+double LaneFollowDriver::brake_accel() const {
+  return model_.brake_torque_nm / (model_.wheel_radius_m * model_.mass_kg);
+}
+
+double LaneFollowDriver::steer_for(const wire::VehicleState& s, bool backward) const {
+  // Steering works from the rear axle; the state's position is the vehicle's centre.
   const double c = std::cos(s.yaw), sn = std::sin(s.yaw);
   const double rx = s.position[0] - c * model_.wheelbase_m / 2.0;
   const double ry = s.position[1] - sn * model_.wheelbase_m / 2.0;
   const double lookahead =
       std::clamp(kLookaheadTime * std::abs(s.speed), kLookaheadMin, kLookaheadMax);
-  // Along the lane in the direction of travel: reversing, the target lies behind the rear axle.
-  const double dir = (against_ ? -1.0 : 1.0) * (backward ? -1.0 : 1.0);
-  double target_s = pr.s + dir * (backward ? lookahead - model_.wheelbase_m / 2.0
-                                           : lookahead + model_.wheelbase_m / 2.0);
-  // Past the end of an open lane, aim along its extension instead of at its clamped end.
-  const double len = map::length(lane_->centre);
-  double beyond = 0.0;
-  if (!map::is_closed(lane_->centre)) {
-    if (target_s > len) {
-      beyond = target_s - len;
-      target_s = len;
-    } else if (target_s < 0.0) {
-      beyond = target_s;
-      target_s = 0.0;
-    }
-  }
-  const map::Pose tp = map::pose_at(lane_->centre, target_s);
-  const double tx = tp.p.x + std::cos(tp.yaw) * beyond;
-  const double ty = tp.p.y + std::sin(tp.yaw) * beyond;
+  if (!backward)
+    return steer_forward(s, rx, ry, lookahead);
+  // Reversing: pure pursuit to a point on the path behind the rear axle (beyond the path's
+  // start, on its first segment extended).
+  const double target = d_ - (lookahead - model_.wheelbase_m / 2.0);
+  double tx = 0.0, ty = 0.0;
+  path_.at(target, tx, ty);
   const double dx = tx - rx, dy = ty - ry;
   const double ld = std::max(std::hypot(dx, dy), 1e-3);
-  if (backward) {
-    // The rear axle leads: the target's angle from the backward direction gives the arc the
-    // rear axle must run (positive = left of the direction of travel); backward, a road-wheel
-    // angle to the left swings the travel direction to the right, so the sign turns over.
-    const double alpha = std::atan2(sn * dx - c * dy, -c * dx - sn * dy);
-    const double delta = -std::atan2(2.0 * model_.wheelbase_m * std::sin(alpha), ld);
-    return std::clamp(-delta / max_steer_rad_, -1.0, 1.0);
-  }
-  const double alpha = std::atan2(-sn * dx + c * dy, c * dx + sn * dy);
-  // Road-wheel angle of the arc through the target (positive = left); controls steer right.
-  const double delta = std::atan2(2.0 * model_.wheelbase_m * std::sin(alpha), ld);
+  // The rear axle leads: the target's angle from the backward direction gives the arc the rear
+  // axle must run (positive = left of the direction of travel); backward, a road-wheel angle to
+  // the left swings the travel direction to the right, so the sign turns over.
+  const double alpha = std::atan2(sn * dx - c * dy, -c * dx - sn * dy);
+  const double delta = -std::atan2(2.0 * model_.wheelbase_m * std::sin(alpha), ld);
   return std::clamp(-delta / max_steer_rad_, -1.0, 1.0);
 }
 
-wire::Controls LaneFollowDriver::update(const wire::VehicleState& s) {
+double LaneFollowDriver::steer_forward(const wire::VehicleState& s, double rx, double ry,
+                                       double length) const {
+  // Rear-wheel feedback (Samson): the rear axle follows the path with the path's curvature fed
+  // forward, so that it keeps to the lane's centre in a curve where pure pursuit would cut the
+  // corner (a turn of 6 m radius puts a wheel off a 3 m lane). The gains make the error decay
+  // like pure pursuit's with look-ahead @p length: k_e = 2/l², k_theta = 2/l.
+  const LanePath::Projection pr = path_.project(rx, ry, d_ - model_.wheelbase_m / 2.0);
+  double tx = 1.0, ty = 0.0;
+  path_.tangent(pr.d, tx, ty);
+  const double theta = std::remainder(s.yaw - std::atan2(ty, tx), 2.0 * std::numbers::pi);
+  // Curvature a little ahead: the steering takes a moment to get there.
+  const double kappa = path_.curvature(pr.d + std::abs(s.speed) * kSteerLead);
+  const double e = pr.lateral;
+  const double ke = 2.0 / (length * length), kt = 2.0 / length;
+  const double sinc = std::abs(theta) < 1e-6 ? 1.0 : std::sin(theta) / theta;
+  const double denom = std::max(1.0 - kappa * e, 0.2);
+  const double curvature = kappa * std::cos(theta) / denom - kt * theta - ke * sinc * e;
+  // Road-wheel angle of that curvature (positive = left); controls steer right.
+  const double delta = std::atan(model_.wheelbase_m * curvature);
+  return std::clamp(-delta / max_steer_rad_, -1.0, 1.0);
+}
+
+void LaneFollowDriver::limit_curves(double& target) {
+  // The speed from which a comfortable deceleration reaches each point ahead no faster than
+  // its curvature allows.
+  const double b = kStopPlanning * spec_.max_decel;
+  const double v = std::max(target, reference_);
+  const double horizon = v * v / (2.0 * b) + 10.0;
+  const auto& pts = path_.points();
+  // Where the vehicle is, then the points ahead.
+  const double here = std::abs(path_.curvature(d_));
+  if (here > 1e-6 && std::sqrt(spec_.max_lateral_accel / here) < target) {
+    target = std::sqrt(spec_.max_lateral_accel / here);
+    status_.limit = SpeedLimit::kCurve;
+  }
+  const std::size_t first = path_.index_at(d_);
+  for (std::size_t i = first; i < pts.size() && pts[i].d - d_ <= horizon; ++i) {
+    const double k = std::abs(pts[i].curvature);
+    if (k < 1e-6)
+      continue;
+    const double v_curve = std::sqrt(spec_.max_lateral_accel / k);
+    const double allowed = std::sqrt(v_curve * v_curve + 2.0 * b * std::max(pts[i].d - d_, 0.0));
+    if (allowed < target) {
+      target = allowed;
+      status_.limit = SpeedLimit::kCurve;
+    }
+  }
+}
+
+double LaneFollowDriver::follow_speed(const wire::VehicleState& s, const Traffic& traffic,
+                                      const Observed* me) {
+  // The vehicle ahead: the first point of the path ahead where this car's centre would bring
+  // it against another vehicle (the other's footprint grown by half this car's width and a
+  // margin), found on the path's points and refined between two of them.
+  const double v = std::max<double>(s.speed, 0.0);
+  const double half_w = model_.width_m / 2.0 + kSideMargin;
+  const double half_l = model_.length_m / 2.0;
+  const double horizon =
+      std::min(150.0, std::max(30.0, v * kTimeGap + v * v / (2.0 * spec_.max_decel) + 30.0));
+  const double c = std::cos(s.yaw), sn = std::sin(s.yaw);
+  const auto& pts = path_.points();
+  const std::size_t i0 = path_.index_at(d_);
+  double gap = std::numeric_limits<double>::infinity();
+  double lead_speed = 0.0;
+  for (const Observed& o : traffic.vehicles) {
+    if (&o == me || o.state.station_id == s.station_id)
+      continue;
+    const double ox = o.state.position[0], oy = o.state.position[1];
+    const double dx = ox - s.position[0], dy = oy - s.position[1];
+    if (std::hypot(dx, dy) > horizon + o.length)
+      continue;
+    if (dx * c + dy * sn < -half_l)
+      continue;  // behind this car: it is the one to follow
+    const double oc = std::cos(o.state.yaw), os = std::sin(o.state.yaw);
+    const double ex = o.length / 2.0 + half_w, ey = o.width / 2.0 + half_w;
+    const auto hits = [&](double px, double py) {
+      const double rx = px - ox, ry = py - oy;
+      return std::abs(rx * oc + ry * os) <= ex && std::abs(-rx * os + ry * oc) <= ey;
+    };
+    for (std::size_t i = i0; i < pts.size() && pts[i].d - d_ <= horizon; ++i) {
+      if (!hits(pts[i].x, pts[i].y))
+        continue;
+      double lo = i > i0 ? pts[i - 1].d : d_, hi = pts[i].d;
+      for (int k = 0; k < 8 && hi - lo > 0.05; ++k) {
+        const double mid = (lo + hi) / 2.0;
+        double mx = 0.0, my = 0.0;
+        path_.at(mid, mx, my);
+        (hits(mx, my) ? hi : lo) = mid;
+      }
+      const double g = hi - d_ - half_l;
+      if (g < gap) {
+        double tx = 0.0, ty = 0.0;
+        path_.tangent(hi, tx, ty);
+        gap = g;
+        lead_speed = std::max(0.0, o.state.velocity[0] * tx + o.state.velocity[1] * ty);
+      }
+      break;
+    }
+  }
+  status_.leader_gap = gap;
+  if (!std::isfinite(gap))
+    return std::numeric_limits<double>::infinity();
+  if (gap <= kMinGap)
+    return 0.0;
+  // Keep kMinGap + kTimeGap * speed: approach it braking comfortably, fall back when closer.
+  const double excess = gap - kMinGap - kTimeGap * v;
+  if (excess >= 0.0)
+    return std::sqrt(lead_speed * lead_speed + 2.0 * spec_.max_decel * excess);
+  return std::max(0.0, lead_speed + excess / kRelaxTime);
+}
+
+bool LaneFollowDriver::must_yield(const Traffic& traffic, const Observed* me,
+                                  std::size_t first) const {
+  const auto& steps = path_.steps();
+  const int junction = steps[first].junction;
+  std::vector<std::size_t> mine;
+  for (std::size_t k = first; k < steps.size() && steps[k].junction == junction; ++k)
+    mine.push_back(steps[k].node);
+  // Seen approaching this junction by the others too: the common priority rule decides.
+  // Otherwise (not yet on a lane the others know leads here) this car gives way to everyone.
+  const bool seen = me != nullptr && me->junction == junction && !me->inside;
+  for (const Observed& o : traffic.vehicles) {
+    if (&o == me || o.junction != junction)
+      continue;
+    bool crosses = false;
+    for (std::size_t a : mine) {
+      for (std::size_t b : o.junction_lanes)
+        crosses = crosses || map_->conflict(a, b);
+    }
+    if (!crosses)
+      continue;
+    if (o.inside || !seen || goes_before(o, *me))
+      return true;
+  }
+  return false;
+}
+
+bool LaneFollowDriver::gap_free(const wire::VehicleState& s, const Traffic& traffic,
+                                const Observed* me, const LanePath::Step& change) const {
+  const double c = std::cos(s.yaw), sn = std::sin(s.yaw);
+  const double v = s.speed;
+  for (const Observed& o : traffic.vehicles) {
+    if (&o == me || !o.lane || o.lane->ref.road != change.road || o.lane->ref.lane != change.lane)
+      continue;
+    const double along =
+        (o.state.position[0] - s.position[0]) * c + (o.state.position[1] - s.position[1]) * sn;
+    const double half = (model_.length_m + o.length) / 2.0;
+    const double vo = o.state.speed;
+    if (along >= 0.0) {
+      if (along - half < kChangeGap + std::max(0.0, v - vo) * kChangeClosing)
+        return false;
+    } else if (-along - half <
+               kChangeGap + vo * kChangeFollow + std::max(0.0, vo - v) * kChangeClosing) {
+      return false;
+    }
+  }
+  return true;
+}
+
+void LaneFollowDriver::limit_traffic(const wire::VehicleState& s, const Traffic& traffic,
+                                     double& target) {
+  const Observed* me = traffic.find(s.station_id);
+  const double b = kStopPlanning * spec_.max_decel;
+  const double v = std::max<double>(s.speed, 0.0);
+  const double half_l = model_.length_m / 2.0;
+  const double follow = follow_speed(s, traffic, me);
+  if (follow < target) {
+    target = follow;
+    status_.limit = SpeedLimit::kLeader;
+  }
+  // A stop line ahead (the junction entry, the start of a lane change) this car may not pass
+  // yet. A car too fast to stop before it brakes all the same (the reference may fall at full
+  // braking): it stops a little beyond, or is in the junction by then, where the others can
+  // see it and give way. Going on regardless would be a decision the others cannot see.
+  const auto stop_at = [&](double line, SpeedLimit why) {
+    const double allowed = std::sqrt(2.0 * b * std::max(line - d_, 0.0));
+    if (allowed < target) {
+      target = allowed;
+      status_.limit = why;
+    }
+  };
+  const auto& steps = path_.steps();
+  for (std::size_t k = 0; k < steps.size(); ++k) {
+    const LanePath::Step& st = steps[k];
+    if (st.d1 <= d_)
+      continue;
+    if (st.d0 - d_ > DriveMap::approach_horizon(v))
+      break;
+    if (st.junction >= 0) {
+      // In the junction (centre past its entry, as the others see it): on through it.
+      if (st.d0 <= d_ || (k > 0 && steps[k - 1].junction == st.junction))
+        continue;
+      if (must_yield(traffic, me, k))
+        stop_at(st.d0 - half_l - kStopLineMargin, SpeedLimit::kJunction);
+      break;
+    }
+    if (st.lane_change() && st.d0 > d_ + 0.5 && !gap_free(s, traffic, me, st)) {
+      stop_at(st.d0 - 0.5, SpeedLimit::kLaneChange);
+      break;
+    }
+  }
+}
+
+wire::Controls LaneFollowDriver::update(const wire::VehicleState& s, const Traffic& traffic) {
   // The warm-up holds the car on its run-up (sim-server): the script, and the distance its
   // profile counts, start at sim time 0.
   if (s.sim_time_ns < 0)
@@ -172,35 +384,76 @@ wire::Controls LaneFollowDriver::update(const wire::VehicleState& s) {
   if (!started_) {
     started_ = true;
     reference_ = speed;
+    d_ = path_.start_d();
   } else {
     dt = std::max(static_cast<double>(s.sim_time_ns - last_ns_) * 1e-9, 0.0);
   }
   last_ns_ = s.sim_time_ns;
   status_.distance += std::abs(speed) * dt;
 
-  const map::Projection pr = map::project(lane_->centre, {s.position[0], s.position[1]});
-  status_.lateral = against_ ? -pr.lateral : pr.lateral;
-  status_.remaining = std::numeric_limits<double>::infinity();
+  const LanePath::Projection pr = path_.project(s.position[0], s.position[1], d_);
+  d_ = pr.d;
   double target =
       profile_speed(spec_.profile, spec_.by_distance ? status_.distance : sim_seconds(s));
   status_.profile_speed = target;
-  if (!map::is_closed(lane_->centre)) {
-    const double len = map::length(lane_->centre);
-    // Negative profile speeds reverse (issue 22): the end that matters is then the lane's start.
-    const bool back = target < 0.0;
-    status_.remaining = (against_ != back) ? pr.s : len - pr.s;
-    // The speed from which a stop ends kEndMargin before the end of the lane, planned below
-    // max_decel so that the speed controller's lag does not eat the margin.
-    const double room = std::max(status_.remaining - kEndMargin, 0.0);
-    const double limit = std::sqrt(2.0 * kStopPlanning * spec_.max_decel * room);
-    target = back ? std::max(target, -limit) : std::min(target, limit);
+  status_.limit = SpeedLimit::kProfile;
+  status_.leader_gap = std::numeric_limits<double>::infinity();
+  // Enough path ahead for the look-ahead, the stopping distance and the junction horizon;
+  // some behind for reversing.
+  const double v_max = std::max({std::abs(speed), std::abs(target), std::abs(reference_)});
+  path_.extend_to(d_ + std::max(kLookaheadMax, v_max * v_max / spec_.max_decel) +
+                  DriveMap::approach_horizon(v_max) + 20.0);
+  path_.extend_back_to(d_ - kLookaheadMax - 20.0);
+  path_.trim_before(d_ - 100.0);
+  status_.lateral = pr.lateral;
+  status_.curvature = path_.curvature(d_);
+  for (const LanePath::Step& st : path_.steps()) {
+    if (st.d1 >= d_) {
+      status_.road = st.road;
+      status_.lane = st.lane;
+      break;
+    }
   }
+
+  // Negative profile speeds reverse (issue 22): the end that matters is then the path's start.
+  const bool back = target < 0.0;
+  status_.remaining = std::numeric_limits<double>::infinity();
+  if (back) {
+    if (path_.begin_d() > d_ - kLookaheadMax - 20.0)
+      status_.remaining = d_ - path_.begin_d();
+  } else if (path_.ended()) {
+    status_.remaining = path_.end_d() - d_;
+  }
+  if (std::isfinite(status_.remaining)) {
+    // The speed from which a stop ends kEndMargin before the end of a lane (at a goal: on it),
+    // planned below max_decel so that the speed controller's lag does not eat the margin.
+    const double margin = !back && path_.ends_at_goal() ? 0.0 : kEndMargin;
+    const double room = std::max(status_.remaining - margin, 0.0);
+    const double limit = std::sqrt(2.0 * kStopPlanning * spec_.max_decel * room);
+    if (back) {
+      target = std::max(target, -limit);
+    } else if (limit < target) {
+      target = limit;
+      status_.limit = SpeedLimit::kEnd;
+    }
+  }
+  if (!back) {
+    limit_curves(target);
+    if (spec_.yield_to_traffic)
+      limit_traffic(s, traffic, target);
+  }
+  status_.target_speed = target;
 
   const double previous = reference_;
   if (target > reference_) {
     reference_ = std::min(target, reference_ + spec_.max_accel * dt);
   } else {
-    reference_ = std::max(target, reference_ - spec_.max_decel * dt);
+    // A profile slows at its own pace; a curve, the end of the path or traffic come when they
+    // come (a car spawned fast just before a bend or a queue) and may need harder braking.
+    const double decel = status_.limit != SpeedLimit::kProfile
+                             ? std::max(spec_.max_decel, std::min(kFullBrake, brake_accel()))
+                             : spec_.max_decel;
+    reference_ = std::max(target, reference_ - decel * dt);
   }
   status_.reference_speed = reference_;
   const double feed_forward = dt > 0.0 ? (reference_ - previous) / dt : 0.0;
@@ -216,47 +469,41 @@ wire::Controls LaneFollowDriver::update(const wire::VehicleState& s) {
 
   wire::Controls out;
   out.reverse = backward;
-  out.steer = static_cast<float>(steer_for(s, pr, backward && speed < kStandstill));
+  out.steer = static_cast<float>(steer_for(s, backward && speed < kStandstill));
   if (target * dir <= 0.0 && reference_ * dir <= 0.0 && std::abs(speed) < kStandstill) {
     integral_ = 0.0;
     out.brake = static_cast<float>(kHoldBrake);
     return out;
   }
-  const double brake_accel = model_.brake_torque_nm / (model_.wheel_radius_m * model_.mass_kg);
   if (speed * dir < -kStandstill) {
     // Still rolling against the wanted direction: brake it to a stop first.
-    out.brake = static_cast<float>(std::clamp(std::abs(accel) / brake_accel, kHoldBrake, 1.0));
+    out.brake = static_cast<float>(std::clamp(std::abs(accel) / brake_accel(), kHoldBrake, 1.0));
     return out;
   }
   if (need >= 0.0) {
     out.throttle = static_cast<float>(std::clamp(need / drive_accel_max(speed), 0.0, 1.0));
   } else {
-    out.brake = static_cast<float>(std::clamp(-need / brake_accel, 0.0, 1.0));
+    out.brake = static_cast<float>(std::clamp(-need / brake_accel(), 0.0, 1.0));
   }
   return out;
 }
 
-LaneRef start_lane(const scenario::Vehicle& v, const map::RoadMap& road_map) {
-  if (const auto* l = std::get_if<scenario::LaneSpawn>(&v.spawn.where))
-    return LaneRef{l->road, l->lane, l->against};
-  const auto& p = std::get<scenario::PoseSpawn>(v.spawn.where);
-  const double yaw = geodesy::heading_deg_to_yaw(p.heading_deg);
-  const auto match = road_map.find_lane({p.x, p.y}, yaw);
-  if (!match) {
-    throw std::invalid_argument("vehicle \"" + v.id + "\": spawn pose is in no lane, so " +
-                                "a lane_follow driver has no lane to follow");
-  }
-  const map::Pose lp = road_map.lane_pose(match->road, match->lane, match->where.s);
-  return LaneRef{match->road, match->lane, std::cos(yaw - lp.yaw) < 0.0};
-}
-
 std::unique_ptr<ScriptedDriver> make_scripted_driver(const scenario::Vehicle& v,
-                                                     const map::RoadMap& road_map) {
+                                                     const scenario::Scenario& sc,
+                                                     const DriveMap& map) {
   if (const auto* t = std::get_if<scenario::TimelineDriver>(&v.driver))
     return std::make_unique<TimelineDriver>(*t);
-  if (const auto* l = std::get_if<scenario::LaneFollowDriver>(&v.driver))
-    return std::make_unique<LaneFollowDriver>(*l, v.model, road_map, start_lane(v, road_map));
-  return nullptr;
+  const auto* l = std::get_if<scenario::LaneFollowDriver>(&v.driver);
+  if (l == nullptr)
+    return nullptr;
+  const auto start = map::vehicle_start(v, map.scenario_map());
+  if (!start) {
+    throw std::invalid_argument("vehicle \"" + v.id + "\": spawn is on no drivable lane, so " +
+                                "a lane_follow driver has no lane to follow");
+  }
+  map::RoutePlan plan(map.network(), map.graph(), l->route, *start,
+                      map::vehicle_seed(sc.seed, v.station_id));
+  return std::make_unique<LaneFollowDriver>(*l, v.model, map, std::move(plan));
 }
 
 }  // namespace tb::client

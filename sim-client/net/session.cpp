@@ -163,9 +163,10 @@ bool SimSession::on_welcome(const sim::Welcome& w) {
           w.scenario_json, "scenario sent by the server",
           w.map_text.empty() ? std::nullopt : std::optional<std::string_view>(w.map_text));
       map_ = std::make_shared<const map::ScenarioMap>(*scenario_);
-      road_map_ = scenario_->map.type == scenario::MapType::kOpenDrive
-                      ? nullptr
-                      : std::make_unique<map::RoadMap>(scenario_->map);
+      drive_map_ = std::make_unique<DriveMap>(map_);
+      sizes_.clear();
+      for (const scenario::Vehicle& v : scenario_->vehicles)
+        sizes_.push_back({v.station_id, v.model.length_m, v.model.width_m});
     } catch (const std::exception& e) {
       fail(fmt::format("cannot use the server's scenario: {}", e.what()));
       return false;
@@ -210,19 +211,9 @@ bool SimSession::on_welcome(const sim::Welcome& w) {
                          w.vehicles[i].id));
         return false;
       }
-      // Until the scripted drivers read the OpenDRIVE model (issue 17's drivers), only
-      // timelines drive on OpenDRIVE maps.
-      if (road_map_ == nullptr && !std::holds_alternative<scenario::TimelineDriver>(v->driver)) {
-        fail(fmt::format("vehicle {}: a lane_follow driver does not drive on an OpenDRIVE map yet",
-                         v->id));
-        return false;
-      }
       d.lights = v->lights;
       try {
-        d.script =
-            road_map_ != nullptr
-                ? make_scripted_driver(*v, *road_map_)
-                : std::make_unique<TimelineDriver>(std::get<scenario::TimelineDriver>(v->driver));
+        d.script = make_scripted_driver(*v, *scenario_, *drive_map_);
       } catch (const std::exception& e) {
         fail(fmt::format("vehicle {}: cannot build its scripted driver: {}", v->id, e.what()));
         return false;
@@ -281,16 +272,20 @@ void SimSession::on_state(const sim::StateFrame& f) {
     if (!tick_states_.empty())
       forwarder_->forward_tick(tick_states_);
   }
+  // Where every vehicle is, located once for all scripted drivers of this frame.
+  std::optional<Traffic> traffic;
   for (auto& [i, d] : driven_) {
     if (!d.attached || i >= f.vehicles.size())
       continue;
     const wire::VehicleState& s = f.vehicles[i];
+    if (d.script && !traffic)
+      traffic = drive_map_->observe(f.vehicles, sizes_);
     sim::ControlsMsg c;
     c.vehicle = i;
     if (d.script) {
       // A scripted driver reads its input (the state) now.
       c.input_ns = clock::to_unix_ns(clock_->wall_now());
-      c.controls = d.script->update(s);
+      c.controls = d.script->update(s, *traffic);
       c.lights = d.lights;
     } else {
       c.controls = human_.controls;

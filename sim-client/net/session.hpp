@@ -14,7 +14,6 @@
 
 #include "common/clock/clock.hpp"
 #include "common/map/opendrive/road_network.hpp"
-#include "common/map/road_map.hpp"
 #include "common/map/scenario_map.hpp"
 #include "common/scenario/scenario.hpp"
 #include "common/trace/tracer.hpp"
@@ -75,8 +74,6 @@ class SimSession {
   // What the view draws.
   const wire::sim::Welcome* welcome() const { return welcome_ ? &*welcome_ : nullptr; }
   const scenario::Scenario* scenario() const { return scenario_ ? &*scenario_ : nullptr; }
-  /// The built-in layout's own model, for what still reads it; null on OpenDRIVE maps.
-  const map::RoadMap* road_map() const { return road_map_.get(); }
   /// The world's map (common/map's one model: network, lane locator and graph, WGS84), built
   /// from the scenario and map text of the server's Welcome.
   const map::ScenarioMap* map() const { return map_.get(); }
@@ -127,8 +124,9 @@ class SimSession {
   wire::sim::FrameParser parser_{wire::sim::Sender::kServer};
   std::optional<wire::sim::Welcome> welcome_;
   std::optional<scenario::Scenario> scenario_;
-  std::unique_ptr<map::RoadMap> road_map_;
   std::shared_ptr<const map::ScenarioMap> map_;
+  std::unique_ptr<DriveMap> drive_map_;  ///< what the scripted drivers share about the map
+  std::vector<VehicleSize> sizes_;       ///< of the scenario's vehicles, for Traffic
   std::optional<wire::sim::StateFrame> latest_;
   std::map<std::uint16_t, Driven> driven_;
   DriverCommand human_;

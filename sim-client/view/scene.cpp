@@ -16,14 +16,10 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr SDL_Color kGrass{46, 84, 46, 255};
-constexpr SDL_Color kAsphalt{64, 64, 68, 255};
-constexpr SDL_Color kPaint{235, 235, 235, 255};
 constexpr SDL_Color kText{245, 245, 245, 255};
 constexpr SDL_Color kDim{150, 150, 150, 255};
 constexpr SDL_Color kPanel{0, 0, 0, 170};
 constexpr SDL_Color kAmber{255, 170, 0, 255};
-constexpr double kLineWidth = 0.15;        // m, painted lines
-constexpr double kDash = 3.0, kGap = 6.0;  // m, dashed lane lines
 
 template <class... Ts>
 struct Overloaded : Ts... {
@@ -31,12 +27,6 @@ struct Overloaded : Ts... {
 };
 template <class... Ts>
 Overloaded(Ts...) -> Overloaded<Ts...>;
-
-// A point `offset` metres left of a centre line at distance s.
-map::Point offset_point(const map::CentreLine& line, double s, double offset) {
-  const map::Pose p = map::pose_at(line, s);
-  return {p.p.x - std::sin(p.yaw) * offset, p.p.y + std::cos(p.yaw) * offset};
-}
 
 std::string gear_text(int gear) {
   if (gear < 0)
@@ -81,7 +71,7 @@ SDL_FPoint SceneRenderer::to_screen(double x, double y) const {
           static_cast<float>(o.y - ry * pixels_per_metre)};
 }
 
-void SceneRenderer::quad(const map::Point (&c)[4], SDL_Color col) {
+void SceneRenderer::quad(const Point (&c)[4], SDL_Color col) {
   SDL_Vertex v[4];
   for (int i = 0; i < 4; ++i)
     v[i] = SDL_Vertex{to_screen(c[i].x, c[i].y), col, {0, 0}};
@@ -89,77 +79,46 @@ void SceneRenderer::quad(const map::Point (&c)[4], SDL_Color col) {
   SDL_RenderGeometry(r_, nullptr, v, 4, idx, 6);
 }
 
-// Fills the band between two offsets of a centre line from s0 to s1, in pieces short enough to
-// follow a curve, skipping pieces far outside the screen.
-void SceneRenderer::strip(const map::CentreLine& line, double off0, double off1, double s0,
-                          double s1, SDL_Color c) {
-  const double step = map::is_closed(line) ? 2.0 : std::max(s1 - s0, 0.01);
-  const double reach = std::hypot(width_, height_) / pixels_per_metre + step;
-  for (double s = s0; s < s1; s += step) {
-    const double e = std::min(s + step, s1);
-    const map::Pose mid = map::pose_at(line, (s + e) / 2);
-    if (!map::is_closed(line)) {
-      // A long straight piece: clip it to the part near the camera.
-      const map::Projection pr = map::project(line, {cam_.x, cam_.y});
-      const double a = std::max(s, pr.s - reach), b = std::min(e, pr.s + reach);
-      if (a >= b)
-        return;
-      const map::Point q[4] = {offset_point(line, a, off0), offset_point(line, b, off0),
-                               offset_point(line, b, off1), offset_point(line, a, off1)};
-      quad(q, c);
-      return;
-    }
-    if (std::hypot(mid.p.x - cam_.x, mid.p.y - cam_.y) > reach)
+// The map layer's chunks near the camera, transformed to the screen in one batch.
+void SceneRenderer::draw_chunks(const std::vector<MapLayer::Chunk>& chunks) {
+  const double reach = std::hypot(width_, height_) / pixels_per_metre;
+  const auto& world = layer_->vertices();
+  screen_.clear();
+  for (const MapLayer::Chunk& c : chunks) {
+    if (c.x1 < cam_.x - reach || c.x0 > cam_.x + reach || c.y1 < cam_.y - reach ||
+        c.y0 > cam_.y + reach) {
       continue;
-    const map::Point q[4] = {offset_point(line, s, off0), offset_point(line, e, off0),
-                             offset_point(line, e, off1), offset_point(line, s, off1)};
-    quad(q, c);
+    }
+    for (std::uint32_t i = c.first; i < c.first + c.count; ++i) {
+      const MapLayer::Vertex& v = world[i];
+      screen_.push_back(SDL_Vertex{to_screen(v.x, v.y), v.colour, {0, 0}});
+    }
+  }
+  if (!screen_.empty()) {
+    SDL_RenderGeometry(r_, nullptr, screen_.data(), static_cast<int>(screen_.size()), nullptr, 0);
   }
 }
 
-void SceneRenderer::draw_roads(const map::RoadMap& m) {
-  for (const map::Road& road : m.roads()) {
-    strip(road.reference, -road.width / 2, road.width / 2, 0.0, map::length(road.reference),
-          kAsphalt);
+void SceneRenderer::draw_map(const map::odr::RoadNetwork& net) {
+  if (layer_of_ != &net) {
+    layer_ = std::make_unique<MapLayer>(net);
+    layer_of_ = &net;
   }
-  const double reach = std::hypot(width_, height_) / pixels_per_metre;
-  for (const map::Marking& mk : m.markings()) {
-    const double len = map::length(mk.line);
-    const double w = mk.style == map::Marking::Style::kSolid ? 2 * kLineWidth : kLineWidth;
-    if (mk.style != map::Marking::Style::kDashed) {
-      strip(mk.line, -w / 2, w / 2, 0.0, len, kPaint);
-      continue;
-    }
-    // Only the dashes near the camera.
-    const map::Projection pr = map::project(mk.line, {cam_.x, cam_.y});
-    double from = 0.0, to = len;
-    if (!map::is_closed(mk.line)) {
-      from = std::max(0.0, pr.s - reach);
-      to = std::min(len, pr.s + reach);
-    }
-    for (double s = std::floor(from / (kDash + kGap)) * (kDash + kGap); s < to; s += kDash + kGap) {
-      const map::Pose p = map::pose_at(mk.line, s);
-      if (std::hypot(p.p.x - cam_.x, p.p.y - cam_.y) > reach)
-        continue;
-      const double e = std::min(s + kDash, len);
-      const map::Point q[4] = {offset_point(mk.line, s, -w / 2), offset_point(mk.line, e, -w / 2),
-                               offset_point(mk.line, e, w / 2), offset_point(mk.line, s, w / 2)};
-      quad(q, kPaint);
-    }
-  }
+  draw_chunks(layer_->surfaces());
+  draw_chunks(layer_->marks());
 }
 
 void SceneRenderer::draw_vehicle(const ViewVehicle& v) {
   const auto& s = v.state;
   const double c = std::cos(s.yaw), sn = std::sin(s.yaw);
-  const auto corners = [&](double half_l, double half_w, map::Point(&q)[4]) {
+  const auto corners = [&](double half_l, double half_w, Point(&q)[4]) {
     const double px = s.position[0], py = s.position[1];
     const double lx[4] = {half_l, half_l, -half_l, -half_l};
     const double ly[4] = {half_w, -half_w, -half_w, half_w};
     for (int i = 0; i < 4; ++i)
       q[i] = {px + lx[i] * c - ly[i] * sn, py + lx[i] * sn + ly[i] * c};
   };
-  map::Point q[4];
+  Point q[4];
   if (v.own) {
     corners(v.length_m / 2 + 0.35, v.width_m / 2 + 0.35, q);
     quad(q, kOwnHighlight);
@@ -168,14 +127,14 @@ void SceneRenderer::draw_vehicle(const ViewVehicle& v) {
   quad(q, v.color);
   // Windscreen, so that the front reads at a glance.
   const double fl = v.length_m / 2;
-  const map::Point w[4] = {{s.position[0] + (fl * 0.45) * c - (v.width_m * 0.4) * sn,
-                            s.position[1] + (fl * 0.45) * sn + (v.width_m * 0.4) * c},
-                           {s.position[0] + (fl * 0.45) * c + (v.width_m * 0.4) * sn,
-                            s.position[1] + (fl * 0.45) * sn - (v.width_m * 0.4) * c},
-                           {s.position[0] + (fl * 0.1) * c + (v.width_m * 0.4) * sn,
-                            s.position[1] + (fl * 0.1) * sn - (v.width_m * 0.4) * c},
-                           {s.position[0] + (fl * 0.1) * c - (v.width_m * 0.4) * sn,
-                            s.position[1] + (fl * 0.1) * sn + (v.width_m * 0.4) * c}};
+  const Point w[4] = {{s.position[0] + (fl * 0.45) * c - (v.width_m * 0.4) * sn,
+                       s.position[1] + (fl * 0.45) * sn + (v.width_m * 0.4) * c},
+                      {s.position[0] + (fl * 0.45) * c + (v.width_m * 0.4) * sn,
+                       s.position[1] + (fl * 0.45) * sn - (v.width_m * 0.4) * c},
+                      {s.position[0] + (fl * 0.1) * c + (v.width_m * 0.4) * sn,
+                       s.position[1] + (fl * 0.1) * sn - (v.width_m * 0.4) * c},
+                      {s.position[0] + (fl * 0.1) * c - (v.width_m * 0.4) * sn,
+                       s.position[1] + (fl * 0.1) * sn + (v.width_m * 0.4) * c}};
   quad(w, SDL_Color{30, 40, 60, 255});
   // Lit indicators and brake lights as small squares at the corners.
   const bool blink = (s.sim_time_ns / 400'000'000) % 2 == 0;
@@ -183,10 +142,10 @@ void SceneRenderer::draw_vehicle(const ViewVehicle& v) {
   const bool right = (s.lights & (wire::kIndicatorRight | wire::kHazard)) != 0 && blink;
   const auto dot = [&](double lx, double ly, SDL_Color col) {
     const double px = s.position[0] + lx * c - ly * sn, py = s.position[1] + lx * sn + ly * c;
-    const map::Point d[4] = {{px - 0.25, py - 0.25},
-                             {px + 0.25, py - 0.25},
-                             {px + 0.25, py + 0.25},
-                             {px - 0.25, py + 0.25}};
+    const Point d[4] = {{px - 0.25, py - 0.25},
+                        {px + 0.25, py - 0.25},
+                        {px + 0.25, py + 0.25},
+                        {px - 0.25, py + 0.25}};
     quad(d, col);
   };
   if (left) {
@@ -323,8 +282,8 @@ void SceneRenderer::draw(const ViewScene& scene) {
   SDL_SetRenderDrawBlendMode(r_, SDL_BLENDMODE_NONE);
   SDL_SetRenderDrawColor(r_, kGrass.r, kGrass.g, kGrass.b, 255);
   SDL_RenderClear(r_);
-  if (scene.road_map != nullptr)
-    draw_roads(*scene.road_map);
+  if (scene.network != nullptr)
+    draw_map(*scene.network);
   for (const auto& v : scene.vehicles) {
     if (!v.own)
       draw_vehicle(v);

@@ -1,7 +1,8 @@
 #pragma once
-/// @file The driver's view: a top-down chase view that follows the own car (heading up), with
-/// roads and lane markings, every vehicle as an oriented rectangle, and a HUD (speed, gear,
-/// controls in effect, lights, connection status, key map on H). Drawn with SDL2's 2D renderer.
+/// @file The driver's top-down view (`--view topdown`): a chase view that follows the own car
+/// (heading up) over the OpenDRIVE road network (lane surfaces by type, junctions, road marks;
+/// map_layer.hpp), every vehicle as an oriented rectangle, and a HUD (speed, gear, controls in
+/// effect, lights, connection status, key map on H). Drawn with SDL2's 2D renderer.
 
 #include <cstdint>
 #include <memory>
@@ -11,8 +12,9 @@
 
 #include <SDL.h>
 
-#include "common/map/road_map.hpp"
+#include "common/map/opendrive/road_network.hpp"
 #include "common/wire/vehicle_state.hpp"
+#include "sim-client/view/map_layer.hpp"
 
 namespace tb::client {
 
@@ -25,7 +27,9 @@ struct ViewVehicle {
 };
 
 struct ViewScene {
-  const map::RoadMap* road_map = nullptr;  ///< null: no road yet (not connected)
+  /// The world's road network; null: none yet (not connected). The renderer builds its map
+  /// layer once per network.
+  const map::odr::RoadNetwork* network = nullptr;
   std::vector<ViewVehicle> vehicles;
   std::string connection;  ///< connection status line
   std::string input;       ///< input status line ("keyboard", "controller ...")
@@ -54,11 +58,13 @@ class SceneRenderer {
   struct Camera {
     double x = 0.0, y = 0.0, yaw = 0.0;
   };
+  struct Point {
+    double x, y;
+  };
   SDL_FPoint to_screen(double x, double y) const;
-  void quad(const map::Point (&corners)[4], SDL_Color c);
-  void strip(const map::CentreLine& line, double offset_from, double offset_to, double s0,
-             double s1, SDL_Color c);
-  void draw_roads(const map::RoadMap& m);
+  void quad(const Point (&corners)[4], SDL_Color c);
+  void draw_map(const map::odr::RoadNetwork& net);
+  void draw_chunks(const std::vector<MapLayer::Chunk>& chunks);
   void draw_vehicle(const ViewVehicle& v);
   void draw_hud(const ViewScene& scene, const ViewVehicle* own);
   void text(int x, int y, std::string_view s, int scale, SDL_Color c);
@@ -67,6 +73,9 @@ class SceneRenderer {
   SDL_Renderer* r_;
   int width_, height_;
   Camera cam_;
+  std::unique_ptr<MapLayer> layer_;
+  const map::odr::RoadNetwork* layer_of_ = nullptr;
+  std::vector<SDL_Vertex> screen_;  ///< reused each frame
 };
 
 /// Where the view is drawn: a window, or an off-screen surface (--headless --screenshot).

@@ -64,7 +64,9 @@ int main(int argc, char** argv) {
   app.add_option("--scenario", scenario_file, "scenario file (JSON)")->required();
   app.add_option("--port", port, "TCP port to listen on (0: any free port)")->capture_default_str();
   app.add_option("--bind", bind, "address to listen on")->capture_default_str();
-  app.add_flag("--fast", fast, "step as fast as possible instead of in real time");
+  app.add_flag("--fast", fast,
+               "step as fast as possible instead of in real time (each step waits for the drivers' "
+               "controls)");
   app.add_option("--duration", duration,
                  "stop after this many seconds of sim time "
                  "(default: the scenario's duration, else run until "
@@ -208,9 +210,10 @@ int main(int argc, char** argv) {
   spdlog::info(
       "stopped after {} steps ({:.2f} s sim time); {} connection(s), {} closed for bad input, "
       "{} dropped as too slow, {} control value(s) clamped, {} watchdog stop(s), {} late "
-      "step(s), {} resync(s)",
+      "step(s), {} resync(s), {} fast step(s) that gave up waiting for a driver",
       world->tick(), world->sim_time_ns() * 1e-9, st.connections, st.protocol_errors, st.slow_drops,
-      st.clamped_values, st.watchdog_stops, loop.late_steps(), loop.resyncs());
+      st.clamped_values, st.watchdog_stops, loop.late_steps(), loop.resyncs(),
+      loop.driver_waits_timed_out());
   const auto& off = world->off_road();
   spdlog::info(
       "off the road: {} departure(s) from the drivable lanes, {} vehicle(s) off them now{}",

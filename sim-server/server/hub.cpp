@@ -111,6 +111,10 @@ void Hub::handle(ClientId id, Client& c, const sim::ClientMessage& m) {
     slot.input_ns = in->input_ns != 0 ? in->input_ns : slot.arrival_ns;
     slot.lights = in->lights;
     world_.set_controls(in->vehicle, controls, in->lights);
+    const bool waited = slot.answered < frames_;
+    slot.answered = frames_;
+    if (waited && changed_ && drivers_answered())
+      changed_();
   } else if (const auto* d = std::get_if<sim::Detach>(&m)) {
     c.conversation.on_released(d->vehicle);
     release(d->vehicle, fmt::format("detached by {}", label(c)));
@@ -149,6 +153,8 @@ void Hub::attach(ClientId id, Client& c, const sim::Attach& a) {
   c.link->send(share(sim::encode(res)));
   if (changed)
     broadcast(share(sim::encode(sim::DriverChanged{a.vehicle, c.name})));
+  if (changed_)
+    changed_();
 }
 
 void Hub::release(std::size_t vehicle, std::string_view why) {
@@ -192,7 +198,9 @@ void Hub::before_step() {
         stop_vehicle(v);
       continue;
     }
-    if (slot.driver != 0 && now - slot.last_controls > kDriverTimeout) {
+    // A driver that has answered the latest State frame is not silent, however long ago that
+    // was (fast mode waits for the others).
+    if (slot.driver != 0 && slot.answered < frames_ && now - slot.last_controls > kDriverTimeout) {
       ++stats_.watchdog_stops;
       const auto it = clients_.find(slot.driver);
       spdlog::warn(
@@ -211,9 +219,18 @@ void Hub::after_step() {
   if (!any)
     return;
   const auto states = world_.states();
+  ++frames_;
   broadcast(share(sim::encode_state(world_.tick(), world_.sim_time_ns(),
                                     states.empty() ? 0 : states.front().step_wall_ns, states,
                                     clock::to_unix_ns(clock_.wall_now()))));
+}
+
+bool Hub::drivers_answered() const {
+  for (const VehicleSlot& slot : vehicles_) {
+    if (slot.driver != 0 && !slot.stopping && slot.answered < frames_)
+      return false;
+  }
+  return true;
 }
 
 void Hub::broadcast(const SharedBytes& frame) {

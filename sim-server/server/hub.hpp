@@ -12,6 +12,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <span>
@@ -74,6 +75,12 @@ class Hub {
   void before_step();
   /// After each physics step: the State frame to every attached client.
   void after_step();
+  /// Whether the driver of every driven vehicle has answered the latest State frame with
+  /// Controls (a vehicle braked by the watchdog is not waited for). Fast mode steps only then,
+  /// so that scripted drivers see every state as they do in real time.
+  bool drivers_answered() const;
+  /// Called when a driver attaches, or answers the latest State frame as the last one to.
+  void on_drivers_changed(std::function<void()> f) { changed_ = std::move(f); }
   /// Sends Closing(shutdown) to everyone and closes every link.
   void shutdown(std::string_view why);
 
@@ -104,6 +111,7 @@ class Hub {
     /// or 0; and their arrival.
     std::int64_t input_ns = 0;
     std::int64_t arrival_ns = 0;
+    std::uint64_t answered = 0;  ///< frames_ when its latest controls came
   };
 
   void handle(ClientId id, Client& c, const wire::sim::ClientMessage& m);
@@ -124,6 +132,8 @@ class Hub {
   std::vector<VehicleSlot> vehicles_;
   ClientId next_id_ = 1;
   HubStats stats_;
+  std::uint64_t frames_ = 0;  ///< State frames sent
+  std::function<void()> changed_;
 };
 
 }  // namespace tb::server

@@ -19,10 +19,15 @@ SimLoop::SimLoop(clock::Runtime& runtime, physics::World& world, Hub* hub, Optio
       options_(options),
       post_(std::move(post)),
       on_finished_(std::move(on_finished)),
-      step_(std::chrono::nanoseconds(std::llround(world.step_s() * 1e9))) {}
+      step_(std::chrono::nanoseconds(std::llround(world.step_s() * 1e9))) {
+  if (hub_ != nullptr && options_.fast)
+    hub_->on_drivers_changed([this] { drivers_changed(); });
+}
 
 SimLoop::~SimLoop() {
   *alive_ = false;
+  if (hub_ != nullptr && options_.fast)
+    hub_->on_drivers_changed({});
   stop();
 }
 
@@ -30,7 +35,7 @@ void SimLoop::start() {
   if (running_)
     return;
   running_ = true;
-  waiting_ = true;
+  starting_ = true;
   waiting_since_ = rt_.steady_now();
   next_wait_log_ = waiting_since_;
   wait_for_drivers();
@@ -65,7 +70,7 @@ void SimLoop::wait_for_drivers() {
 }
 
 void SimLoop::begin_stepping() {
-  waiting_ = false;
+  starting_ = false;
   if (world_.warming_up()) {
     spdlog::info(
         "warm-up: sim time from {:.2f} s, every vehicle held on its run-up to its spawn "
@@ -89,10 +94,25 @@ void SimLoop::schedule_next() {
   if (!running_)
     return;
   if (options_.fast) {
-    post_([this, alive = std::weak_ptr<bool>(alive_)] {
-      if (alive.lock() && running_)
-        step();
-    });
+    if (!drivers_ready()) {
+      // Lockstep: the drivers' controls for the state just sent go into the next step. Past
+      // the driver timeout, so that the step that follows brakes a silent driver's car and
+      // later steps do not wait for it.
+      waiting_ = true;
+      timer_ = rt_.schedule_at(
+          rt_.steady_now() + std::chrono::duration_cast<clock::Duration>(Hub::kDriverTimeout +
+                                                                        kWaitMargin),
+          [this] {
+            timer_.reset();
+            if (!waiting_)
+              return;
+            waiting_ = false;
+            ++waits_;
+            step();
+          });
+      return;
+    }
+    post_step();
     return;
   }
   ++scheduled_;
@@ -112,6 +132,30 @@ void SimLoop::schedule_next() {
       ++late_steps_;
     step();
   });
+}
+
+void SimLoop::post_step() {
+  post_([this, alive = std::weak_ptr<bool>(alive_)] {
+    if (alive.lock() && running_)
+      step();
+  });
+}
+
+bool SimLoop::drivers_ready() const {
+  if (hub_ == nullptr)
+    return true;
+  return hub_->drivers_answered();
+}
+
+void SimLoop::drivers_changed() {
+  if (starting_ || !waiting_ || !running_ || !drivers_ready())
+    return;
+  waiting_ = false;
+  if (timer_) {
+    rt_.cancel(*timer_);
+    timer_.reset();
+  }
+  post_step();
 }
 
 std::string describe(const physics::OffRoadEvent& e) {

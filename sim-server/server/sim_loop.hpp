@@ -38,7 +38,9 @@ void report_off_road(physics::World& world, trace::Tracer& tracer, std::int64_t 
 class SimLoop {
  public:
   struct Options {
-    bool fast = false;                 ///< as fast as possible instead of real time
+    /// As fast as possible instead of real time; each step waits (at most the driver timeout)
+    /// until every driver has answered the previous State frame (Hub lockstep).
+    bool fast = false;
     std::optional<double> duration_s;  ///< stop after this much sim time
     /// How long the first step waits for a driver on every scripted vehicle; zero: not at all.
     std::chrono::milliseconds start_timeout{0};
@@ -50,6 +52,8 @@ class SimLoop {
   static constexpr std::chrono::seconds kMaxLag{1};
   /// While waiting for drivers: how often to look, and to say who is missing.
   static constexpr std::chrono::milliseconds kDriverPoll{10};
+  /// Fast mode waits for a silent driver this much longer than the driver timeout.
+  static constexpr std::chrono::milliseconds kWaitMargin{10};
   static constexpr std::chrono::seconds kWaitLogEvery{5};
 
   SimLoop(clock::Runtime& runtime, physics::World& world, Hub* hub, Options options, Post post,
@@ -65,12 +69,17 @@ class SimLoop {
   /// Steps that started later than their scheduled instant by more than one step.
   std::uint64_t late_steps() const { return late_steps_; }
   std::uint64_t resyncs() const { return resyncs_; }
+  /// Fast mode: steps that gave up waiting for a driver's controls.
+  std::uint64_t driver_waits_timed_out() const { return waits_; }
 
  private:
   void wait_for_drivers();
   void begin_stepping();
   void step();
   void schedule_next();
+  void post_step();
+  bool drivers_ready() const;
+  void drivers_changed();
 
   clock::Runtime& rt_;
   physics::World& world_;
@@ -84,7 +93,9 @@ class SimLoop {
   std::uint64_t late_steps_ = 0;
   std::uint64_t resyncs_ = 0;
   bool running_ = false;
-  bool waiting_ = false;
+  bool starting_ = false;  ///< waiting for the scripted vehicles' drivers before the first step
+  bool waiting_ = false;   ///< fast mode: a step waits for the drivers' controls
+  std::uint64_t waits_ = 0;
   clock::SteadyTime waiting_since_{};
   clock::SteadyTime next_wait_log_{};
   std::optional<clock::TimerId> timer_;

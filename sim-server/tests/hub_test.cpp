@@ -1,8 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <deque>
+
 #include "common/clock/runtime.hpp"
 #include "common/scenario/loader.hpp"
 #include "sim-server/server/hub.hpp"
+#include "sim-server/server/sim_loop.hpp"
 
 namespace tb::server {
 namespace {
@@ -253,6 +256,93 @@ TEST_F(HubTest, ShutdownSendsClosingToEveryone) {
   EXPECT_TRUE(b.closed);
   EXPECT_EQ(a.all<sim::Closing>().at(0).reason, sim::CloseReason::kShutdown);
   EXPECT_EQ(hub.clients(), 0u);
+}
+
+TEST_F(HubTest, FastLoopWaitsForEveryDriversControls) {
+  // Lockstep: in fast mode a step follows a State frame only once every driver has answered it,
+  // so that a scripted driver sees every state; a driver that falls silent is waited for at
+  // most the driver timeout, then braked and no longer waited for.
+  std::deque<std::function<void()>> posted;
+  SimLoop loop(rt, world, &hub, {.fast = true, .duration_s = 10.0},
+               [&](std::function<void()> f) { posted.push_back(std::move(f)); });
+  FakeLink a, b;
+  const auto ida = join(a, "alice");
+  const auto idb = join(b, "bob");
+  send(ida, sim::Attach{sim::Role::kDriver, 0});
+  send(idb, sim::Attach{sim::Role::kDriver, 1});
+  const auto run_posted = [&] {
+    while (!posted.empty()) {
+      auto f = std::move(posted.front());
+      posted.pop_front();
+      f();
+    }
+  };
+  // Before their first controls the drivers are not waited for (their cars stand braked).
+  loop.start();
+  run_posted();
+  EXPECT_EQ(world.tick(), 1000u);
+  EXPECT_TRUE(hub.drivers_answered());
+  loop.stop();
+  SimLoop again(rt, world, &hub, {.fast = true, .duration_s = 20.0},
+                [&](std::function<void()> f) { posted.push_back(std::move(f)); });
+  send(ida, sim::ControlsMsg{0, {0.3f, 0, 0, false, false}, 0});
+  send(idb, sim::ControlsMsg{1, {0.3f, 0, 0, false, false}, 0});
+  again.start();
+  run_posted();
+  EXPECT_EQ(world.tick(), 1001u) << "stepped without waiting for the drivers";
+  EXPECT_FALSE(hub.drivers_answered());
+  send(ida, sim::ControlsMsg{0, {0.3f, 0, 0, false, false}, 0});
+  run_posted();
+  EXPECT_EQ(world.tick(), 1001u) << "stepped before bob answered";
+  send(idb, sim::ControlsMsg{1, {0.3f, 0, 0, false, false}, 0});
+  run_posted();
+  EXPECT_EQ(world.tick(), 1002u);
+  // Bob falls silent: the loop waits 500 ms of real time, then steps without him; once the
+  // watchdog has braked his car he is no longer waited for.
+  send(ida, sim::ControlsMsg{0, {0.3f, 0, 0, false, false}, 0});
+  run_posted();
+  EXPECT_EQ(world.tick(), 1002u);
+  rt.advance(Hub::kDriverTimeout + SimLoop::kWaitMargin);
+  EXPECT_EQ(world.tick(), 1003u);
+  EXPECT_EQ(again.driver_waits_timed_out(), 1u);
+  EXPECT_EQ(hub.stats().watchdog_stops, 1u);
+  send(ida, sim::ControlsMsg{0, {0.3f, 0, 0, false, false}, 0});
+  run_posted();
+  EXPECT_EQ(world.tick(), 1004u);
+}
+
+TEST_F(HubTest, FastLoopStartsOnceTheScriptedVehiclesHaveDrivers) {
+  // Vehicle 1 runs a script: the fast loop does not run ahead of the client that runs it.
+  scenario::Scenario scripted = sc;
+  scripted.vehicles[1].driver = scenario::TimelineDriver{{{0.0, 0.5}}};
+  Hub h(world, scripted, "{}", rt);
+  std::deque<std::function<void()>> posted;
+  SimLoop loop(rt, world, &h, {.fast = true, .duration_s = 1.0, .start_timeout = 10s},
+               [&](std::function<void()> f) { posted.push_back(std::move(f)); });
+  loop.start();
+  rt.advance(SimLoop::kDriverPoll * 3);
+  EXPECT_TRUE(posted.empty());
+  FakeLink a;
+  const auto id = h.connect(a, "test:scripts");
+  h.receive(id, sim::encode(sim::Hello{"scripts"}));
+  h.receive(id, sim::encode(sim::Attach{sim::Role::kDriver, 1}));
+  rt.advance(SimLoop::kDriverPoll);
+  ASSERT_EQ(posted.size(), 1u) << "did not start when the script's driver attached";
+  posted.front()();
+  EXPECT_EQ(world.tick(), 1u);
+
+  // Nobody comes: it starts without them after the start timeout.
+  Hub alone(world, scripted, "{}", rt);
+  SimLoop late(rt, world, &alone, {.fast = true, .duration_s = 2.0, .start_timeout = 10s},
+               [&](std::function<void()> f) { posted.push_back(std::move(f)); });
+  posted.clear();
+  late.start();
+  rt.advance(10s - 2 * SimLoop::kDriverPoll);
+  EXPECT_TRUE(posted.empty());
+  rt.advance(3 * SimLoop::kDriverPoll);
+  ASSERT_EQ(posted.size(), 1u) << "did not start without them after the start timeout";
+  posted.front()();
+  EXPECT_EQ(world.tick(), 2u);
 }
 
 }  // namespace

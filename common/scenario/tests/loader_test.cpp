@@ -107,6 +107,12 @@ const BadCase kBadCases[] = {
     {"warmup-too-long.json", "/warmup_s", "value 90 is out of range [0, 60]"},
     {"warmup-before-its-epoch.json", "/start_time",
      "sim time -3 s (the warm-up, warmup_s) falls before the ITS epoch 2004-01-01T00:00:00Z"},
+    {"route-missing-road.json", "/vehicles/0/driver/route/1",
+     "road \"7\" does not exist in the map"},
+    {"route-disconnected.json", "/vehicles/0/driver/route/1",
+     "no lane leads from road \"0\" to road \"1\""},
+    {"route-to-unreachable.json", "/vehicles/0/driver/to",
+     "road \"0\" lane 1 at s 300 cannot be reached from the spawn lane (road \"0\" lane -1"},
 };
 
 TEST(ScenarioLoader, EveryBadFileGetsAnErrorNamingFilePathAndReason) {
@@ -184,6 +190,75 @@ TEST(ScenarioLoader, DefaultsAreFilledAndDocumentedValuesRead) {
   EXPECT_DOUBLE_EQ(spawn.s, 3.5);
   EXPECT_DOUBLE_EQ(v.spawn.speed, 10.0);
   EXPECT_TRUE(v.station_command.empty());  // its-station
+}
+
+TEST(ScenarioLoader, ReadsRoutesTrafficAndTheSeed) {
+  const Scenario s = parse(R"({
+    "name": "routes", "seed": 42,
+    "map": {"type": "straight", "lanes": 3, "oncoming_lanes": 1, "length": 600},
+    "origin": {"lat": 48.1, "lon": 11.5},
+    "vehicles": [
+      {"id": "a", "station_id": 1, "spawn": {"lane": 0, "s": 10},
+       "driver": {"type": "lane_follow", "speed_profile": [{"t": 0, "speed": 10}],
+                  "route": "random", "max_lateral_accel": 2.5}},
+      {"id": "b", "station_id": 2, "spawn": {"lane": 0, "s": 40},
+       "driver": {"type": "lane_follow", "speed_profile": [{"t": 0, "speed": 10}],
+                  "to": {"road": 0, "lane": -1, "s": 500}, "traffic": "ignore"}},
+      {"id": "c", "station_id": 3, "spawn": {"lane": 1, "s": 40},
+       "driver": {"type": "lane_follow", "speed_profile": [{"t": 0, "speed": 10}],
+                  "route": ["0"]}},
+      {"id": "d", "station_id": 4, "spawn": {"lane": 1, "s": 80},
+       "driver": {"type": "lane_follow", "speed_profile": [{"t": 0, "speed": 10}],
+                  "traffic": "yield"}},
+      {"id": "e", "station_id": 5, "spawn": {"lane": 0, "s": 80},
+       "driver": {"type": "lane_follow", "speed_profile": [{"t": 0, "speed": 10}]}}
+    ]})",
+                           "inline.json");
+  EXPECT_EQ(s.seed, 42u);
+  const auto driver = [&](std::size_t i) {
+    return std::get<LaneFollowDriver>(s.vehicles[i].driver);
+  };
+  using Kind = DriveRoute::Kind;
+  EXPECT_EQ(driver(0).route.kind, Kind::kRandom);
+  EXPECT_DOUBLE_EQ(driver(0).max_lateral_accel, 2.5);
+  EXPECT_TRUE(driver(0).yield_to_traffic);  // a route: traffic by default
+  EXPECT_EQ(driver(1).route.kind, Kind::kTo);
+  EXPECT_EQ(driver(1).route.to.road, "0");
+  EXPECT_EQ(driver(1).route.to.lane, -1);
+  EXPECT_DOUBLE_EQ(driver(1).route.to.s, 500.0);
+  EXPECT_FALSE(driver(1).yield_to_traffic);
+  EXPECT_EQ(driver(2).route.kind, Kind::kRoads);
+  EXPECT_EQ(driver(2).route.roads, std::vector<std::string>{"0"});
+  EXPECT_TRUE(driver(3).yield_to_traffic);
+  EXPECT_EQ(driver(4).route.kind, Kind::kLane);
+  EXPECT_DOUBLE_EQ(driver(4).max_lateral_accel, 3.0);
+  EXPECT_FALSE(driver(4).yield_to_traffic);  // a script, as the LCRW cases need
+
+  const auto error = [](const std::string& driver_json) {
+    try {
+      parse(R"({"name": "x", "map": {"type": "straight"}, "origin": {"lat": 48.1, "lon": 11.5},
+                "vehicles": [{"id": "a", "station_id": 1, "spawn": {"lane": 0, "s": 10},
+                "driver": {"type": "lane_follow", "speed_profile": [{"t": 0, "speed": 10}], )" +
+                driver_json + "}}]}",
+            "x.json");
+    } catch (const ScenarioError& e) {
+      return e.path() + ": " + e.reason();
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(error(R"("route": "random", "to": {"road": "0", "lane": -1, "s": 5})"),
+            "/vehicles/0/driver/to: give either \"route\" or \"to\", not both");
+  EXPECT_EQ(error(R"("route": "sometimes")").substr(0, 48),
+            "/vehicles/0/driver/route: \"sometimes\" is not one");
+  EXPECT_EQ(error(R"("route": 5)"),
+            "/vehicles/0/driver/route: a route is \"random\" or a list of road ids");
+  EXPECT_EQ(error(R"("to": {"road": "0", "lane": 0, "s": 5})"),
+            "/vehicles/0/driver/to/lane: lane 0 is the centre line; give a lane id (negative: "
+            "right)");
+  EXPECT_EQ(error(R"("to": {"road": "0", "lane": -1, "s": 5000})").substr(0, 46),
+            "/vehicles/0/driver/to/s: s 5000 is outside roa");
+  EXPECT_EQ(error(R"("traffic": "maybe")").substr(0, 38),
+            "/vehicles/0/driver/traffic: \"maybe\" is");
 }
 
 TEST(ScenarioLoader, AVehicleMayBringItsOwnStationProgram) {
@@ -368,21 +443,41 @@ TEST(ScenarioLoader, AntennaDefaultsToTheCentre) {
   EXPECT_EQ(s.vehicles[1].model.antenna.left_m, 0.3);
 }
 
-TEST(ScenarioCheck, ExitsWithTwoAndNamesTheProblem) {
+// scenario-check on a bad file: its exit status and what it printed.
+std::pair<int, std::string> check(const std::string& file) {
   const char* bin = std::getenv("TESTBED_BIN");
-  ASSERT_NE(bin, nullptr) << "TESTBED_BIN is set by ctest";
+  if (bin == nullptr)
+    return {-1, "TESTBED_BIN is not set (ctest sets it)"};
   const std::string cmd =
-      std::string(bin) + "/scenario-check " + (bad_dir() / "unknown-key.json").string() + " 2>&1";
+      std::string(bin) + "/scenario-check " + (bad_dir() / file).string() + " 2>&1";
   FILE* p = ::popen(cmd.c_str(), "r");
-  ASSERT_NE(p, nullptr);
+  if (p == nullptr)
+    return {-1, "popen failed"};
   std::string out;
   std::array<char, 512> buf{};
   while (std::fgets(buf.data(), buf.size(), p) != nullptr)
     out += buf.data();
   const int status = ::pclose(p);
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), kExitBadScenario);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+TEST(ScenarioCheck, ExitsWithTwoAndNamesTheProblem) {
+  const auto [code, out] = check("unknown-key.json");
+  EXPECT_EQ(code, kExitBadScenario);
   EXPECT_NE(out.find("unknown-key.json: /map/lane_widht: unknown field"), std::string::npos) << out;
+}
+
+TEST(ScenarioCheck, RoutesTheMapCannotGiveExitTwo) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"route-missing-road.json", "/vehicles/0/driver/route/1: road \"7\" does not exist"},
+      {"route-disconnected.json", "/vehicles/0/driver/route/1: no lane leads from road \"0\""},
+      {"route-to-unreachable.json", "/vehicles/0/driver/to: road \"0\" lane 1 at s 300 cannot"},
+  };
+  for (const auto& [file, message] : cases) {
+    const auto [code, out] = check(file);
+    EXPECT_EQ(code, kExitBadScenario) << file << ": " << out;
+    EXPECT_NE(out.find(std::string(file) + ": " + message), std::string::npos) << out;
+  }
 }
 
 }  // namespace

@@ -12,6 +12,8 @@
 
 #include <boost/asio/ip/udp.hpp>
 
+#include "common/map/builtin_network.hpp"
+#include "common/map/opendrive/queries.hpp"
 #include "sim-client/app/client_app.hpp"
 #include "sim-client/app/tests/sim_server_process.hpp"
 
@@ -59,7 +61,8 @@ TEST(RealSimServer, LaneFollowerHoldsTargetSpeedInLaneAndKeysDriveTheCar) {
 
   scenario::MapSpec spec;
   spec.length = 2000.0;
-  const map::RoadMap road(spec);
+  const map::odr::RoadNetwork road = map::generate_network(spec);
+  const map::odr::LaneLocator lanes(road);
   const double margin = (3.5 - scenario::VehicleModel{}.width_m) / 2.0;
   std::size_t forwarded = 0, checked = 0;
   double max_lateral = 0.0;
@@ -97,8 +100,11 @@ TEST(RealSimServer, LaneFollowerHoldsTargetSpeedInLaneAndKeysDriveTheCar) {
         }
         ASSERT_EQ(st->station_id, 2002u);
         lf_time = st->sim_time_ns * 1e-9;
-        const auto pr = map::project(road.lane(0, 0).centre, {st->position[0], st->position[1]});
-        max_lateral = std::max(max_lateral, std::abs(pr.lateral));
+        // Off the centre of the built-in lane 0 (OpenDRIVE lane -1).
+        const auto at = lanes.locate(st->position[0], st->position[1]);
+        ASSERT_TRUE(at && at->ref.lane == -1) << "left its lane at sim time " << lf_time << " s";
+        max_lateral = std::max(max_lateral,
+                               std::abs(at->t - map::odr::lane_centre_t(road.roads[0], -1, at->s)));
         if (lf_time > 6.0) {
           ASSERT_NEAR(st->speed, 12.0, 0.5) << "at sim time " << lf_time << " s";
           ++checked;

@@ -6,77 +6,48 @@
 
 #include "sim-client/driver/scripted_driver.hpp"
 
+#include "common/map/builtin_network.hpp"
+#include "sim-client/driver/tests/plant.hpp"
+
 namespace tb::client {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
+using test::Plant;
 
-// A kinematic bicycle with a simple longitudinal model, deliberately not the one the driver
-// assumes (heavier, weaker engine, steering that lags), so that the test checks the driver's
-// feedback and not its own feed-forward.
-class Plant {
- public:
-  Plant(double x, double y, double yaw, double speed) : x_(x), y_(y), yaw_(yaw), v_(speed) {}
+struct Pose {
+  struct {
+    double x, y;
+  } p;
+  double yaw;
+};
 
-  void step(const wire::Controls& c, double dt) {
-    const double max_steer = 36.0 * kPi / 180.0;
-    const double wanted = -c.steer * max_steer;
-    const double rate = 0.6 * dt;  // rad/s of road-wheel angle
-    delta_ += std::clamp(wanted - delta_, -rate, rate);
-    const double mass = 1500.0;
-    // A gearbox that engages reverse (or forward) only below 0.5 m/s, like the server's.
-    if (c.reverse != reverse_ && std::abs(v_) < 0.5)
-      reverse_ = c.reverse;
-    const double gear = reverse_ ? -1.0 : 1.0;
-    const double drive =
-        gear * c.throttle * std::min(5000.0, 70000.0 * 0.9 / std::max(std::abs(v_), 1.0));
-    const double brake = c.brake * 9000.0;
-    const double sign = v_ > 0.0 ? 1.0 : (v_ < 0.0 ? -1.0 : 0.0);
-    const double resist =
-        sign * (0.5 * 1.2 * 0.33 * 2.3 * v_ * v_ + (std::abs(v_) > 0.01 ? 0.013 * mass * 9.81 : 0));
-    double a = (drive - resist) / mass;
-    const double v_free = v_ + a * dt;
-    // Brakes oppose the motion and hold a standing car.
-    const double dv_brake = brake / mass * dt;
-    double v_next = v_free;
-    if (v_free > dv_brake)
-      v_next = v_free - dv_brake;
-    else if (v_free < -dv_brake)
-      v_next = v_free + dv_brake;
-    else
-      v_next = 0.0;
-    a = (v_next - v_) / dt;
-    accel_ = a;
-    v_ = v_next;
-    // Rear-axle reference point.
-    const double rx = x_ - std::cos(yaw_) * kWheelbase / 2,
-                 ry = y_ - std::sin(yaw_) * kWheelbase / 2;
-    const double nrx = rx + v_ * std::cos(yaw_) * dt, nry = ry + v_ * std::sin(yaw_) * dt;
-    yaw_ += v_ * std::tan(delta_) / kWheelbase * dt;
-    x_ = nrx + std::cos(yaw_) * kWheelbase / 2;
-    y_ = nry + std::sin(yaw_) * kWheelbase / 2;
-    t_ns_ += static_cast<std::int64_t>(dt * 1e9);
+// A built-in layout as the drivers see it, and lane followers placed on it as the scenario's
+// lane spawns place them.
+struct World {
+  explicit World(const scenario::MapSpec& s)
+      : spec(s), map(std::make_shared<const map::ScenarioMap>(s, std::nullopt)) {}
+  LaneFollowDriver driver(const scenario::LaneFollowDriver& d, const scenario::VehicleModel& m,
+                          int lane, double s, bool against = false) const {
+    scenario::Vehicle v;
+    v.spawn.where = scenario::LaneSpawn{0, lane, s, against};
+    const auto start = map::vehicle_start(v, map.scenario_map());
+    if (!start)
+      throw std::invalid_argument("no lane there");
+    return LaneFollowDriver(d, m, map,
+                            map::RoutePlan(map.network(), map.graph(), d.route, *start, 1));
   }
-
-  wire::VehicleState state() const {
-    wire::VehicleState s;
-    s.sim_time_ns = t_ns_;
-    s.position = {x_, y_, 0.0};
-    s.yaw = static_cast<float>(yaw_);
-    s.speed = static_cast<float>(v_);
-    return s;
+  // Where built-in lane @p lane puts a car at @p s: x, y and the lane's yaw.
+  Pose pose(int lane, double s) const {
+    scenario::Vehicle v;
+    v.spawn.where = scenario::LaneSpawn{0, lane, s, false};
+    const auto st = map::vehicle_start(v, map.scenario_map());
+    const auto p = map::odr::lane_pose(map.network(), st->road, st->lane, st->s);
+    const double yaw = map.network().roads[0].forward(st->lane) ? p.heading : p.heading + kPi;
+    return {{p.x, p.y}, yaw};
   }
-  double accel() const { return accel_; }
-  double speed() const { return v_; }
-
-  static constexpr double kWheelbase = 2.637;
-
- private:
-  double x_, y_, yaw_, v_;
-  double delta_ = 0.0;
-  double accel_ = 0.0;
-  bool reverse_ = false;
-  std::int64_t t_ns_ = 0;
+  scenario::MapSpec spec;
+  DriveMap map;
 };
 
 scenario::MapSpec straight_road() {
@@ -112,11 +83,11 @@ double lane_margin(const scenario::VehicleModel& m, double lane_width) {
 }
 
 TEST(LaneFollowDriver, ReachesTargetSpeedAndKeepsLaneOnStraight) {
-  const map::RoadMap road(straight_road());
+  const World road(straight_road());
   const scenario::VehicleModel model;
-  LaneFollowDriver driver(profile({{0.0, 13.9}}, false), model, road, {0, 0, false});
+  LaneFollowDriver driver = road.driver(profile({{0.0, 13.9}}, false), model, 0, 20.0);
   // Start off-centre and a little askew, standing still.
-  const map::Pose start = road.lane_pose(0, 0, 20.0);
+  const Pose start = road.pose(0, 20.0);
   Plant car(start.p.x, start.p.y + 0.5, start.yaw + 0.05, 0.0);
   double max_accel = 0.0, max_lateral = 0.0;
   for (int i = 0; i < 100 * 40; ++i) {  // 40 s at 100 Hz
@@ -134,11 +105,11 @@ TEST(LaneFollowDriver, ReachesTargetSpeedAndKeepsLaneOnStraight) {
 }
 
 TEST(LaneFollowDriver, FollowsDistanceProfileAroundRing) {
-  const map::RoadMap road(ring_road());
+  const World road(ring_road());
   const scenario::VehicleModel model;
-  LaneFollowDriver driver(profile({{0.0, 15.0}, {400.0, 15.0}, {450.0, 8.0}}, true), model, road,
-                          {0, 0, false});
-  const map::Pose start = road.lane_pose(0, 0, 0.0);
+  LaneFollowDriver driver =
+      road.driver(profile({{0.0, 15.0}, {400.0, 15.0}, {450.0, 8.0}}, true), model, 0, 0.0);
+  const Pose start = road.pose(0, 0.0);
   Plant car(start.p.x, start.p.y, start.yaw, 15.0);
   double max_lateral = 0.0;
   double min_accel = 0.0;
@@ -186,10 +157,10 @@ TEST(LaneFollowDriver, StartsAtSimTimeZeroNotInTheWarmUp) {
 }
 
 TEST(LaneFollowDriver, StopsBeforeTheEndOfAnOpenLane) {
-  const map::RoadMap road(straight_road());
-  LaneFollowDriver driver(profile({{0.0, 20.0}}, false), scenario::VehicleModel{}, road,
-                          {0, 0, false});
-  const map::Pose start = road.lane_pose(0, 0, 700.0);
+  const World road(straight_road());
+  LaneFollowDriver driver =
+      road.driver(profile({{0.0, 20.0}}, false), scenario::VehicleModel{}, 0, 700.0);
+  const Pose start = road.pose(0, 700.0);
   Plant car(start.p.x, start.p.y, start.yaw, 20.0);
   for (int i = 0; i < 100 * 60; ++i)
     car.step(driver.update(car.state()), 0.01);
@@ -200,11 +171,11 @@ TEST(LaneFollowDriver, StopsBeforeTheEndOfAnOpenLane) {
 }
 
 TEST(LaneFollowDriver, DrivesAgainstTheLaneDirection) {
-  const map::RoadMap road(straight_road());
+  const World road(straight_road());
   // Lane 0 runs east; driving against it means heading west from s = 600.
-  LaneFollowDriver driver(profile({{0.0, 10.0}}, false), scenario::VehicleModel{}, road,
-                          {0, 0, true});
-  const map::Pose at = road.lane_pose(0, 0, 600.0);
+  LaneFollowDriver driver =
+      road.driver(profile({{0.0, 10.0}}, false), scenario::VehicleModel{}, 0, 600.0, true);
+  const Pose at = road.pose(0, 600.0);
   Plant car(at.p.x, at.p.y - 0.4, at.yaw + kPi, 10.0);
   for (int i = 0; i < 100 * 30; ++i)
     car.step(driver.update(car.state()), 0.01);
@@ -216,11 +187,11 @@ TEST(LaneFollowDriver, DrivesAgainstTheLaneDirection) {
 TEST(LaneFollowDriver, ReversesAlongTheLaneAtANegativeTargetSpeed) {
   // Forward at 5 m/s for 6 s, then -3 m/s (issue 22): the car stops, engages reverse and backs
   // along its lane, staying in it, at 3 m/s.
-  const map::RoadMap road(straight_road());
+  const World road(straight_road());
   const scenario::VehicleModel model;
-  LaneFollowDriver driver(profile({{0.0, 5.0}, {6.0, 5.0}, {6.1, -3.0}}, false), model, road,
-                          {0, 0, false});
-  const map::Pose start = road.lane_pose(0, 0, 100.0);
+  LaneFollowDriver driver =
+      road.driver(profile({{0.0, 5.0}, {6.0, 5.0}, {6.1, -3.0}}, false), model, 0, 100.0);
+  const Pose start = road.pose(0, 100.0);
   Plant car(start.p.x, start.p.y, start.yaw, 0.0);
   double max_lateral = 0.0, min_speed = 0.0;
   bool reversed = false;
@@ -247,12 +218,9 @@ TEST(LaneFollowDriver, ProfileInterpolatesAndHoldsEnds) {
 }
 
 TEST(LaneFollowDriver, RejectsEmptyProfile) {
-  const map::RoadMap road(straight_road());
-  EXPECT_THROW(LaneFollowDriver(profile({}, false), scenario::VehicleModel{}, road, {0, 0, false}),
+  const World road(straight_road());
+  EXPECT_THROW(road.driver(profile({}, false), scenario::VehicleModel{}, 0, 10.0),
                std::invalid_argument);
-  EXPECT_THROW(
-      LaneFollowDriver(profile({{0, 1}}, false), scenario::VehicleModel{}, road, {0, 7, false}),
-      std::out_of_range);
 }
 
 TEST(TimelineDriver, EachStepHoldsUntilTheNext) {
@@ -278,22 +246,25 @@ TEST(TimelineDriver, EachStepHoldsUntilTheNext) {
 }
 
 TEST(ScriptedDriver, MadeFromTheScenarioDriverField) {
-  const map::RoadMap road(straight_road());
+  const World road(straight_road());
+  scenario::Scenario sc;
+  sc.map = straight_road();
   scenario::Vehicle v;
   v.id = "a";
   v.spawn.where = scenario::LaneSpawn{0, 1, 100.0, false};
-  EXPECT_EQ(make_scripted_driver(v, road), nullptr);
+  EXPECT_EQ(make_scripted_driver(v, sc, road.map), nullptr);
   v.driver = scenario::TimelineDriver{{{0.0, 1.0}}};
-  EXPECT_NE(dynamic_cast<TimelineDriver*>(make_scripted_driver(v, road).get()), nullptr);
+  EXPECT_NE(dynamic_cast<TimelineDriver*>(make_scripted_driver(v, sc, road.map).get()), nullptr);
   v.driver = profile({{0, 5}}, false);
-  EXPECT_NE(dynamic_cast<LaneFollowDriver*>(make_scripted_driver(v, road).get()), nullptr);
+  EXPECT_NE(dynamic_cast<LaneFollowDriver*>(make_scripted_driver(v, sc, road.map).get()), nullptr);
   // A pose spawn heading west in the eastbound lane drives against it.
   v.spawn.where = scenario::PoseSpawn{100.0, -1.75, 270.0};
-  const LaneRef r = start_lane(v, road);
-  EXPECT_EQ(r.lane, 0);
-  EXPECT_TRUE(r.against);
+  const auto r = map::vehicle_start(v, road.map.scenario_map());
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->lane, -1);
+  EXPECT_TRUE(r->against);
   v.spawn.where = scenario::PoseSpawn{100.0, 30.0, 90.0};
-  EXPECT_THROW(start_lane(v, road), std::invalid_argument);
+  EXPECT_THROW(make_scripted_driver(v, sc, road.map), std::invalid_argument);
 }
 
 }  // namespace

@@ -64,7 +64,7 @@ TEST_F(SessionTest, HelloAttachControlsAndForwarding) {
 
   ASSERT_TRUE(feed(s, testing::welcome(), true));
   EXPECT_EQ(s.phase(), SimSession::Phase::kRunning);
-  ASSERT_NE(s.road_map(), nullptr);
+  ASSERT_NE(s.network(), nullptr);
   msgs = take();
   ASSERT_EQ(msgs.size(), 3u);
   for (std::uint16_t i = 0; i < 3; ++i)
@@ -259,7 +259,6 @@ TEST_F(SessionTest, AnOpenDriveMapArrivesWithTheWelcome) {
   EXPECT_EQ(s.network()->roads[0].id, "12");
   ASSERT_NE(s.map(), nullptr);
   EXPECT_EQ(s.map()->origin().source, "scenario origin");
-  EXPECT_EQ(s.road_map(), nullptr);  // no built-in layout
   const auto msgs = take();
   ASSERT_EQ(msgs.size(), 3u);  // Hello, then the human car and the timeline
   EXPECT_EQ(std::get<sim::Attach>(msgs[1]), (sim::Attach{sim::Role::kDriver, 0}));

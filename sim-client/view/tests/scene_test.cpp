@@ -3,6 +3,9 @@
 
 #include <cstdio>
 
+#include "common/map/builtin_network.hpp"
+#include "common/map/opendrive/reader.hpp"
+#include "common/map/opendrive/tests/shared_maps.hpp"
 #include "sim-client/view/font.hpp"
 #include "sim-client/view/scene.hpp"
 #include "sim-client/view/tests/png_reader.hpp"
@@ -54,9 +57,9 @@ TEST(ParseColour, HexAndRejects) {
 TEST(SceneRenderer, OwnCarAtTheAnchorRoadAndOthersDrawn) {
   SDL_SetHint(SDL_HINT_VIDEODRIVER, "dummy");
   auto canvas = Canvas::offscreen(640, 480);
-  const map::RoadMap road(straight_road());
+  const map::odr::RoadNetwork road = map::generate_network(straight_road());
   ViewScene scene;
-  scene.road_map = &road;
+  scene.network = &road;
   // Heading north-east on purpose: the view turns with the car.
   scene.vehicles.push_back(car(100.0, -1.75, 0.7f, 1001, SDL_Color{32, 160, 64, 255}, true));
   scene.vehicles.push_back(car(120.0, 1.75, 3.14f, 1002, SDL_Color{32, 80, 208, 255}, false));
@@ -100,9 +103,9 @@ TEST(SceneRenderer, RingRoadAndNoCarYet) {
   scenario::MapSpec spec;
   spec.type = scenario::MapType::kRing;
   spec.radius = 30.0;
-  const map::RoadMap road(spec);
+  const map::odr::RoadNetwork road = map::generate_network(spec);
   ViewScene scene;
-  scene.road_map = &road;
+  scene.network = &road;
   scene.connection = "connecting";
   SceneRenderer r(canvas->renderer(), 320, 240);
   r.pixels_per_metre = 2.0;
@@ -110,6 +113,127 @@ TEST(SceneRenderer, RingRoadAndNoCarYet) {
   testing::Image im{320, 240, canvas->read_rgba()};
   // Asphalt of the ring is visible around the origin-centred camera.
   EXPECT_GT(testing::count_near(im, 160, 144, 120, 64, 64, 68, 2), 500);
+}
+
+// Where the PNGs of the OpenDRIVE views go, to be looked at.
+std::string png_path(const std::string& name) {
+  return ::testing::TempDir() + "/" + name;
+}
+
+TEST(SceneRenderer, OpenDriveJunctionLanesMarksAndJunctionArea) {
+  const map::odr::RoadNetwork net = map::odr::load_opendrive(
+      (map::odr::test::shared_maps() / "simple_4way_intersection.xodr").string());
+  auto canvas = Canvas::offscreen(640, 480);
+  ViewScene scene;
+  scene.network = &net;
+  // The own car on road 0's inbound lane, 12 m before the junction, heading east.
+  scene.vehicles.push_back(car(88.0, -1.5, 0.0f, 1001, SDL_Color{32, 160, 64, 255}, true));
+  SceneRenderer r(canvas->renderer(), canvas->width(), canvas->height());
+  r.draw(scene);
+  testing::Image im{640, 480, canvas->read_rgba()};
+  ASSERT_EQ(write_png(png_path("view_4way.png"), 640, 480, im.rgba), "");
+  const SDL_Color asphalt = *lane_colour("driving", false);
+  const SDL_Color junction = *lane_colour("driving", true);
+  const SDL_Color paint = mark_colour("standard");
+  // Heading up: the junction (12 m ahead) is above the anchor, the arm's lanes around it.
+  const SDL_FPoint a = r.anchor();
+  EXPECT_GT(testing::count_near(im, static_cast<int>(a.x), static_cast<int>(a.y) + 60, 30,
+                                asphalt.r, asphalt.g, asphalt.b, 2),
+            300);
+  EXPECT_GT(testing::count_near(im, static_cast<int>(a.x), static_cast<int>(a.y) - 20 * 8, 40,
+                                junction.r, junction.g, junction.b, 2),
+            500);
+  // The arm's marks: solid edges and centre line, 0.2 m wide (1.6 px at 8 px/m).
+  EXPECT_GT(testing::count_near(im, 320, 240, 320, paint.r, paint.g, paint.b, 30), 300);
+}
+
+TEST(SceneRenderer, BrokenMarksAreDashesOfThreeMetresEveryTwelve) {
+  // A built-in straight road of three lanes one way: the two lane lines are broken marks.
+  scenario::MapSpec spec = straight_road();
+  spec.lanes = 3;
+  spec.oncoming_lanes = 0;
+  const map::odr::RoadNetwork net = map::generate_network(spec);
+  auto canvas = Canvas::offscreen(400, 600);
+  ViewScene scene;
+  scene.network = &net;
+  scene.vehicles.push_back(car(300.0, 0.0, 0.0f, 1001, SDL_Color{32, 160, 64, 255}, true));
+  SceneRenderer r(canvas->renderer(), canvas->width(), canvas->height());
+  r.draw(scene);
+  testing::Image im{400, 600, canvas->read_rgba()};
+  ASSERT_EQ(write_png(png_path("view_broken.png"), 400, 600, im.rgba), "");
+  // Up the screen along the lane line 1.75 m right of the car (x = anchor + 14 px): painted
+  // runs of 3 m (24 px) every 12 m (96 px).
+  const SDL_Color paint = mark_colour("standard");
+  const int x = static_cast<int>(r.anchor().x + 1.75 * 8);
+  std::vector<int> runs;
+  int run = 0;
+  for (int y = 0; y < 600; ++y) {
+    // The line is 0.12 m (1 px) wide: any painted pixel within 2 px of where it should be,
+    // below the HUD panel and above the status line.
+    bool painted = false;
+    for (int dx = -2; dx <= 2 && y > 170 && y < 600 - 30; ++dx) {
+      const auto* p = im.at(x + dx, y);
+      painted = painted || (std::abs(p[0] - paint.r) < 30 && std::abs(p[1] - paint.g) < 30 &&
+                            std::abs(p[2] - paint.b) < 30);
+    }
+    if (painted) {
+      ++run;
+    } else if (run > 0) {
+      runs.push_back(run);
+      run = 0;
+    }
+  }
+  ASSERT_GE(runs.size(), 4u);
+  for (std::size_t i = 1; i + 1 < runs.size(); ++i)
+    EXPECT_NEAR(runs[i], 24, 2) << "dash " << i;
+}
+
+TEST(MapLayer, ColoursByLaneTypeAndSkipsNone) {
+  EXPECT_TRUE(lane_colour("driving", false));
+  EXPECT_TRUE(lane_colour("sidewalk", false));
+  EXPECT_FALSE(lane_colour("none", false));
+  EXPECT_NE(lane_colour("shoulder", false)->r, lane_colour("driving", false)->r);
+  EXPECT_EQ(mark_colour("yellow").b, 32);
+  // Every shared map builds, with surfaces and marks where the file has them.
+  for (const auto& e : std::filesystem::directory_iterator(map::odr::test::shared_maps())) {
+    if (e.path().extension() != ".xodr")
+      continue;
+    const MapLayer layer(map::odr::load_opendrive(e.path().string()));
+    EXPECT_GT(layer.surfaces().size(), 0u) << e.path();
+    EXPECT_GT(layer.marks().size(), 0u) << e.path();
+  }
+}
+
+TEST(SceneRenderer, ShippedMapsFromAbove) {
+  // A watcher's north-up view of each shipped map, scaled to fit: both draw, with junction
+  // asphalt, lane types other than driving, and marks.
+  const char* root = std::getenv("TESTBED_ROOT");
+  const std::filesystem::path dir =
+      std::filesystem::path(root != nullptr ? root : ".") / "scenarios" / "maps";
+  const struct {
+    const char* file;
+    double x, y, ppm;
+    const char* png;
+  } maps[] = {{"four_way_junction.xodr", 0.0, 0.0, 2.6, "four_way.png"},
+              {"motorway_merge.xodr", 700.0, 300.0, 0.3, "motorway.png"},
+              {"motorway_merge.xodr", 840.0, -15.0, 2.5, "motorway_entry.png"},
+              {"motorway_merge.xodr", 360.0, -15.0, 2.5, "motorway_exit.png"},
+              {"motorway_merge.xodr", 500.0, 10.0, 12.0, "motorway_shoulder.png"}};
+  for (const auto& m : maps) {
+    const map::odr::RoadNetwork net = map::odr::load_opendrive((dir / m.file).string());
+    auto canvas = Canvas::offscreen(640, 640);
+    ViewScene scene;
+    scene.network = &net;
+    scene.vehicles.push_back(car(m.x, m.y, 0.0f, 1001, SDL_Color{32, 160, 64, 255}, false));
+    SceneRenderer r(canvas->renderer(), 640, 640);
+    r.pixels_per_metre = m.ppm;
+    r.draw(scene);
+    testing::Image im{640, 640, canvas->read_rgba()};
+    ASSERT_EQ(write_png(png_path(m.png), 640, 640, im.rgba), "");
+    const SDL_Color asphalt = *lane_colour("driving", false);
+    EXPECT_GT(testing::count_near(im, 320, 320, 320, asphalt.r, asphalt.g, asphalt.b, 2), 2000)
+        << m.file;
+  }
 }
 
 }  // namespace
