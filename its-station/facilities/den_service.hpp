@@ -53,9 +53,6 @@ struct DenRequest {
   /// TrafficJam, TractionLoss, Fog … tc_id 1). Applications with a time-critical warning
   /// (LCRW) ask for 0.
   std::uint8_t traffic_class = kDenmTrafficClassDefault;
-  /// The signer AT's DENM SSP of a DENM that came signed and verified, checked against its
-  /// cause code (ssp_permissions.hpp); none for an unsecured DENM.
-  std::optional<std::span<const std::uint8_t>> ssp;
 };
 
 /// What the network said about a received DENM (GN-DATA.indication): the GeoBroadcast
@@ -63,6 +60,9 @@ struct DenRequest {
 struct DenmReception {
   std::optional<GeoArea> destination_area;
   std::uint8_t traffic_class = kDenmTrafficClassDefault;
+  /// The signer AT's DENM SSP of a DENM that came signed and verified, checked against its
+  /// cause code (ssp_permissions.hpp); none for an unsecured DENM.
+  std::optional<std::span<const std::uint8_t>> ssp;
 };
 
 /// The station's place relative to an area: keep-alive forwarding stops outside the relevance

@@ -181,9 +181,9 @@ void ClientApp::feed_3d() {
       auto world = std::make_shared<view3d::World>();
       world->network = net;
       world->vehicles = std::move(looks);
-      if (const auto* sc = session_->scenario()) {
+      if (const auto* m = session_->map(); m != nullptr && m->origin().origin) {
         try {
-          world->frame.emplace(sc->origin);
+          world->frame.emplace(*m->origin().origin);
         } catch (const std::invalid_argument&) {
           // An origin the scenario loader let through but the frame refuses: no DENM marks.
         }

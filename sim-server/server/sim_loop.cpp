@@ -99,17 +99,16 @@ void SimLoop::schedule_next() {
       // the driver timeout, so that the step that follows brakes a silent driver's car and
       // later steps do not wait for it.
       waiting_ = true;
-      timer_ = rt_.schedule_at(
-          rt_.steady_now() + std::chrono::duration_cast<clock::Duration>(Hub::kDriverTimeout +
-                                                                        kWaitMargin),
-          [this] {
-            timer_.reset();
-            if (!waiting_)
-              return;
-            waiting_ = false;
-            ++waits_;
-            step();
-          });
+      timer_ = rt_.schedule_at(rt_.steady_now() + std::chrono::duration_cast<clock::Duration>(
+                                                      Hub::kDriverTimeout + kWaitMargin),
+                               [this] {
+                                 timer_.reset();
+                                 if (!waiting_)
+                                   return;
+                                 waiting_ = false;
+                                 ++waits_;
+                                 step();
+                               });
       return;
     }
     post_step();

@@ -65,7 +65,7 @@ class SimLoop {
   void stop();
   bool running() const { return running_; }
   /// Started, but waiting for the drivers of scripted vehicles.
-  bool waiting_for_drivers() const { return running_ && waiting_; }
+  bool waiting_for_drivers() const { return running_ && starting_; }
   /// Steps that started later than their scheduled instant by more than one step.
   std::uint64_t late_steps() const { return late_steps_; }
   std::uint64_t resyncs() const { return resyncs_; }

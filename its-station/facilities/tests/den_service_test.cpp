@@ -32,6 +32,15 @@ DenConfig config_for(messages::StationID id, bool kaf) {
   return c;
 }
 
+DenmReception reception(std::optional<GeoArea> area, std::uint8_t traffic_class,
+                        std::optional<std::span<const std::uint8_t>> ssp = std::nullopt) {
+  DenmReception rx;
+  rx.destination_area = std::move(area);
+  rx.traffic_class = traffic_class;
+  rx.ssp = ssp;
+  return rx;
+}
+
 struct Station {
   Station(clock::ManualRuntime& rt, messages::StationID id, bool kaf)
       : ldm(rt), den(rt, sender, ldm, config_for(id, kaf), &locator) {
@@ -69,8 +78,7 @@ class DenTest : public ::testing::Test {
       s->sender.forward = [this, from](const SentPacket& p) {
         for (auto& to : stations)
           if (to.get() != from && !to->deaf)
-            to->den.receive(p.payload, DenmReception{.destination_area = p.area,
-                                                      .traffic_class = p.traffic_class});
+            to->den.receive(p.payload, reception(p.area, p.traffic_class));
       };
     }
   }
@@ -260,11 +268,11 @@ TEST_F(DenTest, ASignedDenmNeedsItsCauseCodesSspBit) {
   ASSERT_TRUE(id);
   const auto payload = a().sender.packets[0].payload;
   const std::array<std::uint8_t, 4> no_collision_risk{0x01, 0xff, 0xff, 0xfb};
-  b().den.receive(payload, {.ssp = std::span<const std::uint8_t>(no_collision_risk)});
+  b().den.receive(payload, reception(std::nullopt, kDenmTrafficClassDefault, no_collision_risk));
   EXPECT_EQ(b().den.counters().not_permitted, 1u);
   EXPECT_EQ(b().ldm.event(*id), nullptr);
   const std::array<std::uint8_t, 4> all{0x01, 0xff, 0xff, 0xff};  // its-pki's
-  b().den.receive(payload, {.ssp = std::span<const std::uint8_t>(all)});
+  b().den.receive(payload, reception(std::nullopt, kDenmTrafficClassDefault, all));
   EXPECT_NE(b().ldm.event(*id), nullptr);
   EXPECT_EQ(b().den.counters().received, 1u);
 }

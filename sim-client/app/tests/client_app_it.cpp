@@ -17,9 +17,9 @@
 
 #include <boost/asio/ip/udp.hpp>
 
-#include "sim-client/app/client_app.hpp"
 #include "common/mqtt/mosquitto_client.hpp"
 #include "common/mqtt/tests/test_broker.hpp"
+#include "sim-client/app/client_app.hpp"
 #include "sim-client/app/tests/fake_sim_server.hpp"
 #include "sim-client/app/tests/run_program.hpp"
 #include "sim-client/view/tests/png_reader.hpp"
@@ -370,7 +370,8 @@ TEST(ClientApp, MqttWarningBannerComesAndGoes) {
   ASSERT_TRUE(shown([&](const std::string& b) {
     station.publish("its/1001/app/lcrw", raised, mqtt::Qos::kAtLeastOnce, false);
     return b.find("TTC 1.2 s") != std::string::npos;
-  })) << "banner: " << banner;
+  })) << "banner: "
+      << banner;
   EXPECT_NE(banner.find("BRAKE"), std::string::npos) << banner;
   EXPECT_NE(banner.find("rear end"), std::string::npos) << banner;
   station.publish("its/1001/app/lcrw",

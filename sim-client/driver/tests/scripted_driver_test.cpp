@@ -134,10 +134,10 @@ TEST(LaneFollowDriver, FollowsDistanceProfileAroundRing) {
 TEST(LaneFollowDriver, StartsAtSimTimeZeroNotInTheWarmUp) {
   // Held on its run-up for 3 s at 15 m/s (sim-server's warm-up), the car's distance profile
   // must count from its spawn: braking from 20 m, not 25 m before it.
-  const map::RoadMap road(straight_road());
-  LaneFollowDriver driver(profile({{0.0, 15.0}, {20.0, 15.0}, {21.0, 0.0}}, true),
-                          scenario::VehicleModel{}, road, {0, 0, false});
-  const map::Pose spawn = road.lane_pose(0, 0, 100.0);
+  const World road(straight_road());
+  LaneFollowDriver driver = road.driver(profile({{0.0, 15.0}, {20.0, 15.0}, {21.0, 0.0}}, true),
+                                        scenario::VehicleModel{}, 0, 100.0);
+  const Pose spawn = road.pose(0, 100.0);
   for (int k = -300; k < 0; ++k) {
     wire::VehicleState s;
     s.sim_time_ns = k * 10'000'000LL;
