@@ -273,6 +273,14 @@ int main(int argc, char** argv) {
                  can_mode == "udp" ? "--can udp" : "this kernel has no SocketCAN");
 
   asio::io_context io;
+  // At once: a stop asked for while the stations are set up ends the run cleanly when it starts.
+  asio::signal_set signals(io, SIGINT, SIGTERM);
+  signals.async_wait([&](const boost::system::error_code& ec, int sig) {
+    if (!ec) {
+      spdlog::info("signal {}: stopping", sig);
+      io.stop();
+    }
+  });
   clock::AsioRuntime runtime(io);
   // Every UDP feed (NMEA, cannelloni) goes out of a socket of its station's namespace connected
   // to its receiver, in batches; feeds to one receiver share the socket.
@@ -379,13 +387,6 @@ int main(int argc, char** argv) {
     runtime.schedule_in(every, status);
   }
 
-  asio::signal_set signals(io, SIGINT, SIGTERM);
-  signals.async_wait([&](const boost::system::error_code& ec, int sig) {
-    if (!ec) {
-      spdlog::info("signal {}: stopping", sig);
-      io.stop();
-    }
-  });
   io.run();
   spdlog::info("final: {}", status_line());
   trace::global().flush();

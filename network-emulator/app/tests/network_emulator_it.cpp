@@ -300,8 +300,9 @@ TEST_F(NetworkEmulatorIt, CanTransportIsDetectedAndSaidOnce) {
   const fs::path log = dir_ / "auto.log";
   {
     Program emu({"--scenario", (dir_ / "scenario.json").string(), "--listen", "127.0.0.1:0"}, log);
+    // Up (its last start-up line), so that SIGTERM is the stop it handles.
     EXPECT_TRUE(wait_until([&] {
-      return read_file(log).find("CAN transport:") != std::string::npos;
+      return read_file(log).find("; listening on ") != std::string::npos;
     })) << read_file(log);
     EXPECT_EQ(emu.wait_exit(true), 0);
   }
