@@ -53,6 +53,7 @@ std::string scenario(int vehicles) {
         i, 3001 + i, i % 3, 60 + 25 * (i / 3));
   return fmt::format(R"({{
   "name": "view3d-latency",
+  "warmup_s": 0,
   "map": {{ "type": "straight", "lanes": 3, "oncoming_lanes": 1, "lane_width": 3.5,
            "length": 3000 }},
   "origin": {{ "lat": 41.1, "lon": 29.0, "alt": 60 }},
@@ -114,7 +115,9 @@ Run run(bool view, int trials, int vehicles, const AppOptions& base, double seco
   const std::string trace =
       (std::filesystem::temp_directory_path() / fmt::format("v3dlat_{}_{}.jsonl", getpid(), view))
           .string();
-  server.start_text(scenario(vehicles), {"--trace", trace});
+  // Nobody drives the other cars (they stand braked): the physics starts at once, not after
+  // waiting for their scripts' driver.
+  server.start_text(scenario(vehicles), {"--trace", trace, "--start-timeout", "0"});
   if (!server.available() || server.port() == 0)
     throw std::runtime_error("sim-server did not start (build it; $TESTBED_BIN): " + server.log());
 
