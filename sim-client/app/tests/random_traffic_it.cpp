@@ -349,9 +349,12 @@ std::vector<MapCase> cases() {
        10,
        14.0,
        3000.0},
+      // The project's own junction: every turn, looping arms, hills (scenarios/maps).
+      {"four_way_junction", shipped / "four_way_junction.xodr", "", 10, 10.0, 500.0},
+      // The motorway oval with its exit and the merge back.
+      {"motorway_merge", shipped / "motorway_merge.xodr", "", 10, 20.0, 1000.0},
   };
   (void)shared;
-  (void)shipped;
 }
 
 INSTANTIATE_TEST_SUITE_P(Maps, RandomTraffic, ::testing::ValuesIn(cases()),
