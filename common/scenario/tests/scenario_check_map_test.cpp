@@ -54,10 +54,13 @@ TEST(ScenarioCheckMap, ExportsEveryShippedScenariosMapAsOpenDrive) {
     if (e.path().extension() != ".json")
       continue;
     SCOPED_TRACE(e.path().string());
+    const auto spec = load_file(e.path().string()).map;
+    if (spec.type == scenario::MapType::kOpenDrive)
+      continue;  // its map is a file already; the export is of the built-in layouts
     const Result r = run("--export-xodr " + out.string() + " " + e.path().string());
     ASSERT_EQ(r.status, 0) << r.out;
     const auto net = map::odr::load_opendrive(out.string());
-    const auto want = map::generate_network(load_file(e.path().string()).map);
+    const auto want = map::generate_network(spec);
     ASSERT_EQ(net.roads.size(), want.roads.size());
     for (std::size_t i = 0; i < net.roads.size(); ++i) {
       EXPECT_DOUBLE_EQ(net.roads[i].length, want.roads[i].length);
