@@ -1,10 +1,14 @@
 #include "common/mqtt/mosquitto_client.hpp"
 
 #include <mosquitto.h>
+#include <poll.h>
 #include <spdlog/spdlog.h>
+#include <sys/eventfd.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -36,7 +40,8 @@ MosquittoClient::MosquittoClient(const clock::Clock& clock, ClientConfig cfg)
   mosquitto_disconnect_callback_set(mosq_, &MosquittoClient::on_disconnect);
   mosquitto_publish_callback_set(mosq_, &MosquittoClient::on_publish);
   mosquitto_message_callback_set(mosq_, &MosquittoClient::on_message);
-  mosquitto_threaded_set(mosq_, true);  // publish() comes from other threads
+  // Not mosquitto_threaded_set: publish() writes at once in its own thread (see the header);
+  // libmosquitto's own locks keep that safe beside the network thread's reads.
   // Warnings are small and urgent: no Nagle delay behind an unacknowledged segment.
   mosquitto_int_option(mosq_, MOSQ_OPT_TCP_NODELAY, 1);
   mosquitto_reconnect_delay_set(mosq_, cfg_.reconnect_min_s, cfg_.reconnect_max_s, true);
@@ -49,12 +54,19 @@ MosquittoClient::MosquittoClient(const clock::Clock& clock, ClientConfig cfg)
                       "': " + mosquitto_strerror(rc));
     }
   }
+  wake_fd_ = ::eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
+  if (wake_fd_ < 0) {
+    mosquitto_destroy(mosq_);
+    throw MqttError(std::string("mqtt: cannot make the network thread's eventfd: ") +
+                    std::strerror(errno));
+  }
   if (!cfg_.status_topic.empty()) {
     const std::string will = status_payload_locked(false);
     if (const int rc = mosquitto_will_set(mosq_, cfg_.status_topic.c_str(),
                                           static_cast<int>(will.size()), will.data(), 1, true);
         rc != MOSQ_ERR_SUCCESS) {
       mosquitto_destroy(mosq_);
+      ::close(wake_fd_);
       throw MqttError("mqtt: bad status topic '" + cfg_.status_topic +
                       "': " + mosquitto_strerror(rc));
     }
@@ -64,6 +76,7 @@ MosquittoClient::MosquittoClient(const clock::Clock& clock, ClientConfig cfg)
 MosquittoClient::~MosquittoClient() {
   stop();
   mosquitto_destroy(mosq_);
+  ::close(wake_fd_);
 }
 
 void MosquittoClient::set_message_handler(MessageHandler handler) {
@@ -95,14 +108,14 @@ void MosquittoClient::run() {
       }
       delay_s = std::max(1u, cfg_.reconnect_min_s);
       reported = false;
-      // Returns after mosquitto_disconnect() or an error that reconnecting cannot cure.
-      const int loop_rc = mosquitto_loop_forever(mosq_, 1000, 1);
+      const int serve_rc = serve();
       std::lock_guard lock(mutex_);
       connected_ = false;
       if (stopping_) {
         break;
       }
-      spdlog::warn("mqtt: network loop ended ({}); starting over", mosquitto_strerror(loop_rc));
+      // on_disconnect has said so when the broker went away; this is the cause.
+      spdlog::debug("mqtt: connection ended ({}); reconnecting", mosquitto_strerror(serve_rc));
     } else if (!reported) {
       reported = true;
       spdlog::warn("mqtt: broker {}:{} not reachable ({}); retrying with backoff up to {} s",
@@ -116,6 +129,53 @@ void MosquittoClient::run() {
     }
     delay_s = std::min(delay_s * 2, std::max(delay_s, cfg_.reconnect_max_s));
   }
+}
+
+int MosquittoClient::serve() {
+  // The poll's timeout bounds how late keepalive pings and stop() are seen; a keepalive of
+  // a second or more needs nothing finer.
+  constexpr int kPollMs = 500;
+  while (true) {
+    {
+      std::lock_guard lock(mutex_);
+      if (stopping_) {
+        return MOSQ_ERR_SUCCESS;
+      }
+    }
+    const int sock = mosquitto_socket(mosq_);
+    if (sock < 0) {
+      return MOSQ_ERR_NO_CONN;
+    }
+    pollfd fds[2] = {
+        {sock, static_cast<short>(POLLIN | (mosquitto_want_write(mosq_) ? POLLOUT : 0)), 0},
+        {wake_fd_, POLLIN, 0}};
+    const int n = ::poll(fds, 2, kPollMs);
+    if (n < 0 && errno != EINTR) {
+      return MOSQ_ERR_ERRNO;
+    }
+    if (n > 0 && (fds[1].revents & POLLIN) != 0) {
+      std::uint64_t count = 0;
+      [[maybe_unused]] const ssize_t r = ::read(wake_fd_, &count, sizeof count);
+    }
+    int rc = MOSQ_ERR_SUCCESS;
+    if (n > 0 && (fds[0].revents & (POLLIN | POLLHUP | POLLERR)) != 0) {
+      rc = mosquitto_loop_read(mosq_, 1);
+    }
+    if (rc == MOSQ_ERR_SUCCESS && n > 0 && (fds[0].revents & POLLOUT) != 0) {
+      rc = mosquitto_loop_write(mosq_, 1);
+    }
+    if (rc == MOSQ_ERR_SUCCESS) {
+      rc = mosquitto_loop_misc(mosq_);  // keepalive
+    }
+    if (rc != MOSQ_ERR_SUCCESS) {
+      return rc;
+    }
+  }
+}
+
+void MosquittoClient::wake_network() {
+  const std::uint64_t one = 1;
+  [[maybe_unused]] const ssize_t w = ::write(wake_fd_, &one, sizeof one);
 }
 
 void MosquittoClient::stop(std::chrono::milliseconds grace) {
@@ -137,6 +197,7 @@ void MosquittoClient::stop(std::chrono::milliseconds grace) {
   wake_.notify_all();
   lock.unlock();
   mosquitto_disconnect(mosq_);
+  wake_network();
   if (thread_.joinable()) {
     thread_.join();
   }
@@ -156,6 +217,7 @@ void MosquittoClient::publish(std::string_view topic, std::string payload, Qos q
     if (connected_) {
       mosquitto_publish(mosq_, nullptr, std::string(topic).c_str(),
                         static_cast<int>(payload.size()), payload.data(), 0, retain);
+      wake_if_unwritten_locked();
     }
     return;
   }
@@ -164,6 +226,15 @@ void MosquittoClient::publish(std::string_view topic, std::string payload, Qos q
                  outbox_.capacity(), outbox_.dropped());
   }
   flush_locked();
+  wake_if_unwritten_locked();
+}
+
+void MosquittoClient::wake_if_unwritten_locked() {
+  // What the socket did not take at once (or what a callback queued) is the network thread's
+  // to write when the socket can take it.
+  if (mosquitto_want_write(mosq_)) {
+    wake_network();
+  }
 }
 
 void MosquittoClient::flush_locked() {
@@ -173,7 +244,10 @@ void MosquittoClient::flush_locked() {
     const int rc =
         mosquitto_publish(mosq_, &mid, m.topic.c_str(), static_cast<int>(m.payload.size()),
                           m.payload.data(), static_cast<int>(m.qos), m.retain);
-    if (rc == MOSQ_ERR_SUCCESS) {
+    if (rc == MOSQ_ERR_SUCCESS ||
+        ((rc == MOSQ_ERR_CONN_LOST || rc == MOSQ_ERR_ERRNO) && mid != 0)) {
+      // A write that failed on a connection going down leaves the message with libmosquitto,
+      // which sends it again after the reconnection.
       inflight_.insert(mid);
     } else if (rc == MOSQ_ERR_NO_CONN) {
       outbox_.push_front(std::move(m));

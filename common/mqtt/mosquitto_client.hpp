@@ -2,12 +2,14 @@
 /// @file An MQTT connection over libmosquitto: the station's publishers write through it, and
 /// readers (sim-client's driver's view) subscribe with it.
 ///
-/// Threading: the network loop runs in a thread of this class that drives libmosquitto
-/// (mosquitto_loop_forever), not in the station's Asio loop. It makes the first connection
-/// itself, retrying with exponential backoff (libmosquitto's own thread, mosquitto_loop_start,
-/// never retries a first connection that failed), and leaves later reconnections to
-/// mosquitto_loop_forever with the same backoff. Callbacks run in that thread and share one
-/// mutex with publish(), which any thread may call; nothing here blocks the caller.
+/// Threading: publish() writes to the broker's socket in the caller's thread (libmosquitto
+/// without its threaded mode). A thread of this class polls the socket: it reads (acknowledgements,
+/// subscribed messages), keeps the connection alive, finishes a write the socket could not take
+/// at once, and connects and reconnects with exponential backoff. Handing each message to a
+/// network thread instead cost two thread switches, a select and a read per message, half the
+/// station's CPU with 50 stations (issue 21, docs/latency.md). Callbacks run in whichever thread
+/// drives libmosquitto at the time and share one recursive mutex with publish(), which any
+/// thread may call; nothing here waits for the broker.
 ///
 /// Delivery: QoS 1 messages (warnings, DENMs) go into a bounded Outbox and are handed to
 /// libmosquitto only while connected, at most max_inflight unacknowledged at a time; handed
@@ -104,14 +106,21 @@ class MosquittoClient final : public MqttSink {
   static void on_publish(struct mosquitto*, void* self, int mid);
   static void on_message(struct mosquitto*, void* self, const struct mosquitto_message* m);
   void run();
+  /// Polls the connected socket until the connection ends or stop(); the libmosquitto result.
+  int serve();
+  /// Wakes the network thread out of its poll (a write left over, stop()).
+  void wake_network();
+  void wake_if_unwritten_locked();
   void flush_locked();
   std::string status_payload_locked(bool online) const;
 
   const clock::Clock& clock_;
   ClientConfig cfg_;
   struct mosquitto* mosq_ = nullptr;
-  mutable std::mutex mutex_;
-  std::condition_variable acked_;
+  // Recursive: a write in publish() may complete an earlier QoS 0 message, and libmosquitto then
+  // calls on_publish in the same thread.
+  mutable std::recursive_mutex mutex_;
+  std::condition_variable_any acked_;
   MessageHandler handler_;
   Outbox outbox_;
   std::set<int> inflight_;
@@ -119,7 +128,8 @@ class MosquittoClient final : public MqttSink {
   bool connected_ = false;
   bool started_ = false;
   bool stopping_ = false;
-  std::condition_variable wake_;
+  std::condition_variable_any wake_;
+  int wake_fd_ = -1;  ///< eventfd the network thread polls beside the socket
   std::thread thread_;
   std::uint64_t connections_ = 0;
   std::uint64_t refused_ = 0;
