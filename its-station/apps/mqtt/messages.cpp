@@ -1,7 +1,10 @@
 #include "its-station/apps/mqtt/messages.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 namespace tb::its::apps::mqtt {
 namespace {
@@ -69,6 +72,40 @@ json high_frequency(const Kinematics& k) {
   return h;
 }
 
+// Members in nlohmann::json's order (sorted by key, as its std::map keeps them), so that the
+// written text equals the tree's dump().
+void write_reference_position(fmt::memory_buffer& out, const Kinematics& k) {
+  auto it = std::back_inserter(out);
+  out.push_back('{');
+  if (k.altitude_m) {
+    fmt::format_to(it, "\"altitude\":{},", altitude(*k.altitude_m));
+  }
+  fmt::format_to(it, "\"latitude\":{},\"longitude\":{}}}", latitude(k.latitude_deg),
+                 longitude(k.longitude_deg));
+}
+
+void write_high_frequency(fmt::memory_buffer& out, const Kinematics& k) {
+  auto it = std::back_inserter(out);
+  fmt::format_to(it, "{{\"drive_direction\":{}", k.reversing ? 1 : 0);
+  if (k.heading_deg) {
+    fmt::format_to(it, ",\"heading\":{}", heading(*k.heading_deg));
+  }
+  if (k.longitudinal_accel_mps2) {
+    fmt::format_to(it, ",\"longitudinal_acceleration\":{}",
+                   longitudinal_acceleration(*k.longitudinal_accel_mps2));
+  }
+  if (k.speed_mps) {
+    fmt::format_to(it, ",\"speed\":{}", speed(*k.speed_mps));
+  }
+  if (k.length_m) {
+    fmt::format_to(it, ",\"vehicle_length\":{}", vehicle_length(*k.length_m));
+  }
+  if (k.width_m) {
+    fmt::format_to(it, ",\"vehicle_width\":{}", vehicle_width(*k.width_m));
+  }
+  out.push_back('}');
+}
+
 json finite_or_null(double v) {
   return std::isfinite(v) ? json(v) : json(nullptr);
 }
@@ -133,6 +170,24 @@ json cam_message(const ReceivedCam& c) {
                 {"reference_position", reference_position(c.kinematics)}}},
               {"high_frequency_container", high_frequency(c.kinematics)},
               {"received_at", unix_ms(c.received_at)}};
+}
+
+std::string received_cam_payload(std::uint32_t source, clock::WallTime now, const ReceivedCam& c) {
+  fmt::memory_buffer out;
+  auto it = std::back_inserter(out);
+  fmt::format_to(it, "{{\"message\":{{\"basic_container\":{{\"reference_position\":");
+  write_reference_position(out, c.kinematics);
+  fmt::format_to(it, ",\"station_type\":{}}},\"generation_delta_time\":{},", c.station_type,
+                 c.generation_delta_time);
+  fmt::format_to(it, "\"high_frequency_container\":");
+  write_high_frequency(out, c.kinematics);
+  fmt::format_to(it, ",\"protocol_version\":2,\"received_at\":{},\"station_id\":{}}},",
+                 unix_ms(c.received_at), c.station_id);
+  fmt::format_to(it,
+                 "\"origin\":\"remote\",\"source_uuid\":\"station-{}\",\"timestamp\":{},"
+                 "\"type\":\"cam\",\"version\":\"{}\"}}",
+                 source, unix_ms(now), kEnvelopeVersion);
+  return fmt::to_string(out);
 }
 
 json denm_message(const DenmView& d) {

@@ -38,7 +38,8 @@ bool StationPublisher::publish_cam(const ReceivedCam& c) {
     std::erase_if(last_cam_, [&](const auto& kv) { return now - kv.second > kForgetSourceAfter; });
   }
   const std::string topic = topics_.cam_in(c.station_id);
-  send(topic, "cam", kOriginRemote, cam_message(c), tb::mqtt::Qos::kAtMostOnce, false);
+  sink_.publish(topic, received_cam_payload(cfg_.station_id, clock_.wall_now(), c),
+                tb::mqtt::Qos::kAtMostOnce, false);
   if (tracer_ != nullptr) {
     tracer_->record("its.mqtt", {{"station", cfg_.station_id},
                                  {"topic", std::string_view{topic}},

@@ -53,11 +53,49 @@ void BM_PublishCam(benchmark::State& state) {
   c.kinematics.length_m = 4.3;
   c.kinematics.width_m = 1.8;
   for (auto _ : state) {
+    clk.advance(std::chrono::milliseconds{200});  // past the per-source limit: every CAM is sent
     pub.publish_cam(c);
   }
   benchmark::DoNotOptimize(sink.bytes);
 }
 BENCHMARK(BM_PublishCam)->ComputeStatistics("max", max_of);
+
+mqtt::ReceivedCam bench_cam() {
+  mqtt::ReceivedCam c;
+  c.station_id = 1002;
+  c.generation_delta_time = 4242;
+  c.kinematics.latitude_deg = 48.1;
+  c.kinematics.longitude_deg = 11.5;
+  c.kinematics.altitude_m = 520.0;
+  c.kinematics.heading_deg = 90.0;
+  c.kinematics.speed_mps = 13.9;
+  c.kinematics.longitudinal_accel_mps2 = 0.4;
+  c.kinematics.length_m = 4.3;
+  c.kinematics.width_m = 1.8;
+  return c;
+}
+
+// The received-CAM payload as a JSON tree and as the publisher writes it (issue 21): the same
+// text, side by side in one run.
+void BM_CamPayloadTree(benchmark::State& state) {
+  const mqtt::ReceivedCam c = bench_cam();
+  const tb::clock::WallTime now{std::chrono::milliseconds{1'700'000'000'000}};
+  for (auto _ : state) {
+    std::string s = mqtt::envelope("cam", "remote", 1001, now, mqtt::cam_message(c)).dump();
+    benchmark::DoNotOptimize(s);
+  }
+}
+BENCHMARK(BM_CamPayloadTree)->ComputeStatistics("max", max_of);
+
+void BM_CamPayloadWritten(benchmark::State& state) {
+  const mqtt::ReceivedCam c = bench_cam();
+  const tb::clock::WallTime now{std::chrono::milliseconds{1'700'000'000'000}};
+  for (auto _ : state) {
+    std::string s = mqtt::received_cam_payload(1001, now, c);
+    benchmark::DoNotOptimize(s);
+  }
+}
+BENCHMARK(BM_CamPayloadWritten)->ComputeStatistics("max", max_of);
 
 }  // namespace
 

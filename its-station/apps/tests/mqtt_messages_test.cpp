@@ -85,6 +85,37 @@ TEST(CamMessage, SaturatesOutOfRangeAndOmitsUnavailable) {
   EXPECT_FALSE(cam_message(c)["basic_container"]["reference_position"].contains("altitude"));
 }
 
+TEST(CamMessage, WrittenPayloadEqualsTheEnvelopesDump) {
+  // Every combination of the optional members, negative values and a reversing car: the
+  // publisher's writer must give the tree's text exactly (members sorted as nlohmann keeps them).
+  for (unsigned mask = 0; mask < 64; ++mask) {
+    ReceivedCam c;
+    c.station_id = 4'294'967'295u;
+    c.station_type = 10;
+    c.generation_delta_time = static_cast<std::uint16_t>(mask * 1000);
+    c.kinematics.latitude_deg = -33.8688;
+    c.kinematics.longitude_deg = 151.2093;
+    c.kinematics.reversing = (mask & 1u) != 0;
+    if (mask & 2u)
+      c.kinematics.altitude_m = -12.345;
+    if (mask & 4u)
+      c.kinematics.heading_deg = 271.25;
+    if (mask & 8u)
+      c.kinematics.speed_mps = 27.78;
+    if (mask & 16u)
+      c.kinematics.longitudinal_accel_mps2 = -4.5;
+    if (mask & 32u) {
+      c.kinematics.length_m = 4.5;
+      c.kinematics.width_m = 1.9;
+    }
+    c.received_at = at_ms(1'700'000'000'456);
+    const auto now = at_ms(1'700'000'000'789);
+    EXPECT_EQ(received_cam_payload(1001, now, c),
+              envelope("cam", "remote", 1001, now, cam_message(c)).dump())
+        << "optional members " << mask;
+  }
+}
+
 TEST(StateMessage, IncludesGnssFix) {
   StationState s;
   s.station_id = 3;
