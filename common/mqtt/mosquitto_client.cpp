@@ -109,6 +109,7 @@ void MosquittoClient::run() {
       delay_s = std::max(1u, cfg_.reconnect_min_s);
       reported = false;
       const int serve_rc = serve();
+      apply_events();
       std::lock_guard lock(mutex_);
       connected_ = false;
       if (stopping_) {
@@ -167,6 +168,7 @@ int MosquittoClient::serve() {
     if (rc == MOSQ_ERR_SUCCESS) {
       rc = mosquitto_loop_misc(mosq_);  // keepalive
     }
+    apply_events();
     if (rc != MOSQ_ERR_SUCCESS) {
       return rc;
     }
@@ -270,69 +272,103 @@ std::string MosquittoClient::status_payload_locked(bool online) const {
       .dump();
 }
 
-void MosquittoClient::on_connect(struct mosquitto* mosq, void* self_ptr, int rc) {
-  auto* self = static_cast<MosquittoClient*>(self_ptr);
-  std::lock_guard lock(self->mutex_);
-  self->last_connack_ = rc;
-  if (rc != 0) {
-    spdlog::error("mqtt: broker {}:{} refused the connection: {}", self->cfg_.host, self->cfg_.port,
-                  mosquitto_connack_string(rc));
-    return;
-  }
-  ++self->connections_;
-  self->connected_ = true;
-  spdlog::info("mqtt: connected to {}:{} as '{}'", self->cfg_.host, self->cfg_.port,
-               self->cfg_.username);
-  if (!self->cfg_.status_topic.empty()) {
-    const std::string s = self->status_payload_locked(true);
-    mosquitto_publish(mosq, nullptr, self->cfg_.status_topic.c_str(), static_cast<int>(s.size()),
-                      s.data(), 1, true);
-  }
-  for (const auto& topic : self->cfg_.subscriptions) {
-    if (const int src = mosquitto_subscribe(mosq, nullptr, topic.c_str(),
-                                            static_cast<int>(self->cfg_.subscribe_qos));
-        src != MOSQ_ERR_SUCCESS) {
-      spdlog::error("mqtt: cannot subscribe to '{}': {}", topic, mosquitto_strerror(src));
-    }
-  }
-  self->flush_locked();
+// The callbacks run inside libmosquitto while it holds its own locks (on_publish of a QoS 0
+// message even in the thread that called publish()). Taking mutex_ there would invert the
+// lock order against a thread that holds mutex_ and calls into libmosquitto, so they only
+// queue what happened; serve() applies it outside libmosquitto.
+void MosquittoClient::on_connect(struct mosquitto*, void* self_ptr, int rc) {
+  static_cast<MosquittoClient*>(self_ptr)->queue_event(Event{Event::kConnack, rc, {}, {}});
 }
 
 void MosquittoClient::on_message(struct mosquitto*, void* self_ptr,
                                  const struct mosquitto_message* m) {
-  auto* self = static_cast<MosquittoClient*>(self_ptr);
-  MessageHandler handler;
-  {
-    std::lock_guard lock(self->mutex_);
-    handler = self->handler_;
+  if (m == nullptr || m->topic == nullptr) {
+    return;
   }
-  // Outside the lock: a handler may publish.
-  if (handler && m != nullptr && m->topic != nullptr) {
-    handler(m->topic, std::string_view(static_cast<const char*>(m->payload),
-                                       static_cast<std::size_t>(std::max(0, m->payloadlen))));
-  }
+  static_cast<MosquittoClient*>(self_ptr)->queue_event(
+      Event{Event::kMessage, 0, m->topic,
+            std::string(static_cast<const char*>(m->payload),
+                        static_cast<std::size_t>(std::max(0, m->payloadlen)))});
 }
 
 void MosquittoClient::on_disconnect(struct mosquitto*, void* self_ptr, int rc) {
-  auto* self = static_cast<MosquittoClient*>(self_ptr);
-  std::lock_guard lock(self->mutex_);
-  if (self->connected_ && rc != 0) {
-    spdlog::warn("mqtt: lost the broker {}:{}; reconnecting with backoff", self->cfg_.host,
-                 self->cfg_.port);
-  }
-  self->connected_ = false;
-  self->acked_.notify_all();
+  static_cast<MosquittoClient*>(self_ptr)->queue_event(Event{Event::kDisconnect, rc, {}, {}});
 }
 
 void MosquittoClient::on_publish(struct mosquitto*, void* self_ptr, int mid) {
-  auto* self = static_cast<MosquittoClient*>(self_ptr);
-  std::lock_guard lock(self->mutex_);
-  self->inflight_.erase(mid);
-  if (mid == self->status_mid_) {
-    self->status_mid_ = -1;
-    self->acked_.notify_all();
+  static_cast<MosquittoClient*>(self_ptr)->queue_event(Event{Event::kPublished, mid, {}, {}});
+}
+
+void MosquittoClient::queue_event(Event e) {
+  std::lock_guard lock(events_mutex_);
+  events_.push_back(std::move(e));
+}
+
+void MosquittoClient::apply_events() {
+  std::vector<Event> events;
+  {
+    std::lock_guard lock(events_mutex_);
+    events.swap(events_);
   }
-  self->flush_locked();
+  if (events.empty()) {
+    return;
+  }
+  std::vector<Event> messages;
+  {
+    std::lock_guard lock(mutex_);
+    for (Event& e : events) {
+      switch (e.kind) {
+        case Event::kConnack:
+          last_connack_ = e.value;
+          if (e.value != 0) {
+            spdlog::error("mqtt: broker {}:{} refused the connection: {}", cfg_.host, cfg_.port,
+                          mosquitto_connack_string(e.value));
+            break;
+          }
+          ++connections_;
+          connected_ = true;
+          spdlog::info("mqtt: connected to {}:{} as '{}'", cfg_.host, cfg_.port, cfg_.username);
+          if (!cfg_.status_topic.empty()) {
+            const std::string st = status_payload_locked(true);
+            mosquitto_publish(mosq_, nullptr, cfg_.status_topic.c_str(),
+                              static_cast<int>(st.size()), st.data(), 1, true);
+          }
+          for (const auto& topic : cfg_.subscriptions) {
+            if (const int src = mosquitto_subscribe(mosq_, nullptr, topic.c_str(),
+                                                    static_cast<int>(cfg_.subscribe_qos));
+                src != MOSQ_ERR_SUCCESS) {
+              spdlog::error("mqtt: cannot subscribe to '{}': {}", topic, mosquitto_strerror(src));
+            }
+          }
+          break;
+        case Event::kDisconnect:
+          if (connected_ && e.value != 0) {
+            spdlog::warn("mqtt: lost the broker {}:{}; reconnecting with backoff", cfg_.host,
+                         cfg_.port);
+          }
+          connected_ = false;
+          acked_.notify_all();
+          break;
+        case Event::kPublished:
+          inflight_.erase(e.value);
+          if (e.value == status_mid_) {
+            status_mid_ = -1;
+            acked_.notify_all();
+          }
+          break;
+        case Event::kMessage:
+          messages.push_back(std::move(e));
+          break;
+      }
+    }
+    flush_locked();
+  }
+  // Outside every lock: a handler may publish. handler_ is set before start() and not after.
+  if (handler_) {
+    for (const Event& m : messages) {
+      handler_(m.topic, m.payload);
+    }
+  }
 }
 
 bool MosquittoClient::connected() const {

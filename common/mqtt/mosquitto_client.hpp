@@ -7,9 +7,11 @@
 /// subscribed messages), keeps the connection alive, finishes a write the socket could not take
 /// at once, and connects and reconnects with exponential backoff. Handing each message to a
 /// network thread instead cost two thread switches, a select and a read per message, half the
-/// station's CPU with 50 stations (issue 21, docs/latency.md). Callbacks run in whichever thread
-/// drives libmosquitto at the time and share one recursive mutex with publish(), which any
-/// thread may call; nothing here waits for the broker.
+/// station's CPU with 50 stations (issue 21, docs/latency.md). libmosquitto's callbacks (which it
+/// calls under its own locks, in whichever thread drives it) only queue what happened; the
+/// network thread applies it under this class's mutex, never from inside libmosquitto, so the
+/// two sets of locks are never taken in opposite orders. publish() may be called from any
+/// thread; nothing here waits for the broker.
 ///
 /// Delivery: QoS 1 messages (warnings, DENMs) go into a bounded Outbox and are handed to
 /// libmosquitto only while connected, at most max_inflight unacknowledged at a time; handed
@@ -117,10 +119,20 @@ class MosquittoClient final : public MqttSink {
   const clock::Clock& clock_;
   ClientConfig cfg_;
   struct mosquitto* mosq_ = nullptr;
-  // Recursive: a write in publish() may complete an earlier QoS 0 message, and libmosquitto then
-  // calls on_publish in the same thread.
-  mutable std::recursive_mutex mutex_;
-  std::condition_variable_any acked_;
+  /// What a libmosquitto callback reported, applied by apply_events() (see on_connect).
+  struct Event {
+    enum Kind { kConnack, kDisconnect, kPublished, kMessage } kind;
+    int value;  ///< CONNACK / disconnect code, message id
+    std::string topic;
+    std::string payload;
+  };
+  void queue_event(Event e);
+  /// Applies the queued events under mutex_ and hands messages to the handler outside it;
+  /// called by the network thread only, never from inside libmosquitto.
+  void apply_events();
+
+  mutable std::mutex mutex_;
+  std::condition_variable acked_;
   MessageHandler handler_;
   Outbox outbox_;
   std::set<int> inflight_;
@@ -128,7 +140,9 @@ class MosquittoClient final : public MqttSink {
   bool connected_ = false;
   bool started_ = false;
   bool stopping_ = false;
-  std::condition_variable_any wake_;
+  std::condition_variable wake_;
+  std::mutex events_mutex_;  ///< a leaf: nothing is called while it is held
+  std::vector<Event> events_;
   int wake_fd_ = -1;  ///< eventfd the network thread polls beside the socket
   std::thread thread_;
   std::uint64_t connections_ = 0;
