@@ -43,37 +43,8 @@ std::int64_t vehicle_width(double m) {
   return scaled(m, 0.1, 1, 61);
 }
 
-json reference_position(const Kinematics& k) {
-  json p{{"latitude", latitude(k.latitude_deg)}, {"longitude", longitude(k.longitude_deg)}};
-  if (k.altitude_m) {
-    p["altitude"] = altitude(*k.altitude_m);
-  }
-  return p;
-}
-
-json high_frequency(const Kinematics& k) {
-  json h = json::object();
-  if (k.heading_deg) {
-    h["heading"] = heading(*k.heading_deg);
-  }
-  if (k.speed_mps) {
-    h["speed"] = speed(*k.speed_mps);
-  }
-  h["drive_direction"] = k.reversing ? 1 : 0;  // CDD DriveDirection: forward(0), backward(1)
-  if (k.longitudinal_accel_mps2) {
-    h["longitudinal_acceleration"] = longitudinal_acceleration(*k.longitudinal_accel_mps2);
-  }
-  if (k.length_m) {
-    h["vehicle_length"] = vehicle_length(*k.length_m);
-  }
-  if (k.width_m) {
-    h["vehicle_width"] = vehicle_width(*k.width_m);
-  }
-  return h;
-}
-
-// Members in nlohmann::json's order (sorted by key, as its std::map keeps them), so that the
-// written text equals the tree's dump().
+// The CDD containers as JSON text, members in nlohmann::json's order (sorted by key, as its
+// std::map keeps them), so that received_cam_payload() equals the tree envelope's dump().
 void write_reference_position(fmt::memory_buffer& out, const Kinematics& k) {
   auto it = std::back_inserter(out);
   out.push_back('{');
@@ -86,6 +57,7 @@ void write_reference_position(fmt::memory_buffer& out, const Kinematics& k) {
 
 void write_high_frequency(fmt::memory_buffer& out, const Kinematics& k) {
   auto it = std::back_inserter(out);
+  // CDD DriveDirection: forward(0), backward(1)
   fmt::format_to(it, "{{\"drive_direction\":{}", k.reversing ? 1 : 0);
   if (k.heading_deg) {
     fmt::format_to(it, ",\"heading\":{}", heading(*k.heading_deg));
@@ -104,6 +76,20 @@ void write_high_frequency(fmt::memory_buffer& out, const Kinematics& k) {
     fmt::format_to(it, ",\"vehicle_width\":{}", vehicle_width(*k.width_m));
   }
   out.push_back('}');
+}
+
+// The trees of the state message come from the same writers, so that the containers' members
+// and units are defined once (at 10 Hz the parse costs nothing that matters).
+json reference_position(const Kinematics& k) {
+  fmt::memory_buffer out;
+  write_reference_position(out, k);
+  return json::parse(std::string_view(out.data(), out.size()));
+}
+
+json high_frequency(const Kinematics& k) {
+  fmt::memory_buffer out;
+  write_high_frequency(out, k);
+  return json::parse(std::string_view(out.data(), out.size()));
 }
 
 json finite_or_null(double v) {
