@@ -75,6 +75,7 @@ struct Options {
   std::string mqtt_password;
   std::string mqtt_password_file;
   std::string mqtt_prefix = "its";
+  int mqtt_cam_interval_ms = 200;
   double denm_repetition_ms = 100.0;
   double denm_repetition_duration_s = 1.0;
   bool no_keep_alive_forwarding = false;
@@ -301,7 +302,9 @@ int run(const Options& o) {
     mc.publish_prefix = topics.root() + "/";
     mqtt = std::make_unique<tb::mqtt::MosquittoClient>(runtime, mc);
     publisher = std::make_unique<apps::mqtt::StationPublisher>(
-        runtime, *mqtt, apps::mqtt::PublisherConfig{o.mqtt_prefix, o.station_id});
+        runtime, *mqtt,
+        apps::mqtt::PublisherConfig{o.mqtt_prefix, o.station_id,
+                                    std::chrono::milliseconds{o.mqtt_cam_interval_ms}});
     publisher->set_tracer(&tb::trace::global());
     mqtt->start();
     spdlog::info("MQTT: publishing to {}:{} under {}", o.mqtt_host, o.mqtt_port, topics.root());
@@ -680,6 +683,12 @@ int main(int argc, char** argv) {
   app.add_option("--mqtt-password-file", o.mqtt_password_file, "file holding the MQTT password")
       ->check(CLI::ExistingFile);
   app.add_option("--mqtt-prefix", o.mqtt_prefix, "topic prefix")->capture_default_str();
+  // The contract's limit is one per source per 200 ms (its-station/apps/README.md); a large
+  // run may want fewer, since each mirrored CAM costs the station a TCP write (issue 21).
+  app.add_option("--mqtt-cam-interval-ms", o.mqtt_cam_interval_ms,
+                 "least time between two received CAMs of one source mirrored to MQTT")
+      ->check(CLI::Range(200, 60000))
+      ->capture_default_str();
   app.add_option("--denm-repetition-ms", o.denm_repetition_ms, "T_Repetition of application DENMs")
       ->check(CLI::Range(1.0, 10000.0))
       ->capture_default_str();

@@ -4,7 +4,7 @@ runs, one table.
 
     flock /tmp/testbed-heavy.lock tests/e2e/scale_runs.py N [--runs 3] [--duration 30]
           [--build build/release] [--radio-forwarding auto|kernel|user] [--perf DIR]
-          [--json FILE] [--keep]
+          [--station-arg=ARG ...] [--json FILE] [--keep]
 
 Each run is `scripts/testbed run` of the generated scenario (root: network namespaces) for
 --duration seconds once every station is up (the launcher's "running" line), then
@@ -185,7 +185,8 @@ def one_run(args, scenario, index):
         [sys.executable, str(ROOT / "scripts/testbed"), "run", str(scenario), "--build", args.build,
          "--duration", str(args.duration + 60), "--out", str(out)] +
         (["--radio-forwarding", args.radio_forwarding] if args.radio_forwarding else []) +
-        (["--shared-nice", str(args.shared_nice)] if args.shared_nice else []),
+        (["--shared-nice", str(args.shared_nice)] if args.shared_nice else []) +
+        [f"--station-arg={a}" for a in args.station_arg],
         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
     a = b = None
     a_unix = b_unix = 0
@@ -287,6 +288,8 @@ def main():
                     help="passed on to scripts/testbed run")
     ap.add_argument("--perf", help="perf record -a -g of the first run's window into this folder "
                                    "(scale.data); prints the top entries")
+    ap.add_argument("--station-arg", action="append", default=[], metavar="ARG",
+                    help="passed to every its-station (scripts/testbed run --station-arg)")
     ap.add_argument("--json", help="write every run's figures here")
     ap.add_argument("--keep", action="store_true", help="keep each run's folder (logs, trace)")
     args = ap.parse_args()
