@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -203,6 +204,30 @@ TEST_F(TwoStationNamespaces, EachSeesTheOtherInItsLdm) {
                                                     last_b.latitude_deg, last_b.longitude_deg);
   EXPECT_LT(da, 5.0);
   EXPECT_LT(db, 5.0);
+}
+
+// Bad values of the received-CAM mirror's interval stop the program before it opens anything,
+// with a message that names the option and the value.
+TEST(ItsStationOptions, MqttCamIntervalOutsideItsRangeIsRefusedByName) {
+  const char* bin = std::getenv("TESTBED_BIN");
+  const fs::path station = bin ? fs::path(bin) / "its-station" : fs::path("its-station");
+  if (!fs::exists(station))
+    GTEST_SKIP() << station << " not built";
+  for (const std::string value : {"5", "60001", "fast"}) {
+    const std::string cmd = station.string() +
+                            " --station-id 1001 --radio none-such --mqtt-cam-interval-ms " + value +
+                            " 2>&1";
+    FILE* p = ::popen(cmd.c_str(), "r");
+    ASSERT_NE(p, nullptr);
+    std::string out;
+    char buf[512];
+    while (std::fgets(buf, sizeof buf, p) != nullptr)
+      out += buf;
+    const int status = ::pclose(p);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) != 0) << value << ": " << out;
+    EXPECT_NE(out.find("--mqtt-cam-interval-ms"), std::string::npos) << out;
+    EXPECT_NE(out.find(value), std::string::npos) << out;
+  }
 }
 
 }  // namespace
