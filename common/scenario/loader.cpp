@@ -866,19 +866,19 @@ Scenario parse(std::string_view json_text, const std::string& file_name,
     }
     s.origin = read_origin(root.required("origin"));
   }
-  s.start_time = root.optional("start_time")
-                     ? parse_utc(root.required("start_time"))
-                     : std::chrono::system_clock::time_point{std::chrono::seconds{1735732800}};
+  if (root.optional("start_time"))
+    s.start_time = parse_utc(root.required("start_time"));
   if (auto d = root.optional("duration_s"))
     s.duration_s = d->number(0.1, 7 * 86400.0);
   if (auto w = root.optional("warmup_s"))
     s.warmup_s = w->number(0.0, kMaxWarmupS);
   // The warm-up's fixes are dated start_time + a negative sim time: they must not fall before
   // the ITS epoch, which TimestampIts (and a CAM's generationDeltaTime) cannot express.
-  if (s.start_time - std::chrono::duration_cast<std::chrono::system_clock::duration>(
-                         std::chrono::duration<double>(s.warmup_s)) <
-      std::chrono::system_clock::time_point{std::chrono::seconds{kItsEpochUnixS}}) {
-    (root.optional("start_time") ? root.required("start_time") : root)
+  if (s.start_time &&
+      *s.start_time - std::chrono::duration_cast<std::chrono::system_clock::duration>(
+                          std::chrono::duration<double>(s.warmup_s)) <
+          std::chrono::system_clock::time_point{std::chrono::seconds{kItsEpochUnixS}}) {
+    root.required("start_time")
         .fail(fmt::format("sim time -{} s (the warm-up, warmup_s) falls before the ITS epoch "
                           "2004-01-01T00:00:00Z: start later",
                           s.warmup_s));

@@ -303,8 +303,10 @@ struct Scenario {
   /// The `origin` field: where (0, 0, 0) of the local frame lies, unless the OpenDRIVE file's
   /// geoReference says (common/map/scenario_map.hpp decides).
   std::optional<geodesy::Geodetic> origin;
-  /// UTC instant of sim time 0; GNSS fixes are stamped start_time + sim time.
-  std::chrono::system_clock::time_point start_time;
+  /// UTC instant of sim time 0 when the scenario pins it (`start_time`); GNSS fixes are stamped
+  /// start time + sim time. Empty: the world starts at the host's clock when sim-server starts
+  /// (world_start()), so that the world runs on real time (docs/time.md).
+  std::optional<std::chrono::system_clock::time_point> start_time;
   std::optional<double> duration_s;  ///< empty: run until stopped, counted from sim time 0
   /// Sim time before 0 during which sim-server holds every vehicle on its run-up to its spawn
   /// pose (sim time runs from -warmup_s), so that at sim time 0 every station already has a
@@ -322,5 +324,13 @@ struct Scenario {
   const Vehicle* find_vehicle(std::string_view id) const;
   const Vehicle* find_station(std::uint32_t station_id) const;
 };
+
+/// The world's start time (UTC of sim time 0) of a run that starts at @p now: the scenario's
+/// pinned start_time, else @p now rounded down to the second. sim-server fixes it once and hands
+/// it to every program (docs/time.md).
+inline std::chrono::system_clock::time_point world_start(
+    const Scenario& s, std::chrono::system_clock::time_point now) {
+  return s.start_time ? *s.start_time : std::chrono::floor<std::chrono::seconds>(now);
+}
 
 }  // namespace tb::scenario

@@ -345,10 +345,11 @@ Expected<ServerMessage, ProtocolError> decode_welcome(ByteReader& r) {
   if (!read_text(r, kMaxNameLength, m.server_name))
     return Unexpected{r.ok() ? ProtocolError::kBadText : ProtocolError::kBadLength};
   m.step_ns = r.le<std::int64_t>();
+  m.world_start_ns = r.le<std::int64_t>();
   const std::size_t count = r.le<std::uint16_t>();
   if (!r.ok())
     return Unexpected{ProtocolError::kBadLength};
-  if (m.step_ns <= 0 || count > kMaxVehicles)
+  if (m.step_ns <= 0 || m.world_start_ns <= 0 || count > kMaxVehicles)
     return Unexpected{ProtocolError::kBadValue};
   m.vehicles.reserve(count);
   for (std::size_t i = 0; i < count; ++i) {
@@ -505,7 +506,7 @@ std::vector<std::uint8_t> encode(const Detach& m) {
 
 std::vector<std::uint8_t> encode(const Welcome& m) {
   const std::size_t count = std::min(m.vehicles.size(), kMaxVehicles);
-  std::size_t size = text_size(m.server_name, kMaxNameLength) + 8 + 2;
+  std::size_t size = text_size(m.server_name, kMaxNameLength) + 8 + 8 + 2;
   for (std::size_t i = 0; i < count; ++i) {
     const auto& v = m.vehicles[i];
     size += 2 + text_size(v.id, kMaxTextLength) + 4 + 1 + text_size(v.color, kMaxTextLength) + 1 +
@@ -517,6 +518,7 @@ std::vector<std::uint8_t> encode(const Welcome& m) {
   FrameWriter f(MessageType::kWelcome, size);
   f.text(m.server_name, kMaxNameLength);
   f.w().le(m.step_ns);
+  f.w().le(m.world_start_ns);
   f.w().le(static_cast<std::uint16_t>(count));
   for (std::size_t i = 0; i < count; ++i) {
     const auto& v = m.vehicles[i];

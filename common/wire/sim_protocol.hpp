@@ -23,7 +23,8 @@ namespace tb::wire::sim {
 
 /// 2: Controls carries the time its input was sampled (input_ns), for the latency trace's t1.
 /// 3: Welcome carries the OpenDRIVE map's text, so that a client needs no map file.
-inline constexpr std::uint8_t kProtocolVersion = 3;
+/// 4: Welcome carries the world's start time (docs/time.md: one clock for the whole world).
+inline constexpr std::uint8_t kProtocolVersion = 4;
 inline constexpr std::uint8_t kMagic0 = 'S';
 inline constexpr std::uint8_t kMagic1 = 'P';
 inline constexpr std::size_t kHeaderSize = 8;
@@ -139,6 +140,9 @@ struct VehicleInfo {
 struct Welcome {
   std::string server_name;
   std::int64_t step_ns = 0;  ///< physics step
+  /// UTC of sim time 0, Unix ns: the scenario's pinned start_time, else the host's clock when
+  /// sim-server started (rounded to the second). World UTC = this + sim time.
+  std::int64_t world_start_ns = 0;
   std::vector<VehicleInfo> vehicles;
   std::string scenario_json;
   std::string map_text;

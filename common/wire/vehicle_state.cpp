@@ -151,7 +151,7 @@ std::string_view to_string(DecodeError e) {
       return "value out of range";
     case DecodeError::kSingleStateVersion:
       return "version 1 (a single-state datagram of the old format; this receiver takes only "
-             "version-2 batch datagrams, docs/wire.md)";
+             "version-3 batch datagrams, docs/wire.md)";
     case DecodeError::kBadCount:
       return "batch count 0 or not matching the datagram's size";
   }
@@ -190,26 +190,30 @@ Expected<VehicleState, DecodeError> decode(std::span<const std::uint8_t> bytes) 
   return s;
 }
 
-std::size_t encode_batch(std::span<const VehicleState> states, std::span<std::uint8_t> out) {
+std::size_t encode_batch(std::span<const VehicleState> states, std::span<std::uint8_t> out,
+                         std::int64_t world_start_ns) {
   const std::size_t size = batch_datagram_size(states.size());
   if (states.empty() || states.size() > kMaxStatesPerBatch || out.size() < size)
     return 0;
   ByteWriter w(out.first(size));
   write_head(w, kStateBatchVersion, static_cast<std::uint8_t>(states.size()));
+  w.le(world_start_ns);
   for (const VehicleState& s : states)
     write_body(w, s);
   assert(w.ok() && w.position() == size);
   return size;
 }
 
-std::vector<std::uint8_t> encode_batch(std::span<const VehicleState> states) {
+std::vector<std::uint8_t> encode_batch(std::span<const VehicleState> states,
+                                       std::int64_t world_start_ns) {
   std::vector<std::uint8_t> out(batch_datagram_size(states.size()));
-  out.resize(encode_batch(states, out));
+  out.resize(encode_batch(states, out, world_start_ns));
   return out;
 }
 
 Expected<std::size_t, DecodeError> decode_batch(std::span<const std::uint8_t> bytes,
-                                                std::vector<VehicleState>& out) {
+                                                std::vector<VehicleState>& out,
+                                                std::int64_t* world_start_ns) {
   out.clear();
   if (bytes.size() < kStateBatchHeadSize)
     return Unexpected{DecodeError::kWrongSize};
@@ -224,6 +228,13 @@ Expected<std::size_t, DecodeError> decode_batch(std::span<const std::uint8_t> by
   const std::size_t count = r.le<std::uint8_t>();
   if (count == 0 || bytes.size() != batch_datagram_size(count))
     return Unexpected{DecodeError::kBadCount};
+  const auto start = r.le<std::int64_t>();
+  // A start time whose warm-up fixes fall before the ITS epoch (2004) cannot be dated in a CAM;
+  // one past 2200 is no simulation's.
+  constexpr std::int64_t kEarliest = 1'072'915'200'000'000'000 - kMinSimTimeNs;
+  constexpr std::int64_t kLatest = 7'258'118'400'000'000'000;
+  if (start != kUnknownWorldStart && (start < kEarliest || start > kLatest))
+    return Unexpected{DecodeError::kOutOfRange};
   for (std::size_t i = 0; i < count; ++i) {
     out.push_back(read_body(r));
     if (const auto e = check(out.back())) {
@@ -235,6 +246,8 @@ Expected<std::size_t, DecodeError> decode_batch(std::span<const std::uint8_t> by
     out.clear();
     return Unexpected{DecodeError::kWrongSize};
   }
+  if (world_start_ns)
+    *world_start_ns = start;
   return count;
 }
 

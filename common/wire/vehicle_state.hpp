@@ -82,11 +82,16 @@ inline constexpr std::size_t kVehicleStateSize = 160;
 /// A record without its 4-byte head: what a batch datagram carries per state.
 inline constexpr std::size_t kVehicleStateBodySize = kVehicleStateSize - 4;
 
-/// Batch datagram (UDP, sim-client → network-emulator → radio-medium): magic `VS`, version 2,
-/// count, then count record bodies. Version 1 was one record per datagram; a receiver refuses
-/// it (DecodeError::kSingleStateVersion) rather than misread it.
-inline constexpr std::uint8_t kStateBatchVersion = 2;
-inline constexpr std::size_t kStateBatchHeadSize = 4;
+/// Batch datagram (UDP, sim-client → network-emulator → radio-medium): magic `VS`, version 3,
+/// count, then the world's start time (int64, Unix ns of sim time 0: the epoch sim-server fixed
+/// when it started, docs/time.md), then count record bodies. Version 1 was one record per
+/// datagram, version 2 a batch without the start time; a receiver refuses both
+/// (kSingleStateVersion, kUnsupportedVersion) rather than misread them.
+inline constexpr std::uint8_t kStateBatchVersion = 3;
+inline constexpr std::size_t kStateBatchHeadSize = 12;
+/// The start time of a batch that does not know it (a test's, a tool's): the receiver falls
+/// back on the scenario's pinned start_time.
+inline constexpr std::int64_t kUnknownWorldStart = 0;
 /// Up to the u8 count; the sender's datagram size limit usually binds first.
 inline constexpr std::size_t kMaxStatesPerBatch = 255;
 /// Default datagram size limit: the UDP payload of a 1500-byte Ethernet MTU, so that a batch
@@ -124,13 +129,18 @@ Expected<VehicleState, DecodeError> decode(std::span<const std::uint8_t> bytes);
 
 /// Writes the batch datagram of @p states (1..kMaxStatesPerBatch) into @p out, which must hold
 /// batch_datagram_size(states.size()) bytes; returns the bytes written (0 if not).
-std::size_t encode_batch(std::span<const VehicleState> states, std::span<std::uint8_t> out);
-std::vector<std::uint8_t> encode_batch(std::span<const VehicleState> states);
+/// @p world_start_ns: Unix ns of sim time 0, or kUnknownWorldStart.
+std::size_t encode_batch(std::span<const VehicleState> states, std::span<std::uint8_t> out,
+                         std::int64_t world_start_ns = kUnknownWorldStart);
+std::vector<std::uint8_t> encode_batch(std::span<const VehicleState> states,
+                                       std::int64_t world_start_ns = kUnknownWorldStart);
 /// Decodes a batch datagram into @p out (cleared first; its capacity is reused, so a receiver
 /// allocates nothing per datagram). Never reads outside @p bytes. The datagram is one unit: a
 /// bad head, count or record refuses all of it (and leaves @p out empty), with the record
-/// checks of decode(). A version-1 datagram is kSingleStateVersion.
+/// checks of decode(). A version-1 datagram is kSingleStateVersion. @p world_start_ns, if given,
+/// gets the batch's start time (kUnknownWorldStart when the sender did not know it).
 Expected<std::size_t, DecodeError> decode_batch(std::span<const std::uint8_t> bytes,
-                                                std::vector<VehicleState>& out);
+                                                std::vector<VehicleState>& out,
+                                                std::int64_t* world_start_ns = nullptr);
 
 }  // namespace tb::wire

@@ -20,26 +20,6 @@
 
 namespace tb::its::station {
 
-/// The station's ITS clock: the host's clock moved onto the GNSS timebase by the newest fix, as
-/// an OBU disciplines its clock from GNSS. In the testbed GNSS time is sim time, which starts at
-/// the scenario's start_time, not at the host's date. Before the first fix it is the host clock.
-class GnssDisciplinedClock final : public clock::Clock {
- public:
-  explicit GnssDisciplinedClock(const clock::Clock& host) : host_(host) {}
-  /// A fix stamped @p gnss_time has just arrived.
-  void on_fix(clock::WallTime gnss_time) { offset_ = gnss_time - host_.wall_now(); }
-  /// A host wall-clock instant (a kernel receive stamp, say) on the GNSS timebase.
-  clock::WallTime to_its(clock::WallTime host_wall) const {
-    return host_wall + std::chrono::duration_cast<clock::WallClock::duration>(offset_);
-  }
-  clock::SteadyTime steady_now() const override { return host_.steady_now(); }
-  clock::WallTime wall_now() const override { return to_its(host_.wall_now()); }
-
- private:
-  const clock::Clock& host_;
-  clock::Duration offset_{};
-};
-
 /// The router's ego position vector from the station's newest fix.
 class GnPositionAdapter final : public geonet::PositionProvider {
  public:

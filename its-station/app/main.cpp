@@ -24,12 +24,14 @@
 #include "common/can/socketcan_bus.hpp"
 #include "common/can/udp_can_bus.hpp"
 #include "common/clock/asio_runtime.hpp"
+#include "common/clock/utc.hpp"
 #include "common/geodesy/local_frame.hpp"
 #include "common/map/scenario_map.hpp"
 #include "common/mqtt/mosquitto_client.hpp"
 #include "common/scenario/loader.hpp"
 #include "common/trace/tracer.hpp"
 #include "its-station/app/adapters.hpp"
+#include "its-station/app/its_clock.hpp"
 #include "its-station/apps/lcrw/lcrw_app.hpp"
 #include "its-station/apps/mqtt/publisher.hpp"
 #include "its-station/btp/dispatcher.hpp"
@@ -225,6 +227,28 @@ int run(const Options& o) {
   }
   fac::ReferencePositionProvider position(gnss, vehicle_data.get(), antenna);
 
+  // The station's ITS clock (docs/time.md): every time a standard dates or times — GN TST and
+  // location-table ageing, CAM timing, DENM times, DEN repetition and validity, LDM expiry,
+  // security generation time and certificate validity, LCRW — runs on GNSS time, the world's
+  // clock (the scenario's start time + sim time), as on a real OBU. The host's clock only
+  // serves sockets, gpsd, CAN, MQTT and trace records. It is told of a fix before anything else
+  // hears of it.
+  tb::its::station::GnssDisciplinedRuntime its_clock(runtime);
+  position.on_fix([&](const fac::PositionFix& fix) {
+    const bool first = !its_clock.synchronised();
+    const unsigned resyncs = its_clock.resyncs();
+    its_clock.on_fix(fix.time);
+    if (first)
+      spdlog::info(
+          "ITS clock: on GNSS time from the first fix ({}, {:+.1f} s from the host's "
+          "clock)",
+          tb::clock::format_utc(fix.time),
+          std::chrono::duration<double>(fix.time - runtime.wall_now()).count());
+    else if (its_clock.resyncs() != resyncs)
+      spdlog::warn("ITS clock: GNSS time jumped (a restarted simulation?): now {}",
+                   tb::clock::format_utc(fix.time));
+  });
+
   // Radio: the real interface (hwsim in OCB mode, or the veth stand-in of the same name).
   auto link = tb::its::link::PacketSocketLink::open(io, o.radio);
   if (!link)
@@ -239,7 +263,7 @@ int run(const Options& o) {
   tb::its::station::GnPositionAdapter gn_position(position);
   tb::its::geonet::RouterConfig gn_cfg;
   gn_cfg.station_type = static_cast<tb::its::geonet::StationType>(ca_cfg.station_type);
-  tb::its::geonet::Router router(runtime, **link, gn_position, gn_cfg);
+  tb::its::geonet::Router router(its_clock, **link, gn_position, gn_cfg);
   std::unique_ptr<tb::its::security::SecurityEntity> security = make_security(o, scenario);
   router.set_security(security.get());
   if (security)
@@ -253,20 +277,17 @@ int run(const Options& o) {
   tb::its::station::BtpMessageSender sender(btp);
 
   // Facilities.
-  fac::Ldm ldm(runtime);
-  fac::CaService ca(runtime, position, vehicle_data.get(), sender, ldm, ca_cfg);
+  fac::Ldm ldm(its_clock);
+  fac::CaService ca(its_clock, position, vehicle_data.get(), sender, ldm, ca_cfg);
   fac::DenConfig den_cfg;
   den_cfg.station_id = o.station_id;
   den_cfg.station_type = ca_cfg.station_type;
   den_cfg.keep_alive_forwarding = !o.no_keep_alive_forwarding;
   tb::its::station::GnAreaLocator den_locator(position);
-  fac::DenService den(runtime, sender, ldm, den_cfg, &den_locator);
-  // The station's ITS clock is its GNSS time, as on a real OBU: received CAMs are dated, and
-  // LCRW extrapolates and ages states, on the timebase of the fixes (sim time in the testbed,
-  // which need not be the host's wall clock), so that generationDeltaTime resolves to the right
-  // instant and neighbours' states compare with the own ones.
-  tb::its::station::GnssDisciplinedClock its_clock(runtime);
-  position.on_fix([&](const fac::PositionFix& fix) { its_clock.on_fix(fix.time); });
+  fac::DenService den(its_clock, sender, ldm, den_cfg, &den_locator);
+  // Received CAMs are dated on the ITS clock from their kernel receive stamp, so that
+  // generationDeltaTime resolves to the right instant and neighbours' states compare with the
+  // own ones.
   btp.register_port(fac::kBtpPortCam, [&](const tb::its::btp::Indication& ind,
                                           std::span<const std::uint8_t> payload) {
     // A verified CAM is checked against its signer's SSP (a permissive station's unverified
@@ -274,7 +295,7 @@ int run(const Options& o) {
     std::optional<std::span<const std::uint8_t>> ssp;
     if (ind.gn && ind.gn->security_report == tb::its::security::VerifyResult::kOk)
       ssp = ind.gn->permissions;
-    ca.receive(payload, its_clock.to_its(ind.gn ? ind.gn->rx_time : runtime.wall_now()), ssp);
+    ca.receive(payload, ind.gn ? its_clock.to_its(ind.gn->rx_time) : its_clock.wall_now(), ssp);
   });
   btp.register_port(fac::kBtpPortDenm, [&](const tb::its::btp::Indication& ind,
                                            std::span<const std::uint8_t> payload) {
@@ -625,7 +646,10 @@ std::unique_ptr<tb::its::security::SecurityEntity> make_security(
   try {
     auto creds = sec::load_station_credentials(sec::PkiPaths{o.pki_dir}, o.station_id);
     sec::Verifier verifier({creds.root});
-    const auto aa = verifier.add_authority(creds.aa, sec::to_time64(tb::clock::WallClock::now()));
+    // The chain is checked here, the validity per packet on the ITS clock: before the first
+    // fix nobody knows the world's date, which a pinned start_time puts far from the host's.
+    const auto aa = verifier.add_authority(
+        creds.aa, static_cast<sec::Time64>(creds.aa.tbs.validity.start) * 1'000'000);
     if (aa != sec::VerifyResult::kOk)
       throw Fatal{fmt::format("{}: the AA does not verify under the root: {}", o.pki_dir,
                               sec::to_string(aa)),

@@ -6,6 +6,8 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "common/clock/utc.hpp"
+
 namespace tb::emu {
 
 Emulator::Emulator(const scenario::Scenario& scenario, const tb::can::Database& dbc,
@@ -20,7 +22,8 @@ Emulator::Emulator(const scenario::Scenario& scenario, const tb::can::Database& 
     gnss::AgentConfig gc;
     gc.station_id = e.station_id;
     gc.rate_hz = scenario.rates.gnss_hz;
-    gc.start_time = scenario.start_time;
+    // Until sim-server's start time arrives with the states (use_world_start()).
+    gc.start_time = scenario.start_time.value_or(std::chrono::system_clock::time_point{});
     gc.errors = scenario.gnss;
     gc.seed = seed;
     gc.antenna = v->model.antenna;
@@ -44,7 +47,8 @@ Emulator::Emulator(const scenario::Scenario& scenario, const tb::can::Database& 
 
 bool Emulator::handle_datagram(std::span<const std::uint8_t> bytes) {
   ++counters_.datagrams;
-  const auto count = wire::decode_batch(bytes, batch_);
+  std::int64_t world_start = wire::kUnknownWorldStart;
+  const auto count = wire::decode_batch(bytes, batch_, &world_start);
   if (!count) {
     ++counters_.malformed;
     const auto kind = static_cast<std::size_t>(count.error());
@@ -60,9 +64,42 @@ bool Emulator::handle_datagram(std::span<const std::uint8_t> bytes) {
     }
     return false;
   }
+  if (!world_start_ns_ ||
+      (world_start != wire::kUnknownWorldStart && world_start != *world_start_ns_))
+    use_world_start(world_start, batch_.front());
   for (const wire::VehicleState& state : batch_)
     handle_state(state);
   return true;
+}
+
+void Emulator::use_world_start(std::int64_t world_start_ns, const wire::VehicleState& first) {
+  std::string source;
+  if (world_start_ns != wire::kUnknownWorldStart) {
+    source = "sim-server's, with the states";
+  } else if (scenario_.start_time) {
+    world_start_ns = clock::to_unix_ns(*scenario_.start_time);
+    source = "the scenario's start_time (the states do not carry one)";
+  } else {
+    // A sender that knows no start time (a tool, an old client) and a scenario that pins none:
+    // the world started when this state's sim time says, by the host's clock.
+    world_start_ns = clock::to_unix_ns(clock_.wall_now()) - first.sim_time_ns;
+    source =
+        "the host's clock minus the first state's sim time (the states carry no start "
+        "time and the scenario pins none)";
+  }
+  if (world_start_ns_ == world_start_ns)
+    return;
+  const bool first_time = !world_start_ns_;
+  world_start_ns_ = world_start_ns;
+  const auto start = clock::from_unix_ns(world_start_ns);
+  for (auto& [id, s] : stations_)
+    s->gps.set_start_time(start);
+  const std::string when = clock::format_utc(start);
+  if (first_time)
+    spdlog::info("GNSS time: sim time 0 is {}, {}", when, source);
+  else
+    spdlog::warn("GNSS time: sim time 0 is now {}, {} (a restarted sim-server)", when, source);
+  tracer_.record("emu.world_start", {{"world_start_ns", world_start_ns}});
 }
 
 void Emulator::handle_state(const wire::VehicleState& state) {

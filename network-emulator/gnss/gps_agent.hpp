@@ -42,6 +42,8 @@ class GpsAgent {
   /// call) when an epoch falls due, otherwise nothing.
   std::optional<std::string_view> on_state(const wire::VehicleState& state);
 
+  /// UTC of sim time 0 from now on: the world's start time that sim-server fixed (docs/time.md).
+  void set_start_time(std::chrono::system_clock::time_point t) { config_.start_time = t; }
   /// The fix of the last epoch (for tests and traces).
   const Fix& last_fix() const { return fix_; }
   std::uint64_t epochs() const { return epochs_; }

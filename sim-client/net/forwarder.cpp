@@ -66,7 +66,7 @@ void StateForwarder::forward_tick(std::span<const wire::VehicleState> states,
     for (auto& s : chunk_)
       s.send_wall_ns = now;
     buffer_.resize(wire::batch_datagram_size(chunk_.size()));
-    buffer_.resize(wire::encode_batch(chunk_, buffer_));
+    buffer_.resize(wire::encode_batch(chunk_, buffer_, world_start_ns_));
     if (!sink_.send(buffer_)) {
       // Logged at the first failure and then every 1000th, so a missing emulator does not flood.
       if (failed_datagrams_++ % 1000 == 0)

@@ -55,6 +55,9 @@ class StateForwarder {
   /// per state sent.
   void forward_tick(std::span<const wire::VehicleState> states,
                     std::size_t max_datagram = wire::kDefaultBatchDatagramSize);
+  /// UTC of sim time 0 (Unix ns) from the server's Welcome, sent in every batch so that the
+  /// emulator dates fixes on the world's clock; wire::kUnknownWorldStart until then.
+  void set_world_start(std::int64_t unix_ns) { world_start_ns_ = unix_ns; }
   /// A tick of one state.
   void forward(const wire::VehicleState& state) { forward_tick({&state, 1}); }
   std::uint64_t sent() const { return sent_; }      ///< states
@@ -69,6 +72,7 @@ class StateForwarder {
   std::uint64_t failed_ = 0;
   std::uint64_t datagrams_ = 0;
   std::uint64_t failed_datagrams_ = 0;
+  std::int64_t world_start_ns_ = wire::kUnknownWorldStart;
   std::vector<wire::VehicleState> chunk_;
   std::vector<std::uint8_t> buffer_;
 };

@@ -153,6 +153,9 @@ bool SimSession::on_welcome(const sim::Welcome& w) {
     phase_ = Phase::kListed;
     return false;
   }
+  // The emulator dates every fix on the world's clock that the server fixed (docs/time.md).
+  if (forwarder_)
+    forwarder_->set_world_start(w.world_start_ns);
   const bool same_world =
       welcome_ && welcome_->scenario_json == w.scenario_json && welcome_->map_text == w.map_text;
   if (!same_world) {

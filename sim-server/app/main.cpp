@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "common/clock/asio_runtime.hpp"
+#include "common/clock/utc.hpp"
 #include "common/map/scenario_map.hpp"
 #include "common/scenario/loader.hpp"
 #include "common/trace/tracer.hpp"
@@ -204,6 +205,15 @@ int main(int argc, char** argv) {
                scenario_file, world->size(), map_name(scenario), scenario.rates.physics_hz,
                fast ? ", fast" : ", real time");
   spdlog::info("listening on {}:{}", bind, server->port());
+  {
+    // One clock for the whole world (docs/time.md): every program dates sim time from here.
+    const auto start = tb::clock::from_unix_ns(hub.world_start_ns());
+    spdlog::info("world time: sim time 0 is {} ({})", tb::clock::format_utc(start),
+                 scenario.start_time ? "the scenario's start_time"
+                                     : "the host's clock now; a scenario may pin start_time");
+    tb::trace::global().record("server.world_start", {{"world_start_ns", hub.world_start_ns()},
+                                                      {"pinned", scenario.start_time.has_value()}});
+  }
   loop.start();
   io.run();
   const auto& st = hub.stats();

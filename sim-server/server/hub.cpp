@@ -34,6 +34,7 @@ Hub::Hub(physics::World& world, const scenario::Scenario& scenario, std::string 
       scenario_json_(std::move(scenario_json)),
       clock_(clock),
       server_name_(std::move(server_name)),
+      world_start_ns_(clock::to_unix_ns(scenario::world_start(scenario, clock.wall_now()))),
       vehicles_(world.size()) {
   for (std::size_t v = 0; v < vehicles_.size(); ++v) {
     // A car spawned with speed rolls on until before_step() finds nobody drives it.
@@ -299,6 +300,7 @@ sim::Welcome Hub::welcome() const {
   sim::Welcome w;
   w.server_name = server_name_;
   w.step_ns = std::llround(world_.step_s() * 1e9);
+  w.world_start_ns = world_start_ns_;
   w.scenario_json = scenario_json_;
   if (scenario_.map_text)
     w.map_text = *scenario_.map_text;

@@ -75,6 +75,8 @@ class Hub {
   void before_step();
   /// After each physics step: the State frame to every attached client.
   void after_step();
+  /// UTC of sim time 0, Unix ns: fixed when the hub was made (scenario::world_start()).
+  std::int64_t world_start_ns() const { return world_start_ns_; }
   /// Whether the driver of every driven vehicle has answered the latest State frame with
   /// Controls (a vehicle braked by the watchdog is not waited for). Fast mode steps only then,
   /// so that scripted drivers see every state as they do in real time.
@@ -128,6 +130,7 @@ class Hub {
   std::string scenario_json_;
   const clock::Clock& clock_;
   std::string server_name_;
+  std::int64_t world_start_ns_ = 0;  ///< Unix ns of sim time 0 (Welcome, docs/time.md)
   std::map<ClientId, Client> clients_;
   std::vector<VehicleSlot> vehicles_;
   ClientId next_id_ = 1;

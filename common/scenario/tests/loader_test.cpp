@@ -176,10 +176,12 @@ TEST(ScenarioLoader, DefaultsAreFilledAndDocumentedValuesRead) {
   EXPECT_TRUE(s.gnss.ideal);
   EXPECT_FALSE(s.duration_s.has_value());
   EXPECT_DOUBLE_EQ(s.warmup_s, kDefaultWarmupS);
-  // 2025-01-01T12:00:00Z
-  EXPECT_EQ(
-      std::chrono::duration_cast<std::chrono::seconds>(s.start_time.time_since_epoch()).count(),
-      1735732800);
+  // No start_time: the world starts when sim-server starts, on the second.
+  EXPECT_FALSE(s.start_time.has_value());
+  const auto now =
+      std::chrono::system_clock::time_point{std::chrono::milliseconds{1'795'000'000'750}};
+  EXPECT_EQ(world_start(s, now),
+            std::chrono::system_clock::time_point{std::chrono::seconds{1'795'000'000}});
   ASSERT_EQ(s.vehicles.size(), 1u);
   const Vehicle& v = s.vehicles[0];
   EXPECT_EQ(v.station_type, 5);
@@ -369,9 +371,12 @@ TEST(ScenarioLoader, ReadsEveryKindOfSection) {
   EXPECT_EQ(s.security, SecurityMode::kSignedPermissive);
   EXPECT_DOUBLE_EQ(*s.duration_s, 90.0);
   EXPECT_DOUBLE_EQ(s.warmup_s, 0.0);  // no warm-up: sim time starts at 0 as before
-  EXPECT_EQ(std::chrono::duration_cast<std::chrono::milliseconds>(s.start_time.time_since_epoch())
+  ASSERT_TRUE(s.start_time.has_value());
+  EXPECT_EQ(std::chrono::duration_cast<std::chrono::milliseconds>(s.start_time->time_since_epoch())
                 .count(),
             1772600767250LL);
+  // A pinned start time is the world's, whenever the run starts.
+  EXPECT_EQ(world_start(s, std::chrono::system_clock::now()), *s.start_time);
   EXPECT_DOUBLE_EQ(s.rates.physics_hz, 200.0);
   EXPECT_FALSE(s.gnss.ideal);
   EXPECT_EQ(s.gnss.satellites, 7);

@@ -73,6 +73,7 @@ Welcome sample_welcome() {
   Welcome w;
   w.server_name = "sim-server test";
   w.step_ns = 10'000'000;
+  w.world_start_ns = 1'748'854'800'000'000'000;  // 2025-06-02T09:00:00Z
   VehicleInfo a;
   a.index = 0;
   a.id = "ego";
@@ -117,7 +118,7 @@ TEST(SimProtocol, ControlsLayout) {
   const auto b = encode(
       ControlsMsg{0x0102, Controls{1.0f, 0.0f, 0.0f, true, false}, 0x0304, 0x1122334455667788});
   ASSERT_EQ(b.size(), kHeaderSize + 25);
-  EXPECT_EQ(b[2], 3);          // version
+  EXPECT_EQ(b[2], 4);          // version
   EXPECT_EQ(b[4], 25);         // payload length
   EXPECT_EQ(b[8], 0x02);       // vehicle, little-endian
   EXPECT_EQ(b[8 + 14], 0x01);  // flags: reverse
@@ -265,13 +266,15 @@ TEST(SimProtocol, RejectsUnknownTypeBadMagicAndVersion) {
   EXPECT_EQ(*feed(d, Bytes{'G', 'E', 'T', ' ', '/', ' ', 'H', 'T'}, 64).error,
             ProtocolError::kBadMagic);
   FrameParser e(Sender::kClient);
-  EXPECT_EQ(*feed(e, header(0x01, 1, 4), 64).error, ProtocolError::kUnsupportedVersion);
+  EXPECT_EQ(*feed(e, header(0x01, 1, 5), 64).error, ProtocolError::kUnsupportedVersion);
   // Version 1 (Controls without the input time) is refused, not misread.
   FrameParser g(Sender::kClient);
   EXPECT_EQ(*feed(g, header(0x03, 17, 1), 64).error, ProtocolError::kUnsupportedVersion);
-  // Version 2 (a Welcome without the map) likewise.
+  // Version 2 (a Welcome without the map) likewise, and 3 (without the world's start time).
   FrameParser h(Sender::kServer);
   EXPECT_EQ(*feed(h, header(0x81, 100, 2), 64).error, ProtocolError::kUnsupportedVersion);
+  FrameParser i(Sender::kServer);
+  EXPECT_EQ(*feed(i, header(0x81, 100, 3), 64).error, ProtocolError::kUnsupportedVersion);
 }
 
 TEST(SimProtocol, StaysFailedAfterAnError) {

@@ -14,7 +14,8 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::span<const std::uint8_t> bytes(data, size);
   static std::vector<tb::wire::VehicleState> states;
-  const auto count = tb::wire::decode_batch(bytes, states);
+  std::int64_t start = -1;
+  const auto count = tb::wire::decode_batch(bytes, states, &start);
   if (!count) {
     if (!states.empty())
       std::abort();  // a refused datagram hands on no state
@@ -22,9 +23,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   if (*count != states.size() || states.empty())
     std::abort();
-  const auto again = tb::wire::encode_batch(states);
+  const auto again = tb::wire::encode_batch(states, start);
   std::vector<tb::wire::VehicleState> back;
-  if (again.size() != size || !tb::wire::decode_batch(again, back) || back != states)
+  std::int64_t start_again = -1;
+  if (again.size() != size || !tb::wire::decode_batch(again, back, &start_again) ||
+      back != states || start_again != start)
     std::abort();
   if (tb::wire::decode(bytes))
     std::abort();  // a batch is never misread as a version-1 record

@@ -134,15 +134,46 @@ TEST(StateBatch, LayoutIsHeadThenRecordBodies) {
   EXPECT_EQ(bytes[1], 'S');
   EXPECT_EQ(bytes[2], kStateBatchVersion);
   EXPECT_EQ(bytes[3], 3);
+  // Then the world's start time, little-endian; unknown here.
+  for (std::size_t i = 4; i < 12; ++i)
+    EXPECT_EQ(bytes[i], 0) << i;
   // Each body is the single record without its 4-byte head.
   for (std::size_t i = 0; i < 3; ++i) {
     const auto record = encode(states[i]);
     const std::vector<std::uint8_t> body(record.begin() + 4, record.end());
     const std::vector<std::uint8_t> in_batch(
-        bytes.begin() + static_cast<std::ptrdiff_t>(4 + i * kVehicleStateBodySize),
-        bytes.begin() + static_cast<std::ptrdiff_t>(4 + (i + 1) * kVehicleStateBodySize));
+        bytes.begin() + static_cast<std::ptrdiff_t>(12 + i * kVehicleStateBodySize),
+        bytes.begin() + static_cast<std::ptrdiff_t>(12 + (i + 1) * kVehicleStateBodySize));
     EXPECT_EQ(in_batch, body) << i;
   }
+}
+
+TEST(StateBatch, CarriesTheWorldsStartTime) {
+  // 2025-06-02T09:00:00Z, a pinned scenario's epoch, in Unix ns.
+  constexpr std::int64_t kStart = 1'748'854'800'000'000'000;
+  const auto bytes = encode_batch(tick_of(2), kStart);
+  // Little-endian after the 4-byte head.
+  std::int64_t raw = 0;
+  for (int i = 7; i >= 0; --i)
+    raw = (raw << 8) | bytes[4 + static_cast<std::size_t>(i)];
+  EXPECT_EQ(raw, kStart);
+  std::vector<VehicleState> got;
+  std::int64_t start = -1;
+  ASSERT_TRUE(decode_batch(bytes, got, &start));
+  EXPECT_EQ(start, kStart);
+  ASSERT_TRUE(decode_batch(encode_batch(tick_of(1)), got, &start));
+  EXPECT_EQ(start, kUnknownWorldStart);
+}
+
+TEST(StateBatch, RefusesAStartTimeNoCamCouldDate) {
+  std::vector<VehicleState> got;
+  // 2003-12-31: the warm-up's fixes would fall before TimestampIts' epoch.
+  EXPECT_EQ(decode_batch(encode_batch(tick_of(1), 1'072'828'800'000'000'000), got).error(),
+            DecodeError::kOutOfRange);
+  EXPECT_EQ(decode_batch(encode_batch(tick_of(1), -5), got).error(), DecodeError::kOutOfRange);
+  EXPECT_EQ(decode_batch(encode_batch(tick_of(1), 9'000'000'000'000'000'000), got).error(),
+            DecodeError::kOutOfRange);
+  EXPECT_TRUE(got.empty());
 }
 
 TEST(StateBatch, DefaultDatagramLimitHoldsNineStates) {
@@ -186,7 +217,9 @@ TEST(StateBatch, RefusesBadHeadsCountsAndRecordsAsAWhole) {
   magic[1] = 'X';
   EXPECT_EQ(decode_batch(magic, got).error(), DecodeError::kBadMagic);
   auto version = bytes;
-  version[2] = 3;
+  version[2] = 2;  // the batch without a start time
+  EXPECT_EQ(decode_batch(version, got).error(), DecodeError::kUnsupportedVersion);
+  version[2] = 4;
   EXPECT_EQ(decode_batch(version, got).error(), DecodeError::kUnsupportedVersion);
   // A non-finite value in the last record refuses the whole datagram.
   auto states = tick_of(4);

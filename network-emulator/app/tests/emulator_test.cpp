@@ -197,6 +197,10 @@ TEST_F(EmulatorTest, TracesStateNmeaAndCanWithStationAndTick) {
   for (std::string line; std::getline(in, line);) {
     const auto j = nlohmann::json::parse(line);
     ++events[j["ev"].get<std::string>()];
+    if (j["ev"] == "emu.world_start") {  // once: the scenario's pinned 2025-01-01T12:00:00Z
+      EXPECT_EQ(j["world_start_ns"], 1735732800000000000LL);
+      continue;
+    }
     EXPECT_EQ(j["station"], 1001);
     EXPECT_EQ(j["tick"], 123);
     if (j["ev"] == "emu.nmea") {
@@ -210,6 +214,34 @@ TEST_F(EmulatorTest, TracesStateNmeaAndCanWithStationAndTick) {
   EXPECT_EQ(events["emu.state"], 1);
   EXPECT_EQ(events["emu.nmea"], 1);
   EXPECT_EQ(events["emu.can"], 1);
+  EXPECT_EQ(events["emu.world_start"], 1);
+}
+
+// One clock for the whole world (docs/time.md): sim-server's start time, carried by the states,
+// dates the fixes, whatever the scenario file pins.
+TEST_F(EmulatorTest, DatesFixesFromTheWorldStartTheStatesCarry) {
+  Emulator emu = make(no_trace_);
+  const auto s = vehicle(1001, 300);
+  // 2026-11-26T21:00:00Z
+  emu.handle_datagram(wire::encode_batch({&s, 1}, 1'795'726'800'000'000'000));
+  ASSERT_EQ(out_[1001].nmea.size(), 1u);
+  EXPECT_EQ(out_[1001].nmea[0].substr(0, 17), "$GPRMC,210000.300");
+  EXPECT_NE(out_[1001].nmea[0].find(",261126,"), std::string::npos) << out_[1001].nmea[0];
+  // A later batch without one (a tool's) keeps the world's start.
+  const auto t = vehicle(1001, 400);
+  emu.handle_datagram(wire::encode_batch({&t, 1}));
+  ASSERT_EQ(out_[1001].nmea.size(), 2u);
+  EXPECT_EQ(out_[1001].nmea[1].substr(0, 17), "$GPRMC,210000.400");
+}
+
+TEST_F(EmulatorTest, WithoutAStartTimeAnywhereTheHostClockStandsIn) {
+  scenario_.start_time.reset();
+  clock_ = clock::ManualClock(clock::WallTime{std::chrono::seconds{1'795'726'800}});
+  clock_.advance(std::chrono::milliseconds{700});
+  Emulator emu = make(no_trace_);
+  emu.handle_datagram(state(1001, 500));  // sim time 0.5 s: the world started at 21:00:00.200
+  ASSERT_EQ(out_[1001].nmea.size(), 1u);
+  EXPECT_EQ(out_[1001].nmea[0].substr(0, 17), "$GPRMC,210000.700");
 }
 
 }  // namespace

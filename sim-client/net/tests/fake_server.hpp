@@ -27,6 +27,7 @@ inline wire::sim::Welcome welcome() {
   wire::sim::Welcome w;
   w.server_name = "fake";
   w.step_ns = 10'000'000;
+  w.world_start_ns = 1'748'854'800'000'000'000;  // 2025-06-02T09:00:00Z
   const char* ids[] = {"me", "tl", "lf"};
   const char* colours[] = {"#d02020", "#2050d0", "#20a040"};
   const wire::sim::DriverKind kinds[] = {wire::sim::DriverKind::kHuman,

@@ -29,10 +29,11 @@ ETH_P_ALL = 0x0003
 ETH_P_GEONET = 0x8947  # ETSI EN 302 636-4-1 GeoNetworking over ITS-G5
 MARKER = b"TBVM-PROBE"
 
-# docs/wire.md: vehicle-state batch datagram (version 2) of one state: magic, version 2,
-# count 1, then the 156-byte record body; 160 bytes little-endian.
-STATE_FMT = "<2sBBIQqqq3d3f3f3f3ffff4ffffBbHf"
-assert struct.calcsize(STATE_FMT) == 160
+# docs/wire.md: vehicle-state batch datagram (version 3) of one state: magic, version 3,
+# count 1, the world's start time (Unix ns, 0 = unknown: the emulator takes the scenario's
+# start_time), then the 156-byte record body; 168 bytes little-endian.
+STATE_FMT = "<2sBBqIQqqq3d3f3f3f3ffff4ffffBbHf"
+assert struct.calcsize(STATE_FMT) == 168
 
 LIGHT_BITS = {"left": 0, "right": 1, "hazard": 2, "low": 3, "high": 4, "brake": 5,
               "reverse": 6, "fog": 7}
@@ -63,7 +64,9 @@ def cmd_state(a):
         v = (a.speed * math.cos(yaw), a.speed * math.sin(yaw), 0.0)
         flags = (1 if a.speed < 0 else 0)
         data = struct.pack(
-            STATE_FMT, b"VS", 2, 1, a.station, tick, sim_ns, now, now,
+            STATE_FMT, b"VS", 3, 1,
+            a.start_unix * 10**9 if a.start_unix is not None else 0,
+            a.station, tick, sim_ns, now, now,
             a.x, a.y, 0.0, 0.0, 0.0, yaw, *v, 0.0, 0.0, 0.0, a.accel, 0.0, 0.0,
             a.speed, 0.0, a.steer_rad, *([a.speed] * 4), a.throttle, a.brake, 0.0, flags,
             a.gear, lights, a.rpm)
