@@ -123,7 +123,7 @@ Verifier::Verifier(std::vector<Certificate> trusted_roots, VerifierConfig config
     Entry e;
     e.hash = certificate_hash(root);
     e.key = EcKey::from_point(root.tbs.verify_key.curve, root.tbs.verify_key.point);
-    if (!e.key.verify(signed_digest(encode(root.tbs), sha256({})), *root.signature))
+    if (!e.key.verify(signed_digest(canonical_tbs(root), sha256({})), *root.signature))
       throw CryptoError("trusted root: its self-signature does not verify");
     e.cert = std::move(root);
     const HashedId8 id = hashed_id8(e.hash);
@@ -136,8 +136,9 @@ VerifyResult Verifier::check_issued(const Certificate& c, const Entry& issuer, T
     return VerifyResult::kCertificateSignature;
   if (!within_validity(c, at) || !within_validity(issuer.cert, at))
     return VerifyResult::kCertificateNotValid;
-  // The tbsCertificate as received: COER is canonical, so its re-encoding is those octets.
-  if (!issuer.key.verify(signed_digest(encode(c.tbs), issuer.hash), *c.signature))
+  // 1609.2 6.4.3, 5.3.1: over toBeSigned as received (COER, canonical by the decoder's rules),
+  // not a re-encoding of what the decoder understood: extension additions it skips count.
+  if (!issuer.key.verify(signed_digest(canonical_tbs(c), issuer.hash), *c.signature))
     return VerifyResult::kCertificateSignature;
   return VerifyResult::kOk;
 }

@@ -1,6 +1,12 @@
 #include <gtest/gtest.h>
+#include <openssl/ec.h>
+#include <openssl/obj_mac.h>
+#include <openssl/sha.h>
 
+#include <algorithm>
 #include <chrono>
+
+#include "its-station/asn1/coer.hpp"
 
 #include "its-station/security/pki.hpp"
 #include "its-station/security/signer.hpp"
@@ -301,6 +307,127 @@ TEST(SignVerify, BrainpoolP256r1SignaturesAreAccepted) {
   EXPECT_EQ(verifier.verify(bp.sign_cam(kPayload, kNow), kPsidCam, kNow).result, VerifyResult::kOk);
   EXPECT_EQ(verifier.verify(bp.sign_cam(kPayload, kNow + 1000), kPsidCam, kNow + 1000).result,
             VerifyResult::kOk);
+}
+
+/// SHA-256 by OpenSSL itself, not by the code under test.
+Octets32 openssl_sha256(std::span<const std::uint8_t> b) {
+  Octets32 out{};
+  SHA256(b.data(), b.size(), out.data());
+  return out;
+}
+
+TEST(SignVerify, CertificateSignatureCoversToBeSignedAsReceived) {
+  Pki pki;
+  auto [at, key] = pki.ticket();
+  // toBeSigned with its extension bit set and one extension addition the decoder skips
+  // (1609.2-2022's `flags`, a BIT STRING of 8 bits, as an open type).
+  Bytes tbs(at.tbs_octets().begin(), at.tbs_octets().end());
+  ASSERT_FALSE(tbs.empty());
+  ASSERT_EQ(tbs[0] & 0x80, 0);
+  tbs[0] |= 0x80;
+  {
+    asn1::CoerWriter w(tbs);
+    w.extension_bitmap(1, 1);
+    w.open_type(Bytes{0x80});
+  }
+  // The certificate with toBeSigned @p sent, signed by the AA over @p signed_tbs: 1609.2 5.3.1
+  // SHA-256(SHA-256(toBeSigned) || SHA-256(AA certificate)), the hashes taken with OpenSSL.
+  const auto build = [&](const Bytes& signed_tbs, const Bytes& sent) {
+    const Octets32 t = openssl_sha256(signed_tbs);
+    const Octets32 a = openssl_sha256(pki.aa.encoding);
+    Bytes both(t.begin(), t.end());
+    both.insert(both.end(), a.begin(), a.end());
+    Bytes cert(at.encoding.begin(),
+               at.encoding.begin() + static_cast<std::ptrdiff_t>(at.tbs_offset));
+    cert.insert(cert.end(), sent.begin(), sent.end());
+    asn1::CoerWriter w(cert);
+    coer::put(w, pki.aa_key.sign(openssl_sha256(both)));
+    return cert;
+  };
+  const Bytes good = build(tbs, tbs);
+  auto c = decode_certificate(good);
+  ASSERT_TRUE(c) << asn1::to_string(c.error());
+  EXPECT_EQ(c->tbs, at.tbs);  // the addition is skipped...
+  EXPECT_EQ(Bytes(c->tbs_octets().begin(), c->tbs_octets().end()), tbs);  // ...but kept
+  EXPECT_NE(encode(c->tbs), tbs);
+  EXPECT_EQ(encode(*c), good);  // and sent on as it came
+
+  Signer signer(*c, std::move(key), pki.aa);
+  const Bytes cam = signer.sign_cam(kPayload, kNow);
+  const auto where = std::search(cam.begin(), cam.end(), good.begin(), good.end());
+  ASSERT_NE(where, cam.end());
+  Verifier verifier = pki.verifier();
+  auto v = verifier.verify(cam, kPsidCam, kNow);
+  EXPECT_EQ(v.result, VerifyResult::kOk) << to_string(v.result);
+  EXPECT_EQ(v.signer, hashed_id8(openssl_sha256(good)));
+
+  // The same certificate with the skipped octet altered (0x80 -> 0x40): it still decodes to the
+  // same fields, but the AA did not sign it.
+  Bytes altered_tbs = tbs;
+  altered_tbs.back() = 0x40;
+  const Bytes bad = build(tbs, altered_tbs);
+  auto cb = decode_certificate(bad);
+  ASSERT_TRUE(cb) << asn1::to_string(cb.error());
+  EXPECT_EQ(cb->tbs, c->tbs);
+  Bytes forged = cam;
+  std::copy(bad.begin(), bad.end(), forged.begin() + (where - cam.begin()));
+  Verifier fresh = pki.verifier();
+  EXPECT_EQ(fresh.verify(forged, kPsidCam, kNow).result, VerifyResult::kCertificateSignature);
+  EXPECT_EQ(fresh.count(VerifyResult::kCertificateSignature), 1u);
+}
+
+/// The uncompressed form of the compressed P-256 point @p p, by OpenSSL.
+EccP256CurvePoint openssl_uncompressed(const EccP256CurvePoint& p) {
+  EC_GROUP* g = EC_GROUP_new_by_curve_name(NID_X9_62_prime256v1);
+  EC_POINT* pt = EC_POINT_new(g);
+  std::array<std::uint8_t, 33> in{};
+  in[0] = p.form == EccP256CurvePoint::Form::kCompressedY1 ? 0x03 : 0x02;
+  std::copy(p.x.begin(), p.x.end(), in.begin() + 1);
+  std::array<std::uint8_t, 65> out{};
+  const bool ok = EC_POINT_oct2point(g, pt, in.data(), in.size(), nullptr) == 1 &&
+                  EC_POINT_point2oct(g, pt, POINT_CONVERSION_UNCOMPRESSED, out.data(), out.size(),
+                                     nullptr) == out.size();
+  EC_POINT_free(pt);
+  EC_GROUP_free(g);
+  EXPECT_TRUE(ok);
+  EccP256CurvePoint u{EccP256CurvePoint::Form::kUncompressed, {}, {}};
+  std::copy(out.begin() + 1, out.begin() + 33, u.x.begin());
+  std::copy(out.begin() + 33, out.end(), u.y.begin());
+  return u;
+}
+
+TEST(SignVerify, UncompressedKeyIsCanonicalisedForTheIssuerSignature) {
+  Pki pki;
+  auto [at, key] = pki.ticket();
+  Signer signer(at, std::move(key), pki.aa);
+  const Bytes cam = signer.sign_cam(kPayload, kNow);
+  // The AA signed toBeSigned with the key compressed, its canonical form (1609.2 6.4.3); the
+  // same certificate travels with the key uncompressed (the signature unchanged).
+  Certificate loose = at;
+  loose.encoding.clear();
+  loose.tbs_offset = loose.tbs_length = loose.key_offset = loose.key_length = 0;
+  loose.tbs.verify_key.point = openssl_uncompressed(at.tbs.verify_key.point);
+  auto c = decode_certificate(encode(loose));
+  ASSERT_TRUE(c) << asn1::to_string(c.error());
+  EXPECT_EQ(c->key_length, 65u);
+  EXPECT_EQ(canonical_tbs(*c), Bytes(at.tbs_octets().begin(), at.tbs_octets().end()));
+  EXPECT_EQ(canonical_encoding(*c), at.encoding);
+  EXPECT_EQ(certificate_id(*c), certificate_id(at));
+  // A CAM that carries it in place of the compressed one verifies.
+  const auto where = std::search(cam.begin(), cam.end(), at.encoding.begin(), at.encoding.end());
+  ASSERT_NE(where, cam.end());
+  Bytes sent(cam.begin(), where);
+  sent.insert(sent.end(), c->encoding.begin(), c->encoding.end());
+  sent.insert(sent.end(), where + static_cast<std::ptrdiff_t>(at.encoding.size()), cam.end());
+  Verifier verifier = pki.verifier();
+  const auto v = verifier.verify(sent, kPsidCam, kNow);
+  EXPECT_EQ(v.result, VerifyResult::kOk) << to_string(v.result);
+  // And one whose uncompressed key is another point fails the issuer's signature.
+  Certificate other = loose;
+  other.tbs.verify_key.point.y[31] ^= 0x01;  // off the curve and off the signed octets
+  auto o = decode_certificate(encode(other));
+  ASSERT_TRUE(o);
+  EXPECT_NE(canonical_tbs(*o), canonical_tbs(*c));
 }
 
 TEST(SignVerify, GenerationTimeWindowOnTaiOrUtc) {
