@@ -44,6 +44,8 @@ std::string_view to_string(VerifyResult r) {
       return "issuer_not_permitted";
     case VerifyResult::kSignatureInvalid:
       return "signature_invalid";
+    case VerifyResult::kReplay:
+      return "replay";
     case VerifyResult::kCount:
       break;
   }
@@ -56,6 +58,42 @@ std::span<const std::uint8_t> Verification::payload() const {
   if (data.signed_data.tbs.payload.data)
     return *data.signed_data.tbs.payload.data;
   return {};
+}
+
+TimePolicy default_time_policy(Psid psid) {
+  TimePolicy p;  // -2 s .. +40 ms, replay detection on
+  if (psid == kPsidDenm)
+    p.replay_detection = false;  // forwarded copies are GeoNetworking's (verifier.hpp)
+  return p;
+}
+
+TimePolicy VerifierConfig::policy(Psid psid) const {
+  if (auto it = time_policy.find(psid); it != time_policy.end())
+    return it->second;
+  return default_time_policy(psid);
+}
+
+std::size_t Verifier::ReplayKeyHash::operator()(const ReplayKey& k) const {
+  return Id8Hash{}(k.signer) ^ static_cast<std::size_t>(k.generation_time * 0x9e3779b97f4a7c15ull);
+}
+
+bool Verifier::seen_before(const ReplayKey& key, Time64 forget_at, Time64 now) {
+  while (!replay_expiry_.empty() && replay_expiry_.begin()->first < now) {
+    replay_.erase(replay_expiry_.begin()->second);
+    replay_expiry_.erase(replay_expiry_.begin());
+  }
+  if (replay_.contains(key))
+    return true;
+  if (config_.replay_capacity == 0)
+    return false;
+  if (replay_.size() >= config_.replay_capacity) {
+    // Full: the entry whose window ends first goes (a replay of it would pass undetected).
+    replay_.erase(replay_expiry_.begin()->second);
+    replay_expiry_.erase(replay_expiry_.begin());
+  }
+  replay_.emplace(key, forget_at);
+  replay_expiry_.emplace(forget_at, key);
+  return false;
 }
 
 std::size_t Verifier::Id8Hash::operator()(const HashedId8& id) const {
@@ -238,11 +276,12 @@ VerifyResult Verifier::check(Verification& v, std::optional<Psid> expected, Time
   const Psid psid = h.psid;
   if (!h.generation_time)
     return VerifyResult::kGenerationTimeMissing;
+  const TimePolicy policy = config_.policy(psid);
   // The window on TAI, then on UTC without leap seconds (5 s behind since 2017).
   const auto in_window = [&](Time64 t_now) {
     const auto g = static_cast<std::int64_t>(*h.generation_time);
     const auto n = static_cast<std::int64_t>(t_now);
-    return g >= n - config_.window_past.count() && g <= n + config_.window_future.count();
+    return g >= n - policy.past.count() && g <= n + policy.future.count();
   };
   const Time64 leap = Time64{static_cast<std::uint64_t>(leap_seconds_since_2004(
                           static_cast<std::int64_t>(now / 1000000) + kEpoch2004UnixSeconds))} *
@@ -298,6 +337,12 @@ VerifyResult Verifier::check(Verification& v, std::optional<Psid> expected, Time
   const Bytes& tbs = s.tbs_encoding.empty() ? encode(s.tbs) : s.tbs_encoding;
   if (!signer->key.verify(signed_digest(tbs, signer->hash), s.signature))
     return VerifyResult::kSignatureInvalid;
+  // Replay: checked on packets that verified, so that only the signer's own packets count. An
+  // entry is kept while a packet with its generationTime could still be in the window (`at` is
+  // that time on TAI, like `now`).
+  if (policy.replay_detection && seen_before(ReplayKey{*v.signer, *h.generation_time},
+                                             at + static_cast<Time64>(policy.past.count()), now))
+    return VerifyResult::kReplay;
   return VerifyResult::kOk;
 }
 

@@ -451,12 +451,124 @@ TEST(SignVerify, GenerationTimeWindowOnTaiOrUtc) {
   EXPECT_EQ(at(-7'100'000).result, VerifyResult::kGenerationTimeOutOfWindow);
   EXPECT_EQ(at(-3'500'000).result, VerifyResult::kGenerationTimeOutOfWindow);
   // Without the UTC base only TAI counts.
-  Verifier tai_only = pki.verifier(VerifierConfig{2s, 40ms, false});
+  VerifierConfig tai_cfg;
+  tai_cfg.accept_utc_time_base = false;
+  Verifier tai_only = pki.verifier(tai_cfg);
   EXPECT_EQ(tai_only
                 .verify(signer.sign(kPsidCam, kPayload, kNow - 5'300'000, std::nullopt, true),
                         kPsidCam, kNow)
                 .result,
             VerifyResult::kGenerationTimeOutOfWindow);
+}
+
+TEST(SignVerify, TimeWindowIsSetPerItsAid) {
+  Pki pki;
+  Signer signer = pki.signer();
+  VerifierConfig cfg;
+  cfg.time_policy[kPsidDenm] = TimePolicy{10s, 40ms, false};
+  Verifier verifier = pki.verifier(cfg);
+  const ThreeDLocation here{488000000, 91000000, 4096};
+  auto at = [&](Psid psid, std::chrono::microseconds offset) {
+    const Time64 gen = static_cast<Time64>(static_cast<std::int64_t>(kNow) + offset.count());
+    return verifier
+        .verify(signer.sign(psid, kPayload, gen,
+                            psid == kPsidDenm ? std::optional(here) : std::nullopt, true),
+                psid, kNow)
+        .result;
+  };
+  // DENM: -10 s .. +40 ms; CAM and GN-MGMT keep the default -2 s .. +40 ms.
+  EXPECT_EQ(at(kPsidDenm, -3s), VerifyResult::kOk);
+  EXPECT_EQ(at(kPsidDenm, -9'900ms), VerifyResult::kOk);
+  EXPECT_EQ(at(kPsidCam, -3s), VerifyResult::kGenerationTimeOutOfWindow);
+  EXPECT_EQ(at(kPsidGnMgmt, -3s), VerifyResult::kGenerationTimeOutOfWindow);
+  EXPECT_EQ(at(kPsidDenm, 50ms), VerifyResult::kGenerationTimeOutOfWindow);
+  // -11 s is in the window on the UTC base (5 s behind TAI: -6 s there); -16 s on neither.
+  EXPECT_EQ(at(kPsidDenm, -11s), VerifyResult::kOk);
+  EXPECT_EQ(at(kPsidDenm, -16s), VerifyResult::kGenerationTimeOutOfWindow);
+  EXPECT_EQ(cfg.policy(kPsidDenm).past, 10s);
+  EXPECT_EQ(cfg.policy(kPsidCam), default_time_policy(kPsidCam));
+  EXPECT_EQ(cfg.policy(kPsidCam).past, 2s);
+  EXPECT_EQ(cfg.policy(kPsidCam).future, 40ms);
+}
+
+TEST(SignVerify, ReplayOfOneSignerAndGenerationTimeIsDropped) {
+  Pki pki;
+  Signer signer = pki.signer();
+  Verifier verifier = pki.verifier();
+  const Bytes cam = signer.sign_cam(kPayload, kNow);
+  ASSERT_EQ(verifier.verify(cam, kPsidCam, kNow).result, VerifyResult::kOk);
+  auto again = verifier.verify(cam, kPsidCam, kNow + 10'000);
+  EXPECT_EQ(again.result, VerifyResult::kReplay);
+  EXPECT_EQ(to_string(again.result), "replay");
+  // The same instant signed again, with the digest this time: other octets, the same packet.
+  EXPECT_EQ(verifier
+                .verify(signer.sign(kPsidCam, kPayload, kNow, std::nullopt, false), kPsidCam,
+                        kNow + 20'000)
+                .result,
+            VerifyResult::kReplay);
+  // Another generation time of that signer, or the same time of another signer, is new.
+  EXPECT_EQ(verifier.verify(signer.sign_cam(kPayload, kNow + 1), kPsidCam, kNow + 20'000).result,
+            VerifyResult::kOk);
+  Signer other = pki.signer();
+  EXPECT_EQ(verifier.verify(other.sign_cam(kPayload, kNow), kPsidCam, kNow + 20'000).result,
+            VerifyResult::kOk);
+  EXPECT_EQ(verifier.count(VerifyResult::kReplay), 2u);
+  EXPECT_EQ(verifier.count(VerifyResult::kOk), 3u);
+  EXPECT_EQ(verifier.replay_entries(), 3u);
+  // Only what verified is remembered: a forgery of a new instant does not block the real one.
+  const Bytes real = signer.sign_cam(kPayload, kNow + 2);
+  Bytes forged = real;
+  forged.back() ^= 0x01;  // the signature's s
+  EXPECT_EQ(verifier.verify(forged, kPsidCam, kNow + 20'000).result,
+            VerifyResult::kSignatureInvalid);
+  EXPECT_EQ(verifier.verify(real, kPsidCam, kNow + 20'000).result, VerifyResult::kOk);
+  EXPECT_EQ(verifier.replay_entries(), 4u);
+}
+
+TEST(SignVerify, ReplayTableForgetsWhatLeftTheWindowAndIsCapped) {
+  Pki pki;
+  Signer signer = pki.signer();
+  VerifierConfig cfg;
+  cfg.replay_capacity = 3;
+  Verifier verifier = pki.verifier(cfg);
+  std::vector<Bytes> sent;
+  for (int i = 0; i < 3; ++i) {
+    sent.push_back(signer.sign_cam(kPayload, kNow + i * 100'000));
+    ASSERT_EQ(verifier.verify(sent.back(), kPsidCam, kNow + i * 100'000).result, VerifyResult::kOk);
+  }
+  EXPECT_EQ(verifier.replay_entries(), 3u);
+  // Full: a fourth pushes out the one whose window ends first (the oldest), whose replay then
+  // passes; the others are still caught.
+  sent.push_back(signer.sign_cam(kPayload, kNow + 300'000));
+  ASSERT_EQ(verifier.verify(sent.back(), kPsidCam, kNow + 300'000).result, VerifyResult::kOk);
+  EXPECT_EQ(verifier.replay_entries(), 3u);
+  EXPECT_EQ(verifier.verify(sent[3], kPsidCam, kNow + 310'000).result, VerifyResult::kReplay);
+  EXPECT_EQ(verifier.verify(sent[2], kPsidCam, kNow + 310'000).result, VerifyResult::kReplay);
+  // 2 s after the last one every entry has left its window and is forgotten; the old packets
+  // are out of the window themselves.
+  const Time64 later = kNow + 300'000 + 2'000'001;
+  EXPECT_EQ(verifier.verify(signer.sign_cam(kPayload, later), kPsidCam, later).result,
+            VerifyResult::kOk);
+  EXPECT_EQ(verifier.replay_entries(), 1u);
+  EXPECT_EQ(verifier.verify(sent[3], kPsidCam, later).result,
+            VerifyResult::kGenerationTimeOutOfWindow);
+}
+
+TEST(SignVerify, DenmRepeatsAreLeftToGeoNetworkingUnlessSetOtherwise) {
+  Pki pki;
+  Signer signer = pki.signer();
+  const ThreeDLocation here{488000000, 91000000, 4096};
+  const Bytes denm = signer.sign_denm(kPayload, kNow, here);
+  // By default a DENM's forwarded copies (the same octets) all verify: GN drops duplicates.
+  Verifier by_default = pki.verifier();
+  EXPECT_EQ(by_default.verify(denm, kPsidDenm, kNow).result, VerifyResult::kOk);
+  EXPECT_EQ(by_default.verify(denm, kPsidDenm, kNow + 100'000).result, VerifyResult::kOk);
+  EXPECT_EQ(by_default.replay_entries(), 0u);
+  VerifierConfig cfg;
+  cfg.time_policy[kPsidDenm] = TimePolicy{2s, 40ms, true};
+  Verifier strict = pki.verifier(cfg);
+  EXPECT_EQ(strict.verify(denm, kPsidDenm, kNow).result, VerifyResult::kOk);
+  EXPECT_EQ(strict.verify(denm, kPsidDenm, kNow + 100'000).result, VerifyResult::kReplay);
 }
 
 TEST(SignVerify, SocktapSelfSignedCamsAreRejectedWithTheirReason) {
