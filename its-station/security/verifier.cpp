@@ -1,6 +1,8 @@
 #include "its-station/security/verifier.hpp"
 
+#include <charconv>
 #include <cstring>
+#include <system_error>
 
 #include "its-station/security/pki.hpp"
 
@@ -71,6 +73,54 @@ TimePolicy VerifierConfig::policy(Psid psid) const {
   if (auto it = time_policy.find(psid); it != time_policy.end())
     return it->second;
   return default_time_policy(psid);
+}
+
+namespace {
+
+/// The decimal integer @p text in [@p min, @p max], or nothing.
+std::optional<std::int64_t> decimal(std::string_view text, std::int64_t min, std::int64_t max) {
+  std::int64_t v = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc{} || end != text.data() + text.size() || v < min || v > max)
+    return std::nullopt;
+  return v;
+}
+
+}  // namespace
+
+Expected<std::pair<Psid, TimePolicy>, std::string> parse_time_window(std::string_view spec) {
+  using Error = Unexpected<std::string>;
+  const auto named = [&](const std::string& why) {
+    return Error{"\"" + std::string(spec) + "\": " + why +
+                 " (expected PSID=PAST_MS or PSID=PAST_MS:FUTURE_MS, e.g. 37=10000:40)"};
+  };
+  const auto eq = spec.find('=');
+  if (eq == std::string_view::npos)
+    return named("no '='");
+  const std::string_view psid_text = spec.substr(0, eq);
+  const std::string_view rest = spec.substr(eq + 1);
+  const auto colon = rest.find(':');
+  const std::string_view past_text = rest.substr(0, colon);
+  // ITS-AIDs of TS 102 965 are PSIDs of at most four octets (1609.2 6.4.30 Psid, p-encoded).
+  const auto psid = decimal(psid_text, 0, 0xffffffffLL);
+  if (!psid)
+    return named("PSID \"" + std::string(psid_text) + "\" is not an ITS-AID (36 CAM, 37 DENM, " +
+                 "141 GN-MGMT, ...)");
+  const auto past = decimal(past_text, 0, kMaxWindowPastMs);
+  if (!past)
+    return named("PAST_MS \"" + std::string(past_text) + "\" is not a number of ms in 0.." +
+                 std::to_string(kMaxWindowPastMs));
+  TimePolicy p = default_time_policy(static_cast<Psid>(*psid));
+  p.past = std::chrono::milliseconds(*past);
+  if (colon != std::string_view::npos) {
+    const std::string_view future_text = rest.substr(colon + 1);
+    const auto future = decimal(future_text, 0, kMaxWindowFutureMs);
+    if (!future)
+      return named("FUTURE_MS \"" + std::string(future_text) + "\" is not a number of ms in 0.." +
+                   std::to_string(kMaxWindowFutureMs));
+    p.future = std::chrono::milliseconds(*future);
+  }
+  return std::pair{static_cast<Psid>(*psid), p};
 }
 
 std::size_t Verifier::ReplayKeyHash::operator()(const ReplayKey& k) const {

@@ -13,10 +13,13 @@
 #include <map>
 #include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
+#include "common/util/expected.hpp"
 #include "its-station/security/crypto.hpp"
 #include "its-station/security/ieee1609dot2.hpp"
 #include "its-station/security/time.hpp"
@@ -86,6 +89,16 @@ struct VerifierConfig {
 
   TimePolicy policy(Psid psid) const;
 };
+
+/// Bounds of a window a station or scenario sets (ms): beyond them a "window" would be no
+/// freshness check at all.
+inline constexpr std::int64_t kMaxWindowPastMs = 600'000;
+inline constexpr std::int64_t kMaxWindowFutureMs = 60'000;
+
+/// One `--security-time-window` value, `PSID=PAST_MS` or `PSID=PAST_MS:FUTURE_MS`: the window
+/// of ITS-AID PSID; the future side (when not given) and replay detection keep the PSID's
+/// defaults. The error names the value and the part that is wrong.
+Expected<std::pair<Psid, TimePolicy>, std::string> parse_time_window(std::string_view spec);
 
 /// What verify() found. The decoded packet is there whatever the result (unless malformed), so
 /// that a permissive station can pass the payload up with the reason.

@@ -491,6 +491,29 @@ TEST(SignVerify, TimeWindowIsSetPerItsAid) {
   EXPECT_EQ(cfg.policy(kPsidCam).future, 40ms);
 }
 
+TEST(SignVerify, TimeWindowOptionIsParsedOrRefusedByName) {
+  auto w = parse_time_window("37=10000:40");
+  ASSERT_TRUE(w) << w.error();
+  EXPECT_EQ(w->first, kPsidDenm);
+  EXPECT_EQ(w->second.past, 10s);
+  EXPECT_EQ(w->second.future, 40ms);
+  EXPECT_FALSE(w->second.replay_detection);  // DENM's default kept
+  auto cam = parse_time_window("36=1500");
+  ASSERT_TRUE(cam) << cam.error();
+  EXPECT_EQ(cam->second.past, 1500ms);
+  EXPECT_EQ(cam->second.future, default_time_policy(kPsidCam).future);
+  EXPECT_TRUE(cam->second.replay_detection);
+  for (const char* bad : {"36", "cam=2000", "36=", "36=-1", "36=600001", "36=2000:60001",
+                          "36=2000:soon", "4294967296=10"}) {
+    auto r = parse_time_window(bad);
+    ASSERT_FALSE(r) << bad;
+    EXPECT_NE(r.error().find(std::string("\"") + bad + "\""), std::string::npos) << r.error();
+  }
+  EXPECT_NE(parse_time_window("36=2000:soon").error().find("FUTURE_MS \"soon\""),
+            std::string::npos);
+  EXPECT_NE(parse_time_window("cam=2000").error().find("PSID \"cam\""), std::string::npos);
+}
+
 TEST(SignVerify, ReplayOfOneSignerAndGenerationTimeIsDropped) {
   Pki pki;
   Signer signer = pki.signer();
