@@ -124,7 +124,8 @@ Expected<std::pair<Psid, TimePolicy>, std::string> parse_time_window(std::string
 }
 
 std::size_t Verifier::ReplayKeyHash::operator()(const ReplayKey& k) const {
-  return Id8Hash{}(k.signer) ^ static_cast<std::size_t>(k.generation_time * 0x9e3779b97f4a7c15ull);
+  return Id8Hash{}(k.signer) ^
+         static_cast<std::size_t>((k.generation_time ^ (k.psid << 48)) * 0x9e3779b97f4a7c15ull);
 }
 
 bool Verifier::seen_before(const ReplayKey& key, Time64 forget_at, Time64 now) {
@@ -390,7 +391,7 @@ VerifyResult Verifier::check(Verification& v, std::optional<Psid> expected, Time
   // Replay: checked on packets that verified, so that only the signer's own packets count. An
   // entry is kept while a packet with its generationTime could still be in the window (`at` is
   // that time on TAI, like `now`).
-  if (policy.replay_detection && seen_before(ReplayKey{*v.signer, *h.generation_time},
+  if (policy.replay_detection && seen_before(ReplayKey{*v.signer, psid, *h.generation_time},
                                              at + static_cast<Time64>(policy.past.count()), now))
     return VerifyResult::kReplay;
   return VerifyResult::kOk;

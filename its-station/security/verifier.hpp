@@ -45,8 +45,9 @@ enum class VerifyResult : std::uint8_t {
   kSspNotPermitted,            ///< the AT's SSP for the psid is not one the station accepts
   kIssuerNotPermitted,         ///< the AA's certIssuePermissions lack the psid
   kSignatureInvalid,           ///< the packet's signature does not verify
-  /// A packet that verified, from a signer and with a generationTime already accepted within
-  /// the window (1609.2 5.2.4.2.3 replay detection; see VerifierConfig::time_policy).
+  /// A packet that verified, from a signer, for an ITS-AID and with a generationTime already
+  /// accepted within the window (1609.2 5.2.4.2.3 replay detection; see
+  /// VerifierConfig::time_policy).
   kReplay,
   kCount
 };
@@ -166,9 +167,11 @@ class Verifier {
     const Entry* issuer = nullptr;  ///< null for a root
   };
 
-  /// A packet for replay detection: its signer and its generationTime (as sent).
+  /// A packet for replay detection: its signer, its ITS-AID (a beacon and a CAM may be signed
+  /// in one microsecond) and its generationTime (as sent).
   struct ReplayKey {
     HashedId8 signer{};
+    Psid psid = 0;
     Time64 generation_time = 0;
     bool operator==(const ReplayKey&) const = default;
   };
