@@ -1,12 +1,14 @@
 #include "common/scenario/loader.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
 #include <set>
 #include <sstream>
+#include <system_error>
 #include <unordered_map>
 
 #include <fmt/format.h>
@@ -318,6 +320,34 @@ CamPolicy read_cam(Node n) {
   }
   n.finish({{"period_ms", "only with \"policy\": \"fixed\""}});
   return c;
+}
+
+/// `security_time_windows`: {"<PSID>": {"past_ms": N, "future_ms": N}, ...}. The bounds are
+/// the station's (its-station/security/verifier.hpp kMaxWindowPastMs / kMaxWindowFutureMs).
+std::map<std::uint64_t, SecurityTimeWindow> read_security_time_windows(Node n) {
+  n.expect_object("the generation-time windows by ITS-AID");
+  std::map<std::uint64_t, SecurityTimeWindow> out;
+  for (const auto& [key, value] : n.json().items()) {
+    Node w = n.required(key);
+    std::uint64_t psid = 0;
+    const auto [end, ec] = std::from_chars(key.data(), key.data() + key.size(), psid);
+    if (ec != std::errc{} || end != key.data() + key.size() || psid > 0xffffffffULL)
+      w.fail(
+          fmt::format("\"{}\" is not an ITS-AID (a PSID such as \"36\" CAM, \"37\" DENM, "
+                      "\"141\" GN-MGMT)",
+                      key));
+    w.expect_object("a generation-time window");
+    SecurityTimeWindow t;
+    if (auto p = w.optional("past_ms"))
+      t.past_ms = p->integer(0, 600'000);
+    if (auto f = w.optional("future_ms"))
+      t.future_ms = f->integer(0, 60'000);
+    w.finish();
+    if (!t.past_ms && !t.future_ms)
+      w.fail("give past_ms, future_ms or both");
+    out[psid] = t;
+  }
+  return out;
 }
 
 ChannelModel read_channel(Node n) {
@@ -902,6 +932,9 @@ Scenario parse(std::string_view json_text, const std::string& file_name,
     else
       sec->fail(fmt::format("\"{}\" is not one of \"none\", \"signed\", \"signed-permissive\"", m));
   }
+
+  if (auto w = root.optional("security_time_windows"))
+    s.security_time_windows = read_security_time_windows(*w);
 
   if (auto seed = root.optional("seed"))
     s.seed = static_cast<std::uint64_t>(seed->integer(0, (1LL << 53) - 1));

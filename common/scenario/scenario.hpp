@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -284,6 +285,14 @@ enum class SecurityMode {
   kSignedPermissive,  ///< sign; pass up what fails verification, with the reason
 };
 
+/// One entry of `security_time_windows` (issue 31): how far a signed packet's generationTime may
+/// lie before (past_ms) and after (future_ms) a receiving station's time, for one ITS-AID. What
+/// is not given keeps the station's default for that ITS-AID (its-station/security/verifier.hpp).
+struct SecurityTimeWindow {
+  std::optional<std::int64_t> past_ms;
+  std::optional<std::int64_t> future_ms;
+};
+
 /// The warm-up a scenario gets unless it says otherwise: a GNSS receiver reports its first fix
 /// about 1.3 s after its first epoch (gpsd waits for a whole cycle), and a CAM follows; 3 s
 /// leaves room for that on a loaded machine.
@@ -317,6 +326,8 @@ struct Scenario {
   CamPolicy cam;
   ChannelModel channel;
   SecurityMode security = SecurityMode::kNone;
+  /// `security_time_windows`: by ITS-AID (PSID: 36 CAM, 37 DENM, 141 GN-MGMT, ...).
+  std::map<std::uint64_t, SecurityTimeWindow> security_time_windows;
   /// Seeds the scenario's random choices (random routes), so that a run repeats.
   std::uint64_t seed = 1;
   std::vector<Vehicle> vehicles;

@@ -70,6 +70,8 @@ struct Options {
   std::string cam_policy;  // etsi | fixed; empty: from the scenario
   std::string security;    // none | signed | signed-permissive; empty: from the scenario
   std::string pki_dir;     // its-pki's directory (root, AA, this station's AT)
+  // PSID=PAST_MS[:FUTURE_MS], each over the scenario's security_time_windows for that PSID
+  std::vector<std::string> security_time_windows;
   double cam_period_ms = 0.0;
   std::string mqtt_host;
   int mqtt_port = 1883;
@@ -538,6 +540,8 @@ int run(const Options& o) {
           {"verify", v},
           {"passed_unverified", security->passed_unverified()},
           {"held", security->held()},
+          // (signer, generationTime) pairs kept for replay detection (verify.replay counts hits)
+          {"replay_entries", security->verifier().replay_entries()},
           {"unsecured_dropped", router.stats().dropped(tb::its::geonet::DropReason::kUnsecured)},
           {"cam_ssp_refused", ca.counters().not_permitted},
           {"denm_ssp_refused", den.counters().not_permitted},
@@ -643,9 +647,30 @@ std::unique_ptr<tb::its::security::SecurityEntity> make_security(
     throw Fatal{fmt::format("security {} needs --pki-dir (make one with its-pki make)",
                             sec::to_string(mode)),
                 2};
+  // Generation-time windows per ITS-AID: the defaults, then the scenario's, then the options.
+  sec::VerifierConfig config;
+  if (scenario) {
+    for (const auto& [psid, w] : scenario->security_time_windows) {
+      sec::TimePolicy p = sec::default_time_policy(psid);
+      if (w.past_ms)
+        p.past = std::chrono::milliseconds(*w.past_ms);
+      if (w.future_ms)
+        p.future = std::chrono::milliseconds(*w.future_ms);
+      config.time_policy[psid] = p;
+    }
+  }
+  for (const auto& spec : o.security_time_windows) {
+    const auto w = sec::parse_time_window(spec);  // CLI11 checked it
+    config.time_policy[w->first] = w->second;
+  }
+  for (const auto& [psid, p] : config.time_policy)
+    spdlog::info("security: generation-time window of ITS-AID {}: -{} ms .. +{} ms{}", psid,
+                 std::chrono::duration_cast<std::chrono::milliseconds>(p.past).count(),
+                 std::chrono::duration_cast<std::chrono::milliseconds>(p.future).count(),
+                 p.replay_detection ? ", replays dropped" : "");
   try {
     auto creds = sec::load_station_credentials(sec::PkiPaths{o.pki_dir}, o.station_id);
-    sec::Verifier verifier({creds.root});
+    sec::Verifier verifier({creds.root}, config);
     // The chain is checked here, the validity per packet on the ITS clock: before the first
     // fix nobody knows the world's date, which a pinned start_time puts far from the host's.
     const auto aa = verifier.add_authority(
@@ -698,6 +723,16 @@ int main(int argc, char** argv) {
                  "override the scenario's security: none, signed, signed-permissive")
       ->check(CLI::IsMember({"none", "signed", "signed-permissive"}));
   app.add_option("--pki-dir", o.pki_dir, "its-pki directory with root, AA and this station's AT");
+  app.add_option("--security-time-window", o.security_time_windows,
+                 "generation-time window of an ITS-AID, PSID=PAST_MS[:FUTURE_MS] (e.g. "
+                 "37=10000:40), repeatable; over the scenario's security_time_windows "
+                 "(default for every ITS-AID: 2000:40)")
+      ->check(CLI::Validator(
+          [](std::string& v) {
+            const auto w = tb::its::security::parse_time_window(v);
+            return w ? std::string() : w.error();
+          },
+          "PSID=PAST_MS[:FUTURE_MS]"));
   app.add_option("--cam-period-ms", o.cam_period_ms, "period of the fixed CAM policy")
       ->check(CLI::Range(10.0, 10000.0));
   app.add_option("--mqtt-host", o.mqtt_host, "MQTT broker (none: no MQTT)");

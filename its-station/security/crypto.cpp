@@ -15,6 +15,8 @@
 #include <cstring>
 #include <utility>
 
+#include "its-station/asn1/coer.hpp"
+
 namespace tb::its::security {
 namespace {
 
@@ -78,18 +80,72 @@ HashedId3 hashed_id3(const HashedId8& id) {
   return {id[5], id[6], id[7]};
 }
 
-Bytes canonical_encoding(const Certificate& c) {
-  const auto& key = c.tbs.verify_key.point.form;
-  const bool key_ok = key == EccP256CurvePoint::Form::kCompressedY0 ||
-                      key == EccP256CurvePoint::Form::kCompressedY1;
-  const bool sig_ok = !c.signature || c.signature->r.form == EccP256CurvePoint::Form::kXOnly;
-  if (key_ok && sig_ok)
-    return c.encoding.empty() ? encode(c) : c.encoding;
-  Certificate canon = c;
-  auto& p = canon.tbs.verify_key.point;
+namespace {
+
+bool compressed(const EccP256CurvePoint& p) {
+  return p.form == EccP256CurvePoint::Form::kCompressedY0 ||
+         p.form == EccP256CurvePoint::Form::kCompressedY1;
+}
+
+/// 1609.2 6.4.3 canonicalisation of a verification key: compressed-y-0/1 from uncompressed.
+EccP256CurvePoint canonical_key(EccP256CurvePoint p) {
   if (p.form == EccP256CurvePoint::Form::kUncompressed)
     p.form = (p.y[31] & 1) != 0 ? EccP256CurvePoint::Form::kCompressedY1
                                 : EccP256CurvePoint::Form::kCompressedY0;
+  return p;
+}
+
+/// Whether the received octets of @p c can be spliced (decoded here, offsets in range).
+bool spliceable(const Certificate& c) {
+  return !c.tbs_octets().empty() && c.key_length > 0 && c.key_offset >= c.tbs_offset &&
+         c.key_offset + c.key_length <= c.tbs_offset + c.tbs_length;
+}
+
+/// The received toBeSigned octets of @p c with the verification key canonical.
+Bytes spliced_tbs(const Certificate& c) {
+  const auto tbs = c.tbs_octets();
+  if (compressed(c.tbs.verify_key.point))
+    return Bytes(tbs.begin(), tbs.end());
+  Bytes out(tbs.begin(), tbs.begin() + static_cast<std::ptrdiff_t>(c.key_offset - c.tbs_offset));
+  asn1::CoerWriter w(out);
+  coer::put(w, canonical_key(c.tbs.verify_key.point));
+  out.insert(out.end(),
+             tbs.begin() + static_cast<std::ptrdiff_t>(c.key_offset + c.key_length - c.tbs_offset),
+             tbs.end());
+  return out;
+}
+
+}  // namespace
+
+Bytes canonical_tbs(const Certificate& c) {
+  if (spliceable(c))
+    return spliced_tbs(c);
+  ToBeSignedCertificate t = c.tbs;
+  t.verify_key.point = canonical_key(t.verify_key.point);
+  return encode(t);
+}
+
+Bytes canonical_encoding(const Certificate& c) {
+  const bool key_ok = compressed(c.tbs.verify_key.point);
+  const bool sig_ok = !c.signature || c.signature->r.form == EccP256CurvePoint::Form::kXOnly;
+  if (key_ok && sig_ok && !c.encoding.empty())
+    return c.encoding;
+  if (spliceable(c)) {
+    // The issuer, the canonical toBeSigned, the signature with r x-only: nothing the decoder
+    // skipped is lost.
+    Bytes out(c.encoding.begin(), c.encoding.begin() + static_cast<std::ptrdiff_t>(c.tbs_offset));
+    const Bytes tbs = spliced_tbs(c);
+    out.insert(out.end(), tbs.begin(), tbs.end());
+    if (c.signature) {
+      Signature s = *c.signature;
+      s.r.form = EccP256CurvePoint::Form::kXOnly;
+      asn1::CoerWriter w(out);
+      coer::put(w, s);
+    }
+    return out;
+  }
+  Certificate canon = c;
+  canon.tbs.verify_key.point = canonical_key(canon.tbs.verify_key.point);
   if (canon.signature)
     canon.signature->r.form = EccP256CurvePoint::Form::kXOnly;
   return encode(canon);

@@ -29,8 +29,14 @@ HashedId8 hashed_id8(const Octets32& certificate_hash);
 HashedId3 hashed_id3(const HashedId8& id);
 
 /// The canonical COER octets of @p c: its received octets when they already are canonical,
-/// else a re-encoding with uncompressed keys compressed and signature r made x-only.
+/// else those octets with an uncompressed verification key compressed and signature r made
+/// x-only (1609.2 6.4.3); a certificate built here is encoded.
 Bytes canonical_encoding(const Certificate& c);
+
+/// The canonical COER octets of @p c's toBeSigned, the data input of the issuer's signature
+/// (1609.2 6.4.3, 5.3.1): the received octets, extension additions the decoder skips included,
+/// with an uncompressed verification key compressed; encode(c.tbs) for one built here.
+Bytes canonical_tbs(const Certificate& c);
 
 /// SHA-256 over SHA-256(@p tbs) || SHA-256(@p signer): the digest 1609.2 5.3.1 signs; the
 /// signer octets are empty for a self-signed (root) certificate.

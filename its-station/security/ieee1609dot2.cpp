@@ -174,6 +174,12 @@ void put_tbs_certificate(CoerWriter& w, const ToBeSignedCertificate& t) {
 }
 
 void put_certificate(CoerWriter& w, const Certificate& c) {
+  // A decoded certificate goes on as it came (a P2PCD answer, our own AT from its file): its
+  // issuer's signature is over those octets, extension additions the decoder skips included.
+  if (!c.tbs_octets().empty()) {
+    w.octets(c.encoding);
+    return;
+  }
   w.preamble(false, false, c.signature ? 1 : 0, 1);
   w.u8(3);          // version
   w.enumerated(0);  // type explicit
@@ -517,7 +523,9 @@ void keep_octets(CoerReader& r, Bytes& out, Get get) {
   out.assign(b.begin(), b.end());
 }
 
-void get_tbs_certificate(CoerReader& r, ToBeSignedCertificate& t) {
+/// @p key_from / @p key_to get the reader's offsets around the verification key's point.
+void get_tbs_certificate(CoerReader& r, ToBeSignedCertificate& t, std::size_t* key_from = nullptr,
+                         std::size_t* key_to = nullptr) {
   bool ext = false;
   const std::uint32_t flags = r.preamble(true, &ext, 7, "ToBeSignedCertificate");
   const unsigned id = r.choice_tag("CertificateId");
@@ -598,7 +606,11 @@ void get_tbs_certificate(CoerReader& r, ToBeSignedCertificate& t) {
     return;
   }
   t.verify_key.curve = static_cast<EccCurve>(curve);
+  if (key_from)
+    *key_from = r.offset();
   get_point(r, t.verify_key.point, "verificationKey");
+  if (key_to)
+    *key_to = r.offset();
   if (ext && r.ok()) {
     std::size_t present = 0;
     r.extension_bitmap(0, &present, "ToBeSignedCertificate extensions");
@@ -640,12 +652,22 @@ void get_certificate(CoerReader& r, Certificate& c) {
       unsupported_alternative(r, issuer, "IssuerIdentifier");
       return;
   }
-  get_tbs_certificate(r, c.tbs);
+  // 1609.2 6.4.3: the issuer signs the COER octets of toBeSigned; they are kept as received
+  // (COER is canonical and the reader enforces it), extension additions it skips included.
+  const std::size_t tbs_from = r.offset();
+  std::size_t key_from = 0;
+  std::size_t key_to = 0;
+  get_tbs_certificate(r, c.tbs, &key_from, &key_to);
+  const std::size_t tbs_to = r.offset();
   if (has_signature)
     get_signature(r, c.signature.emplace());
   if (r.ok()) {
     auto b = r.consumed_since(from);
     c.encoding.assign(b.begin(), b.end());
+    c.tbs_offset = tbs_from - from;
+    c.tbs_length = tbs_to - tbs_from;
+    c.key_offset = key_from - from;
+    c.key_length = key_to - key_from;
   }
 }
 
@@ -810,6 +832,9 @@ void put(CoerWriter& w, const Signature& s) {
   w.choice_tag(static_cast<unsigned>(s.curve));
   put_point(w, s.r);
   w.octets(s.s);
+}
+void put(CoerWriter& w, const EccP256CurvePoint& p) {
+  put_point(w, p);
 }
 void get(CoerReader& r, Certificate& c) {
   get_certificate(r, c);

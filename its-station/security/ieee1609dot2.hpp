@@ -174,12 +174,29 @@ struct IssuerIdentifier {
   }
 };
 
-/// EtsiTs103097Certificate: CertificateBase version 3, type explicit.
+/// EtsiTs103097Certificate: CertificateBase version 3, type explicit. A decoded certificate is
+/// encoded as the octets it came in; change one through sign_certificate() (pki.hpp), which
+/// encodes it anew.
 struct Certificate {
   IssuerIdentifier issuer;
   ToBeSignedCertificate tbs;
   std::optional<Signature> signature;
   Bytes encoding;  ///< the octets it was decoded from (empty when built here)
+  /// Where toBeSigned lies in `encoding` (offset, length; length 0 when built here): the octets
+  /// the issuer signed (1609.2 6.4.3, 5.3.1), extension additions the decoder skips included.
+  std::size_t tbs_offset = 0;
+  std::size_t tbs_length = 0;
+  /// Where toBeSigned.verifyKeyIndicator's EccP256CurvePoint lies in `encoding`: the one part
+  /// of the received octets that canonicalisation (1609.2 6.4.3: compressed points) may change.
+  std::size_t key_offset = 0;
+  std::size_t key_length = 0;
+
+  /// The received toBeSigned octets (empty when built here).
+  std::span<const std::uint8_t> tbs_octets() const {
+    if (tbs_length == 0 || tbs_offset + tbs_length > encoding.size())
+      return {};
+    return std::span(encoding).subspan(tbs_offset, tbs_length);
+  }
   bool operator==(const Certificate& o) const {
     return issuer == o.issuer && tbs == o.tbs && signature == o.signature;
   }
@@ -278,6 +295,7 @@ namespace coer {
 void put(asn1::CoerWriter& w, const Certificate& c);
 void put(asn1::CoerWriter& w, const ToBeSignedData& t);
 void put(asn1::CoerWriter& w, const Signature& s);
+void put(asn1::CoerWriter& w, const EccP256CurvePoint& p);
 void get(asn1::CoerReader& r, Certificate& c);
 }  // namespace coer
 

@@ -15,8 +15,16 @@ void sign_certificate(Certificate& c, const Certificate* issuer, const EcKey& is
     c.issuer.self_hash = HashAlgorithm::kSha256;
   }
   const Octets32 signer_hash = issuer != nullptr ? certificate_hash(*issuer) : sha256({});
-  c.signature = issuer_key.sign(signed_digest(encode(c.tbs), signer_hash));
-  c.encoding = encode(c);
+  // Whatever octets it was decoded from no longer hold: encoded from the fields.
+  c.encoding.clear();
+  c.tbs_offset = c.tbs_length = c.key_offset = c.key_length = 0;
+  c.signature = issuer_key.sign(signed_digest(canonical_tbs(c), signer_hash));
+  // Decoded back, so that it carries its octets and their parts like a received one.
+  auto decoded = decode_certificate(encode(c));
+  if (!decoded)
+    throw CryptoError("sign_certificate: the certificate does not encode: " +
+                      asn1::to_string(decoded.error()));
+  c = std::move(*decoded);
 }
 
 namespace {

@@ -1,6 +1,8 @@
 #include "its-station/security/verifier.hpp"
 
+#include <charconv>
 #include <cstring>
+#include <system_error>
 
 #include "its-station/security/pki.hpp"
 
@@ -44,6 +46,8 @@ std::string_view to_string(VerifyResult r) {
       return "issuer_not_permitted";
     case VerifyResult::kSignatureInvalid:
       return "signature_invalid";
+    case VerifyResult::kReplay:
+      return "replay";
     case VerifyResult::kCount:
       break;
   }
@@ -56,6 +60,91 @@ std::span<const std::uint8_t> Verification::payload() const {
   if (data.signed_data.tbs.payload.data)
     return *data.signed_data.tbs.payload.data;
   return {};
+}
+
+TimePolicy default_time_policy(Psid psid) {
+  TimePolicy p;  // -2 s .. +40 ms, replay detection on
+  if (psid == kPsidDenm)
+    p.replay_detection = false;  // forwarded copies are GeoNetworking's (verifier.hpp)
+  return p;
+}
+
+TimePolicy VerifierConfig::policy(Psid psid) const {
+  if (auto it = time_policy.find(psid); it != time_policy.end())
+    return it->second;
+  return default_time_policy(psid);
+}
+
+namespace {
+
+/// The decimal integer @p text in [@p min, @p max], or nothing.
+std::optional<std::int64_t> decimal(std::string_view text, std::int64_t min, std::int64_t max) {
+  std::int64_t v = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc{} || end != text.data() + text.size() || v < min || v > max)
+    return std::nullopt;
+  return v;
+}
+
+}  // namespace
+
+Expected<std::pair<Psid, TimePolicy>, std::string> parse_time_window(std::string_view spec) {
+  using Error = Unexpected<std::string>;
+  const auto named = [&](const std::string& why) {
+    return Error{"\"" + std::string(spec) + "\": " + why +
+                 " (expected PSID=PAST_MS or PSID=PAST_MS:FUTURE_MS, e.g. 37=10000:40)"};
+  };
+  const auto eq = spec.find('=');
+  if (eq == std::string_view::npos)
+    return named("no '='");
+  const std::string_view psid_text = spec.substr(0, eq);
+  const std::string_view rest = spec.substr(eq + 1);
+  const auto colon = rest.find(':');
+  const std::string_view past_text = rest.substr(0, colon);
+  // ITS-AIDs of TS 102 965 are PSIDs of at most four octets (1609.2 6.4.30 Psid, p-encoded).
+  const auto psid = decimal(psid_text, 0, 0xffffffffLL);
+  if (!psid)
+    return named("PSID \"" + std::string(psid_text) + "\" is not an ITS-AID (36 CAM, 37 DENM, " +
+                 "141 GN-MGMT, ...)");
+  const auto past = decimal(past_text, 0, kMaxWindowPastMs);
+  if (!past)
+    return named("PAST_MS \"" + std::string(past_text) + "\" is not a number of ms in 0.." +
+                 std::to_string(kMaxWindowPastMs));
+  TimePolicy p = default_time_policy(static_cast<Psid>(*psid));
+  p.past = std::chrono::milliseconds(*past);
+  if (colon != std::string_view::npos) {
+    const std::string_view future_text = rest.substr(colon + 1);
+    const auto future = decimal(future_text, 0, kMaxWindowFutureMs);
+    if (!future)
+      return named("FUTURE_MS \"" + std::string(future_text) + "\" is not a number of ms in 0.." +
+                   std::to_string(kMaxWindowFutureMs));
+    p.future = std::chrono::milliseconds(*future);
+  }
+  return std::pair{static_cast<Psid>(*psid), p};
+}
+
+std::size_t Verifier::ReplayKeyHash::operator()(const ReplayKey& k) const {
+  return Id8Hash{}(k.signer) ^
+         static_cast<std::size_t>((k.generation_time ^ (k.psid << 48)) * 0x9e3779b97f4a7c15ull);
+}
+
+bool Verifier::seen_before(const ReplayKey& key, Time64 forget_at, Time64 now) {
+  while (!replay_expiry_.empty() && replay_expiry_.begin()->first < now) {
+    replay_.erase(replay_expiry_.begin()->second);
+    replay_expiry_.erase(replay_expiry_.begin());
+  }
+  if (replay_.contains(key))
+    return true;
+  if (config_.replay_capacity == 0)
+    return false;
+  if (replay_.size() >= config_.replay_capacity) {
+    // Full: the entry whose window ends first goes (a replay of it would pass undetected).
+    replay_.erase(replay_expiry_.begin()->second);
+    replay_expiry_.erase(replay_expiry_.begin());
+  }
+  replay_.emplace(key, forget_at);
+  replay_expiry_.emplace(forget_at, key);
+  return false;
 }
 
 std::size_t Verifier::Id8Hash::operator()(const HashedId8& id) const {
@@ -123,7 +212,7 @@ Verifier::Verifier(std::vector<Certificate> trusted_roots, VerifierConfig config
     Entry e;
     e.hash = certificate_hash(root);
     e.key = EcKey::from_point(root.tbs.verify_key.curve, root.tbs.verify_key.point);
-    if (!e.key.verify(signed_digest(encode(root.tbs), sha256({})), *root.signature))
+    if (!e.key.verify(signed_digest(canonical_tbs(root), sha256({})), *root.signature))
       throw CryptoError("trusted root: its self-signature does not verify");
     e.cert = std::move(root);
     const HashedId8 id = hashed_id8(e.hash);
@@ -136,8 +225,9 @@ VerifyResult Verifier::check_issued(const Certificate& c, const Entry& issuer, T
     return VerifyResult::kCertificateSignature;
   if (!within_validity(c, at) || !within_validity(issuer.cert, at))
     return VerifyResult::kCertificateNotValid;
-  // The tbsCertificate as received: COER is canonical, so its re-encoding is those octets.
-  if (!issuer.key.verify(signed_digest(encode(c.tbs), issuer.hash), *c.signature))
+  // 1609.2 6.4.3, 5.3.1: over toBeSigned as received (COER, canonical by the decoder's rules),
+  // not a re-encoding of what the decoder understood: extension additions it skips count.
+  if (!issuer.key.verify(signed_digest(canonical_tbs(c), issuer.hash), *c.signature))
     return VerifyResult::kCertificateSignature;
   return VerifyResult::kOk;
 }
@@ -237,11 +327,12 @@ VerifyResult Verifier::check(Verification& v, std::optional<Psid> expected, Time
   const Psid psid = h.psid;
   if (!h.generation_time)
     return VerifyResult::kGenerationTimeMissing;
+  const TimePolicy policy = config_.policy(psid);
   // The window on TAI, then on UTC without leap seconds (5 s behind since 2017).
   const auto in_window = [&](Time64 t_now) {
     const auto g = static_cast<std::int64_t>(*h.generation_time);
     const auto n = static_cast<std::int64_t>(t_now);
-    return g >= n - config_.window_past.count() && g <= n + config_.window_future.count();
+    return g >= n - policy.past.count() && g <= n + policy.future.count();
   };
   const Time64 leap = Time64{static_cast<std::uint64_t>(leap_seconds_since_2004(
                           static_cast<std::int64_t>(now / 1000000) + kEpoch2004UnixSeconds))} *
@@ -297,6 +388,12 @@ VerifyResult Verifier::check(Verification& v, std::optional<Psid> expected, Time
   const Bytes& tbs = s.tbs_encoding.empty() ? encode(s.tbs) : s.tbs_encoding;
   if (!signer->key.verify(signed_digest(tbs, signer->hash), s.signature))
     return VerifyResult::kSignatureInvalid;
+  // Replay: checked on packets that verified, so that only the signer's own packets count. An
+  // entry is kept while a packet with its generationTime could still be in the window (`at` is
+  // that time on TAI, like `now`).
+  if (policy.replay_detection && seen_before(ReplayKey{*v.signer, psid, *h.generation_time},
+                                             at + static_cast<Time64>(policy.past.count()), now))
+    return VerifyResult::kReplay;
   return VerifyResult::kOk;
 }
 

@@ -10,12 +10,16 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
+#include "common/util/expected.hpp"
 #include "its-station/security/crypto.hpp"
 #include "its-station/security/ieee1609dot2.hpp"
 #include "its-station/security/time.hpp"
@@ -41,18 +45,61 @@ enum class VerifyResult : std::uint8_t {
   kSspNotPermitted,            ///< the AT's SSP for the psid is not one the station accepts
   kIssuerNotPermitted,         ///< the AA's certIssuePermissions lack the psid
   kSignatureInvalid,           ///< the packet's signature does not verify
+  /// A packet that verified, from a signer, for an ITS-AID and with a generationTime already
+  /// accepted within the window (1609.2 5.2.4.2.3 replay detection; see
+  /// VerifierConfig::time_policy).
+  kReplay,
   kCount
 };
 
 std::string_view to_string(VerifyResult r);
 
+/// How a service's packets are held against time (IEEE 1609.2 5.2.4.2.3: the generation-time
+/// relevance check and replay detection are the security profile's to set, per PSID).
+struct TimePolicy {
+  /// How far before / after the receiver's time a generationTime may lie.
+  std::chrono::microseconds past{2'000'000};
+  std::chrono::microseconds future{40'000};
+  /// Drop a second packet of one signer with one generationTime (kReplay).
+  bool replay_detection = true;
+  bool operator==(const TimePolicy&) const = default;
+};
+
+/// The defaults, per ITS-AID. No standard fixes a receiver's window: TS 103 097 v1.3.1 clause 7
+/// makes generationTime mandatory for CAM (7.1.1), DENM (7.1.2) and other messages (7.1.3)
+/// without a tolerance, IEEE 1609.2 leaves it to the service's profile, and the C2C-CC Basic
+/// System Profile adds none. So every service gets the window issue 20 chose for CAMs,
+/// -2 s .. +40 ms (a CAM is at most 1 s apart from the next, EN 302 637-2 6.1.3; +40 ms covers
+/// clocks a GNSS fix keeps within a few ms). The 5 s between TAI and UTC without leap seconds is
+/// not in the window: the verifier tries both bases (accept_utc_time_base).
+/// Replay detection is off for DENM: DENMs travel in GeoBroadcast, whose forwarded copies are
+/// the same signed octets and must reach GeoNetworking, which drops them by sequence number
+/// (EN 302 636-4-1 Annex A.2) and stops its own contention-based forward on hearing one
+/// (Annex F.3). CAMs (SHB, EN 302 637-2 5.3) and beacons are never forwarded.
+TimePolicy default_time_policy(Psid psid);
+
 struct VerifierConfig {
-  /// TS 103 097 leaves the window to the profile; CAM: -2 s .. +40 ms (issue 20).
-  std::chrono::microseconds window_past{2'000'000};
-  std::chrono::microseconds window_future{40'000};
+  /// Per-ITS-AID settings (CAM 36, DENM 37, GN-MGMT 141, ...); a PSID not named here gets
+  /// default_time_policy().
+  std::map<Psid, TimePolicy> time_policy;
   /// Accept generation times on the UTC-without-leap-seconds base (Vanetza) as well as TAI.
   bool accept_utc_time_base = true;
+  /// Accepted (signer, generationTime) pairs remembered for replay detection: each until its
+  /// window has passed; past this many, the one whose window ends first is forgotten early.
+  std::size_t replay_capacity = 4096;
+
+  TimePolicy policy(Psid psid) const;
 };
+
+/// Bounds of a window a station or scenario sets (ms): beyond them a "window" would be no
+/// freshness check at all.
+inline constexpr std::int64_t kMaxWindowPastMs = 600'000;
+inline constexpr std::int64_t kMaxWindowFutureMs = 60'000;
+
+/// One `--security-time-window` value, `PSID=PAST_MS` or `PSID=PAST_MS:FUTURE_MS`: the window
+/// of ITS-AID PSID; the future side (when not given) and replay detection keep the PSID's
+/// defaults. The error names the value and the part that is wrong.
+Expected<std::pair<Psid, TimePolicy>, std::string> parse_time_window(std::string_view spec);
 
 /// What verify() found. The decoded packet is there whatever the result (unless malformed), so
 /// that a permissive station can pass the payload up with the reason.
@@ -105,6 +152,9 @@ class Verifier {
     return counts_;
   }
   std::size_t known_certificates() const { return entries_.size(); }
+  /// (signer, generationTime) pairs remembered for replay detection.
+  std::size_t replay_entries() const { return replay_.size(); }
+  const VerifierConfig& config() const { return config_; }
 
  private:
   struct Id8Hash {
@@ -117,6 +167,21 @@ class Verifier {
     const Entry* issuer = nullptr;  ///< null for a root
   };
 
+  /// A packet for replay detection: its signer, its ITS-AID (a beacon and a CAM may be signed
+  /// in one microsecond) and its generationTime (as sent).
+  struct ReplayKey {
+    HashedId8 signer{};
+    Psid psid = 0;
+    Time64 generation_time = 0;
+    bool operator==(const ReplayKey&) const = default;
+  };
+  struct ReplayKeyHash {
+    std::size_t operator()(const ReplayKey& k) const;
+  };
+  /// Whether @p key was accepted before; remembers it until @p forget_at (TAI) when not.
+  /// Forgets what expired by @p now first.
+  bool seen_before(const ReplayKey& key, Time64 forget_at, Time64 now);
+
   VerifyResult check_issued(const Certificate& c, const Entry& issuer, Time64 at) const;
   /// The entry of the AT @p c (verified against its AA and cached when new).
   VerifyResult ticket_entry(const Certificate& c, Psid psid, Time64 at, const Entry** out);
@@ -127,6 +192,8 @@ class Verifier {
   VerifierConfig config_;
   std::unordered_map<HashedId8, Entry, Id8Hash> entries_;
   std::unordered_map<HashedId8, VerifyResult, Id8Hash> refused_;
+  std::unordered_map<ReplayKey, Time64, ReplayKeyHash> replay_;  ///< key -> forget at (TAI)
+  std::multimap<Time64, ReplayKey> replay_expiry_;               ///< forget at -> key
   std::array<std::uint64_t, static_cast<std::size_t>(VerifyResult::kCount)> counts_{};
 };
 

@@ -313,6 +313,46 @@ TEST(ScenarioLoader, AStationMayComeFromAnotherPki) {
   }
 }
 
+TEST(ScenarioLoader, SecurityTimeWindowsByItsAid) {
+  const char* fmt = R"({
+    "name": "windows", "map": {"type": "ring", "lanes": 2}, "origin": {"lat": 48.1, "lon": 11.5},
+    "security": "signed", "security_time_windows": %s,
+    "vehicles": [{"id": "v1", "station_id": 7, "spawn": {"lane": 1, "s": 3.5}}]
+  })";
+  auto with = [&](const std::string& windows) {
+    std::string text(std::snprintf(nullptr, 0, fmt, windows.c_str()), '\0');
+    std::snprintf(text.data(), text.size() + 1, fmt, windows.c_str());
+    return text;
+  };
+  const Scenario s =
+      parse(with(R"({"37": {"past_ms": 10000, "future_ms": 100}, "36": {"past_ms": 1500}})"),
+            "inline.json");
+  ASSERT_EQ(s.security_time_windows.size(), 2u);
+  EXPECT_EQ(s.security_time_windows.at(37).past_ms, 10000);
+  EXPECT_EQ(s.security_time_windows.at(37).future_ms, 100);
+  EXPECT_EQ(s.security_time_windows.at(36).past_ms, 1500);
+  EXPECT_FALSE(s.security_time_windows.at(36).future_ms);
+  EXPECT_TRUE(parse(with("{}"), "inline.json").security_time_windows.empty());
+
+  const std::pair<const char*, const char*> bad[] = {
+      {R"({"cam": {"past_ms": 10}})", "/security_time_windows/cam"},
+      {R"({"37": {"past_ms": 600001}})", "/security_time_windows/37/past_ms"},
+      {R"({"37": {"future_ms": -1}})", "/security_time_windows/37/future_ms"},
+      {R"({"37": {"past": 10}})", "/security_time_windows/37/past"},
+      {R"({"37": {}})", "/security_time_windows/37"},
+      {R"({"37": 2000})", "/security_time_windows/37"},
+      {"[]", "/security_time_windows"},
+  };
+  for (const auto& [windows, path] : bad) {
+    try {
+      parse(with(windows), "inline.json");
+      ADD_FAILURE() << windows << " loaded";
+    } catch (const ScenarioError& e) {
+      EXPECT_EQ(e.path(), path) << windows << ": " << e.what();
+    }
+  }
+}
+
 TEST(ScenarioLoader, ARoleWithItsLightsAndCargo) {
   const Scenario s = parse(R"({
     "name": "roles",

@@ -230,4 +230,36 @@ TEST(ItsStationOptions, MqttCamIntervalOutsideItsRangeIsRefusedByName) {
   }
 }
 
+// A bad --security-time-window stops the program before it opens anything, naming the option,
+// the value and the part that is wrong.
+TEST(ItsStationOptions, SecurityTimeWindowThatIsNotPsidEqualsMsIsRefusedByName) {
+  const char* bin = std::getenv("TESTBED_BIN");
+  const fs::path station = bin ? fs::path(bin) / "its-station" : fs::path("its-station");
+  if (!fs::exists(station))
+    GTEST_SKIP() << station << " not built";
+  const std::pair<std::string, std::string> cases[] = {
+      {"cam=2000", "PSID \"cam\""},
+      {"37=600001", "PAST_MS \"600001\""},
+      {"37=10000:soon", "FUTURE_MS \"soon\""},
+      {"36", "no '='"},
+  };
+  for (const auto& [value, part] : cases) {
+    const std::string cmd = station.string() +
+                            " --station-id 1001 --radio none-such --security-time-window 36=2000 "
+                            "--security-time-window " +
+                            value + " 2>&1";
+    FILE* p = ::popen(cmd.c_str(), "r");
+    ASSERT_NE(p, nullptr);
+    std::string out;
+    char buf[512];
+    while (std::fgets(buf, sizeof buf, p) != nullptr)
+      out += buf;
+    const int status = ::pclose(p);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) != 0) << value << ": " << out;
+    EXPECT_NE(out.find("--security-time-window"), std::string::npos) << out;
+    EXPECT_NE(out.find("\"" + value + "\""), std::string::npos) << out;
+    EXPECT_NE(out.find(part), std::string::npos) << out;
+  }
+}
+
 }  // namespace

@@ -276,5 +276,40 @@ TEST(SecuredRouter, BeaconsAreSignedForGnMgmtAndAStrictStationTakesNoOther) {
   EXPECT_TRUE(lax.delivered.empty());  // beacons update the table, nothing goes up
 }
 
+TEST(SecuredRouter, ReplayedCamIsDroppedForwardedDenmCopyIsAGnDuplicate) {
+  clock::ManualRuntime rt;
+  Authority pki{rt.wall_now()};
+  RouterConfig simple = no_beacons();
+  simple.area_forwarding = RouterConfig::AreaForwarding::kSimple;
+  Station a(rt, 1, pki.entity(sec::SecurityMode::kSigned), simple);
+  Station b(rt, 2, pki.entity(sec::SecurityMode::kSigned), simple, at(300, 0));
+  // A CAM recorded and played back 0.5 s later: within the window, so only replay detection
+  // (the same signer and generationTime) stops it.
+  const Bytes cam = a.send(kBtpCam);
+  b.receive(rt, cam, 1);
+  rt.advance(500ms);
+  b.receive(rt, cam, 1);
+  ASSERT_EQ(b.delivered.size(), 1u);
+  EXPECT_EQ(b.drops, std::vector{DropReason::kSecurity});
+  EXPECT_EQ(b.entity->verifier().count(sec::VerifyResult::kReplay), 1u);
+  // 2.5 s after it was sent the CAM is out of the window (and forgotten by the replay table).
+  rt.advance(2s);
+  b.receive(rt, cam, 1);
+  EXPECT_EQ(b.entity->verifier().count(sec::VerifyResult::kGenerationTimeOutOfWindow), 1u);
+
+  // A DENM's copy forwarded back by a neighbour is the same signed packet: it still reaches
+  // GeoNetworking, whose duplicate detection drops it (not a security drop).
+  const Bytes denm = a.send(denm_gbc(), kBtpDenm);
+  b.receive(rt, denm, 1);
+  ASSERT_EQ(b.delivered.size(), 2u);
+  Bytes copy = denm;
+  copy[3] = static_cast<std::uint8_t>(copy[3] - 1);  // as a forwarder sends it (RHL)
+  b.drops.clear();
+  b.receive(rt, copy, 3);
+  EXPECT_EQ(b.delivered.size(), 2u);
+  EXPECT_EQ(b.drops, std::vector{DropReason::kDuplicate});
+  EXPECT_EQ(b.entity->verifier().count(sec::VerifyResult::kReplay), 1u);
+}
+
 }  // namespace
 }  // namespace tb::its::geonet

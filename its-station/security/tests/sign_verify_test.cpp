@@ -1,6 +1,12 @@
 #include <gtest/gtest.h>
+#include <openssl/ec.h>
+#include <openssl/obj_mac.h>
+#include <openssl/sha.h>
 
+#include <algorithm>
 #include <chrono>
+
+#include "its-station/asn1/coer.hpp"
 
 #include "its-station/security/pki.hpp"
 #include "its-station/security/signer.hpp"
@@ -303,6 +309,127 @@ TEST(SignVerify, BrainpoolP256r1SignaturesAreAccepted) {
             VerifyResult::kOk);
 }
 
+/// SHA-256 by OpenSSL itself, not by the code under test.
+Octets32 openssl_sha256(std::span<const std::uint8_t> b) {
+  Octets32 out{};
+  SHA256(b.data(), b.size(), out.data());
+  return out;
+}
+
+TEST(SignVerify, CertificateSignatureCoversToBeSignedAsReceived) {
+  Pki pki;
+  auto [at, key] = pki.ticket();
+  // toBeSigned with its extension bit set and one extension addition the decoder skips
+  // (1609.2-2022's `flags`, a BIT STRING of 8 bits, as an open type).
+  Bytes tbs(at.tbs_octets().begin(), at.tbs_octets().end());
+  ASSERT_FALSE(tbs.empty());
+  ASSERT_EQ(tbs[0] & 0x80, 0);
+  tbs[0] |= 0x80;
+  {
+    asn1::CoerWriter w(tbs);
+    w.extension_bitmap(1, 1);
+    w.open_type(Bytes{0x80});
+  }
+  // The certificate with toBeSigned @p sent, signed by the AA over @p signed_tbs: 1609.2 5.3.1
+  // SHA-256(SHA-256(toBeSigned) || SHA-256(AA certificate)), the hashes taken with OpenSSL.
+  const auto build = [&](const Bytes& signed_tbs, const Bytes& sent) {
+    const Octets32 t = openssl_sha256(signed_tbs);
+    const Octets32 a = openssl_sha256(pki.aa.encoding);
+    Bytes both(t.begin(), t.end());
+    both.insert(both.end(), a.begin(), a.end());
+    Bytes cert(at.encoding.begin(),
+               at.encoding.begin() + static_cast<std::ptrdiff_t>(at.tbs_offset));
+    cert.insert(cert.end(), sent.begin(), sent.end());
+    asn1::CoerWriter w(cert);
+    coer::put(w, pki.aa_key.sign(openssl_sha256(both)));
+    return cert;
+  };
+  const Bytes good = build(tbs, tbs);
+  auto c = decode_certificate(good);
+  ASSERT_TRUE(c) << asn1::to_string(c.error());
+  EXPECT_EQ(c->tbs, at.tbs);  // the addition is skipped...
+  EXPECT_EQ(Bytes(c->tbs_octets().begin(), c->tbs_octets().end()), tbs);  // ...but kept
+  EXPECT_NE(encode(c->tbs), tbs);
+  EXPECT_EQ(encode(*c), good);  // and sent on as it came
+
+  Signer signer(*c, std::move(key), pki.aa);
+  const Bytes cam = signer.sign_cam(kPayload, kNow);
+  const auto where = std::search(cam.begin(), cam.end(), good.begin(), good.end());
+  ASSERT_NE(where, cam.end());
+  Verifier verifier = pki.verifier();
+  auto v = verifier.verify(cam, kPsidCam, kNow);
+  EXPECT_EQ(v.result, VerifyResult::kOk) << to_string(v.result);
+  EXPECT_EQ(v.signer, hashed_id8(openssl_sha256(good)));
+
+  // The same certificate with the skipped octet altered (0x80 -> 0x40): it still decodes to the
+  // same fields, but the AA did not sign it.
+  Bytes altered_tbs = tbs;
+  altered_tbs.back() = 0x40;
+  const Bytes bad = build(tbs, altered_tbs);
+  auto cb = decode_certificate(bad);
+  ASSERT_TRUE(cb) << asn1::to_string(cb.error());
+  EXPECT_EQ(cb->tbs, c->tbs);
+  Bytes forged = cam;
+  std::copy(bad.begin(), bad.end(), forged.begin() + (where - cam.begin()));
+  Verifier fresh = pki.verifier();
+  EXPECT_EQ(fresh.verify(forged, kPsidCam, kNow).result, VerifyResult::kCertificateSignature);
+  EXPECT_EQ(fresh.count(VerifyResult::kCertificateSignature), 1u);
+}
+
+/// The uncompressed form of the compressed P-256 point @p p, by OpenSSL.
+EccP256CurvePoint openssl_uncompressed(const EccP256CurvePoint& p) {
+  EC_GROUP* g = EC_GROUP_new_by_curve_name(NID_X9_62_prime256v1);
+  EC_POINT* pt = EC_POINT_new(g);
+  std::array<std::uint8_t, 33> in{};
+  in[0] = p.form == EccP256CurvePoint::Form::kCompressedY1 ? 0x03 : 0x02;
+  std::copy(p.x.begin(), p.x.end(), in.begin() + 1);
+  std::array<std::uint8_t, 65> out{};
+  const bool ok = EC_POINT_oct2point(g, pt, in.data(), in.size(), nullptr) == 1 &&
+                  EC_POINT_point2oct(g, pt, POINT_CONVERSION_UNCOMPRESSED, out.data(), out.size(),
+                                     nullptr) == out.size();
+  EC_POINT_free(pt);
+  EC_GROUP_free(g);
+  EXPECT_TRUE(ok);
+  EccP256CurvePoint u{EccP256CurvePoint::Form::kUncompressed, {}, {}};
+  std::copy(out.begin() + 1, out.begin() + 33, u.x.begin());
+  std::copy(out.begin() + 33, out.end(), u.y.begin());
+  return u;
+}
+
+TEST(SignVerify, UncompressedKeyIsCanonicalisedForTheIssuerSignature) {
+  Pki pki;
+  auto [at, key] = pki.ticket();
+  Signer signer(at, std::move(key), pki.aa);
+  const Bytes cam = signer.sign_cam(kPayload, kNow);
+  // The AA signed toBeSigned with the key compressed, its canonical form (1609.2 6.4.3); the
+  // same certificate travels with the key uncompressed (the signature unchanged).
+  Certificate loose = at;
+  loose.encoding.clear();
+  loose.tbs_offset = loose.tbs_length = loose.key_offset = loose.key_length = 0;
+  loose.tbs.verify_key.point = openssl_uncompressed(at.tbs.verify_key.point);
+  auto c = decode_certificate(encode(loose));
+  ASSERT_TRUE(c) << asn1::to_string(c.error());
+  EXPECT_EQ(c->key_length, 65u);
+  EXPECT_EQ(canonical_tbs(*c), Bytes(at.tbs_octets().begin(), at.tbs_octets().end()));
+  EXPECT_EQ(canonical_encoding(*c), at.encoding);
+  EXPECT_EQ(certificate_id(*c), certificate_id(at));
+  // A CAM that carries it in place of the compressed one verifies.
+  const auto where = std::search(cam.begin(), cam.end(), at.encoding.begin(), at.encoding.end());
+  ASSERT_NE(where, cam.end());
+  Bytes sent(cam.begin(), where);
+  sent.insert(sent.end(), c->encoding.begin(), c->encoding.end());
+  sent.insert(sent.end(), where + static_cast<std::ptrdiff_t>(at.encoding.size()), cam.end());
+  Verifier verifier = pki.verifier();
+  const auto v = verifier.verify(sent, kPsidCam, kNow);
+  EXPECT_EQ(v.result, VerifyResult::kOk) << to_string(v.result);
+  // And one whose uncompressed key is another point fails the issuer's signature.
+  Certificate other = loose;
+  other.tbs.verify_key.point.y[31] ^= 0x01;  // off the curve and off the signed octets
+  auto o = decode_certificate(encode(other));
+  ASSERT_TRUE(o);
+  EXPECT_NE(canonical_tbs(*o), canonical_tbs(*c));
+}
+
 TEST(SignVerify, GenerationTimeWindowOnTaiOrUtc) {
   Pki pki;
   Signer signer = pki.signer();
@@ -324,12 +451,150 @@ TEST(SignVerify, GenerationTimeWindowOnTaiOrUtc) {
   EXPECT_EQ(at(-7'100'000).result, VerifyResult::kGenerationTimeOutOfWindow);
   EXPECT_EQ(at(-3'500'000).result, VerifyResult::kGenerationTimeOutOfWindow);
   // Without the UTC base only TAI counts.
-  Verifier tai_only = pki.verifier(VerifierConfig{2s, 40ms, false});
+  VerifierConfig tai_cfg;
+  tai_cfg.accept_utc_time_base = false;
+  Verifier tai_only = pki.verifier(tai_cfg);
   EXPECT_EQ(tai_only
                 .verify(signer.sign(kPsidCam, kPayload, kNow - 5'300'000, std::nullopt, true),
                         kPsidCam, kNow)
                 .result,
             VerifyResult::kGenerationTimeOutOfWindow);
+}
+
+TEST(SignVerify, TimeWindowIsSetPerItsAid) {
+  Pki pki;
+  Signer signer = pki.signer();
+  VerifierConfig cfg;
+  cfg.time_policy[kPsidDenm] = TimePolicy{10s, 40ms, false};
+  Verifier verifier = pki.verifier(cfg);
+  const ThreeDLocation here{488000000, 91000000, 4096};
+  auto at = [&](Psid psid, std::chrono::microseconds offset) {
+    const Time64 gen = static_cast<Time64>(static_cast<std::int64_t>(kNow) + offset.count());
+    return verifier
+        .verify(signer.sign(psid, kPayload, gen,
+                            psid == kPsidDenm ? std::optional(here) : std::nullopt, true),
+                psid, kNow)
+        .result;
+  };
+  // DENM: -10 s .. +40 ms; CAM and GN-MGMT keep the default -2 s .. +40 ms.
+  EXPECT_EQ(at(kPsidDenm, -3s), VerifyResult::kOk);
+  EXPECT_EQ(at(kPsidDenm, -9'900ms), VerifyResult::kOk);
+  EXPECT_EQ(at(kPsidCam, -3s), VerifyResult::kGenerationTimeOutOfWindow);
+  EXPECT_EQ(at(kPsidGnMgmt, -3s), VerifyResult::kGenerationTimeOutOfWindow);
+  EXPECT_EQ(at(kPsidDenm, 50ms), VerifyResult::kGenerationTimeOutOfWindow);
+  // -11 s is in the window on the UTC base (5 s behind TAI: -6 s there); -16 s on neither.
+  EXPECT_EQ(at(kPsidDenm, -11s), VerifyResult::kOk);
+  EXPECT_EQ(at(kPsidDenm, -16s), VerifyResult::kGenerationTimeOutOfWindow);
+  EXPECT_EQ(cfg.policy(kPsidDenm).past, 10s);
+  EXPECT_EQ(cfg.policy(kPsidCam), default_time_policy(kPsidCam));
+  EXPECT_EQ(cfg.policy(kPsidCam).past, 2s);
+  EXPECT_EQ(cfg.policy(kPsidCam).future, 40ms);
+}
+
+TEST(SignVerify, TimeWindowOptionIsParsedOrRefusedByName) {
+  auto w = parse_time_window("37=10000:40");
+  ASSERT_TRUE(w) << w.error();
+  EXPECT_EQ(w->first, kPsidDenm);
+  EXPECT_EQ(w->second.past, 10s);
+  EXPECT_EQ(w->second.future, 40ms);
+  EXPECT_FALSE(w->second.replay_detection);  // DENM's default kept
+  auto cam = parse_time_window("36=1500");
+  ASSERT_TRUE(cam) << cam.error();
+  EXPECT_EQ(cam->second.past, 1500ms);
+  EXPECT_EQ(cam->second.future, default_time_policy(kPsidCam).future);
+  EXPECT_TRUE(cam->second.replay_detection);
+  for (const char* bad : {"36", "cam=2000", "36=", "36=-1", "36=600001", "36=2000:60001",
+                          "36=2000:soon", "4294967296=10"}) {
+    auto r = parse_time_window(bad);
+    ASSERT_FALSE(r) << bad;
+    EXPECT_NE(r.error().find(std::string("\"") + bad + "\""), std::string::npos) << r.error();
+  }
+  EXPECT_NE(parse_time_window("36=2000:soon").error().find("FUTURE_MS \"soon\""),
+            std::string::npos);
+  EXPECT_NE(parse_time_window("cam=2000").error().find("PSID \"cam\""), std::string::npos);
+}
+
+TEST(SignVerify, ReplayOfOneSignerAndGenerationTimeIsDropped) {
+  Pki pki;
+  Signer signer = pki.signer();
+  Verifier verifier = pki.verifier();
+  const Bytes cam = signer.sign_cam(kPayload, kNow);
+  ASSERT_EQ(verifier.verify(cam, kPsidCam, kNow).result, VerifyResult::kOk);
+  auto again = verifier.verify(cam, kPsidCam, kNow + 10'000);
+  EXPECT_EQ(again.result, VerifyResult::kReplay);
+  EXPECT_EQ(to_string(again.result), "replay");
+  // The same instant signed again, with the digest this time: other octets, the same packet.
+  EXPECT_EQ(verifier
+                .verify(signer.sign(kPsidCam, kPayload, kNow, std::nullopt, false), kPsidCam,
+                        kNow + 20'000)
+                .result,
+            VerifyResult::kReplay);
+  // Another generation time of that signer, or the same time of another signer, is new.
+  EXPECT_EQ(verifier.verify(signer.sign_cam(kPayload, kNow + 1), kPsidCam, kNow + 20'000).result,
+            VerifyResult::kOk);
+  Signer other = pki.signer();
+  EXPECT_EQ(verifier.verify(other.sign_cam(kPayload, kNow), kPsidCam, kNow + 20'000).result,
+            VerifyResult::kOk);
+  // So is a beacon (GN-MGMT) of the first signer in the CAM's microsecond.
+  EXPECT_EQ(verifier.verify(signer.sign_other(kPsidGnMgmt, kPayload, kNow), kNow + 20'000).result,
+            VerifyResult::kOk);
+  EXPECT_EQ(verifier.count(VerifyResult::kReplay), 2u);
+  EXPECT_EQ(verifier.count(VerifyResult::kOk), 4u);
+  EXPECT_EQ(verifier.replay_entries(), 4u);
+  // Only what verified is remembered: a forgery of a new instant does not block the real one.
+  const Bytes real = signer.sign_cam(kPayload, kNow + 2);
+  Bytes forged = real;
+  forged.back() ^= 0x01;  // the signature's s
+  EXPECT_EQ(verifier.verify(forged, kPsidCam, kNow + 20'000).result,
+            VerifyResult::kSignatureInvalid);
+  EXPECT_EQ(verifier.verify(real, kPsidCam, kNow + 20'000).result, VerifyResult::kOk);
+  EXPECT_EQ(verifier.replay_entries(), 5u);
+}
+
+TEST(SignVerify, ReplayTableForgetsWhatLeftTheWindowAndIsCapped) {
+  Pki pki;
+  Signer signer = pki.signer();
+  VerifierConfig cfg;
+  cfg.replay_capacity = 3;
+  Verifier verifier = pki.verifier(cfg);
+  std::vector<Bytes> sent;
+  for (int i = 0; i < 3; ++i) {
+    sent.push_back(signer.sign_cam(kPayload, kNow + i * 100'000));
+    ASSERT_EQ(verifier.verify(sent.back(), kPsidCam, kNow + i * 100'000).result, VerifyResult::kOk);
+  }
+  EXPECT_EQ(verifier.replay_entries(), 3u);
+  // Full: a fourth pushes out the one whose window ends first (the oldest), whose replay then
+  // passes; the others are still caught.
+  sent.push_back(signer.sign_cam(kPayload, kNow + 300'000));
+  ASSERT_EQ(verifier.verify(sent.back(), kPsidCam, kNow + 300'000).result, VerifyResult::kOk);
+  EXPECT_EQ(verifier.replay_entries(), 3u);
+  EXPECT_EQ(verifier.verify(sent[3], kPsidCam, kNow + 310'000).result, VerifyResult::kReplay);
+  EXPECT_EQ(verifier.verify(sent[2], kPsidCam, kNow + 310'000).result, VerifyResult::kReplay);
+  // 2 s after the last one every entry has left its window and is forgotten; the old packets
+  // are out of the window themselves.
+  const Time64 later = kNow + 300'000 + 2'000'001;
+  EXPECT_EQ(verifier.verify(signer.sign_cam(kPayload, later), kPsidCam, later).result,
+            VerifyResult::kOk);
+  EXPECT_EQ(verifier.replay_entries(), 1u);
+  EXPECT_EQ(verifier.verify(sent[3], kPsidCam, later).result,
+            VerifyResult::kGenerationTimeOutOfWindow);
+}
+
+TEST(SignVerify, DenmRepeatsAreLeftToGeoNetworkingUnlessSetOtherwise) {
+  Pki pki;
+  Signer signer = pki.signer();
+  const ThreeDLocation here{488000000, 91000000, 4096};
+  const Bytes denm = signer.sign_denm(kPayload, kNow, here);
+  // By default a DENM's forwarded copies (the same octets) all verify: GN drops duplicates.
+  Verifier by_default = pki.verifier();
+  EXPECT_EQ(by_default.verify(denm, kPsidDenm, kNow).result, VerifyResult::kOk);
+  EXPECT_EQ(by_default.verify(denm, kPsidDenm, kNow + 100'000).result, VerifyResult::kOk);
+  EXPECT_EQ(by_default.replay_entries(), 0u);
+  VerifierConfig cfg;
+  cfg.time_policy[kPsidDenm] = TimePolicy{2s, 40ms, true};
+  Verifier strict = pki.verifier(cfg);
+  EXPECT_EQ(strict.verify(denm, kPsidDenm, kNow).result, VerifyResult::kOk);
+  EXPECT_EQ(strict.verify(denm, kPsidDenm, kNow + 100'000).result, VerifyResult::kReplay);
 }
 
 TEST(SignVerify, SocktapSelfSignedCamsAreRejectedWithTheirReason) {
