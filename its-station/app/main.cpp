@@ -81,7 +81,10 @@ struct Options {
   std::string mqtt_prefix = "its";
   int mqtt_cam_interval_ms = 200;
   double denm_repetition_ms = 100.0;
-  double denm_repetition_duration_s = 1.0;
+  // While the risk lasts: LCRW cancels its event when the warning clears, and its DENMs are valid
+  // for 10 s (LcrwDenmConfig), which ends repetition at the latest (EN 302 637-3,
+  // T_RepetitionDuration).
+  double denm_repetition_duration_s = 10.0;
   bool no_keep_alive_forwarding = false;
   bool lcrw = true;
   std::string trace;
@@ -752,7 +755,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1.0, 10000.0))
       ->capture_default_str();
   app.add_option("--denm-repetition-duration", o.denm_repetition_duration_s,
-                 "T_RepetitionDuration of application DENMs, s")
+                 "T_RepetitionDuration of application DENMs, s (repetition also ends with the "
+                 "event's validity or its cancellation)")
+      ->check(CLI::Range(0.0, 86400.0))
       ->capture_default_str();
   app.add_flag("--no-keep-alive-forwarding", o.no_keep_alive_forwarding,
                "do not keep other stations' DENMs alive (EN 302 637-3 clause 8.2.2, optional)");

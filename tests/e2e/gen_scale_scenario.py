@@ -50,7 +50,6 @@ def scenario(n, duration):
                        "(tests/e2e/gen_scale_scenario.py).",
         "map": {"type": "ring", "lanes": LANES, "lane_width": 3.5, "radius": RADIUS},
         "origin": {"lat": 41.10500, "lon": 29.02300, "alt": 60},
-        "start_time": "2025-06-02T09:00:00Z",
         "duration_s": duration,
         "vehicles": vehicles,
     }

@@ -100,13 +100,13 @@ def trace_events(out):
     return by
 
 
-def start_ms(scenario):
-    """The scenario's start_time (sim time 0) in Unix ms."""
-    from datetime import datetime, timezone
-    text = scenario.get("start_time", "2025-01-01T12:00:00Z")
-    t = datetime.strptime(text.replace("Z", "+0000"),
-                          "%Y-%m-%dT%H:%M:%S.%f%z" if "." in text else "%Y-%m-%dT%H:%M:%S%z")
-    return round(t.astimezone(timezone.utc).timestamp() * 1000)
+def world_start_ms(by, scenario):
+    """Sim time 0 in Unix ms: the world's start time sim-server fixed and traced
+    (server.world_start: the scenario's pinned start_time, else its clock when it started)."""
+    recs = by.get("server.world_start", [])
+    if recs:
+        return recs[-1]["world_start_ns"] // 1_000_000
+    raise SystemExit("e2e: no server.world_start record in the trace: cannot date sim time")
 
 
 def check_start(out, scenario, messages):
@@ -114,7 +114,7 @@ def check_start(out, scenario, messages):
     braking from t = 0 is in its first CAMs after 0. Returns the failures."""
     failures = []
     by = trace_events(out)
-    t0 = start_ms(scenario)
+    t0 = world_start_ms(by, scenario)
     stations = [v["station_id"] for v in scenario["vehicles"]]
     # The wall-clock instant of sim time 0: the step of the state that has it (the warm-up's
     # last state, the spawn pose), as the physics stamped it.
@@ -231,6 +231,162 @@ def check_frontal_ttc(out, scenario):
     return []
 
 
+# CDD RelevanceDistance → the radius of the DENM's relevance area (its-station's
+# facilities::relevance_radius_m; the GBC destination is that circle around the event).
+RELEVANCE_RADIUS_M = [50, 100, 200, 500, 1000, 5000, 10000, 100000]
+DENM_INTERVAL_MS = 100  # its-station --denm-repetition-ms, the default the launcher keeps
+# A station this far inside the relevance area's edge, by the physics' own positions, must
+# accept the DENM: the margin covers GNSS noise and the antenna's offset from the body centre.
+RELEVANCE_MARGIN_M = 5.0
+
+
+def enu_of(lat_deg, lon_deg, origin):
+    """East/north metres of a WGS84 point from the scenario's origin (the built-in maps' frame):
+    the local tangent plane with the ellipsoid's radii of curvature, mm-exact over a few 100 m."""
+    a, e2 = 6378137.0, 6.69437999014e-3
+    lat0 = math.radians(origin["lat"])
+    w = 1.0 - e2 * math.sin(lat0) ** 2
+    m = a * (1.0 - e2) / w ** 1.5  # meridian
+    n = a / math.sqrt(w)  # prime vertical
+    return (math.radians(lon_deg - origin["lon"]) * n * math.cos(lat0),
+            math.radians(lat_deg - origin["lat"]) * m)
+
+
+def physics_at(by, station, ts):
+    """The physics' own position of @p station at host time @p ts (client.forward, the step
+    before, moved on by its speed): (x, y) in the map frame."""
+    steps = [r for r in by.get("client.forward", []) if r["station"] == station and
+             r.get("step_ns") and r["step_ns"] <= ts]
+    if not steps:
+        return None
+    r = max(steps, key=lambda r: r["step_ns"])
+    dt = (ts - r["step_ns"]) / 1e9
+    return (r["x"] + r["v"] * math.cos(r["yaw"]) * dt, r["y"] + r["v"] * math.sin(r["yaw"]) * dt)
+
+
+def check_denms(out, scenario, messages):
+    """Every LCRW DENM arrives where it should (issue 31): each station that raised a warning
+    sent a DENM; each neighbour inside its relevance area by the physics' positions accepted it
+    (its.denm_rx new/update) and published it on its/<id>/in/denm/<origin>; none was dropped as
+    expired; it was repeated every DENM_INTERVAL_MS while the warning lasted; a warning that
+    cleared cancelled its event, and the neighbours that held it took the cancellation.
+    Returns the failures."""
+    failures = []
+    by = trace_events(out)
+    stations = [v["station_id"] for v in scenario["vehicles"]]
+    origin = scenario["origin"]
+    rx = by.get("its.denm_rx", [])
+    tx = sorted((r for r in by.get("its.denm_tx", []) if r["station"] == r["origin"]),
+                key=lambda r: r["ts"])
+    expired = [r for r in rx if r["outcome"] == "expired"]
+    if expired:
+        failures.append(f"{len(expired)} DENM(s) dropped as expired, e.g. {expired[0]}")
+    lcrw = sorted((r for r in by.get("its.mqtt", []) if "lcrw" in str(r.get("topic"))),
+                  key=lambda r: r["ts"])
+    raises = [r for r in lcrw if r.get("event") == "raised"]
+    if not raises:
+        return failures + ["no LCRW warning raised: no DENM to check"]
+    events = {}
+    for r in tx:
+        events.setdefault((r["origin"], r["seq"]), []).append(r)
+    # The DENMs as their originators published them (event position, relevance distance).
+    out_denm = {}
+    for topic, m in messages:
+        if topic.endswith("/out/denm"):
+            mc = m["message"]["management_container"]
+            key = (mc["action_id"]["originating_station_id"], mc["action_id"]["sequence_number"])
+            out_denm.setdefault(key, mc)
+    on_mqtt = {(t.split("/")[1], m["message"]["management_container"]["action_id"]["sequence_number"],
+                m["message"]["management_container"]["action_id"]["originating_station_id"])
+               for t, m in messages if "/in/denm/" in t}
+    for w in raises:
+        a = w["station"]
+        mine = [k for k, v in events.items() if k[0] == a and v[0]["ts"] >= w["ts"] - 50e6]
+        if not mine:
+            failures.append(f"station {a} raised LCRW about {w.get('from')} but sent no DENM")
+    for (a, seq), sent in sorted(events.items()):
+        first = sent[0]
+        live = [r for r in sent if not r.get("term")]
+        term = [r for r in sent if r.get("term")]
+        mc = out_denm.get((a, seq))
+        if mc is None:
+            failures.append(f"DENM {a}/{seq}: not on its/{a}/out/denm")
+            continue
+        radius = RELEVANCE_RADIUS_M[mc["relevance_distance"]]
+        centre = enu_of(mc["event_position"]["latitude"] / 1e7,
+                        mc["event_position"]["longitude"] / 1e7, origin)
+        holders = []
+        for b in stations:
+            if b == a:
+                continue
+            pos = physics_at(by, b, first["ts"])
+            if pos is None:
+                continue
+            d = math.hypot(pos[0] - centre[0], pos[1] - centre[1])
+            got = sorted({r["outcome"] for r in rx if r["station"] == b and r["origin"] == a and
+                          r["seq"] == seq})
+            print(f"e2e: DENM {a}/{seq}: station {b} {d:.1f} m from the event (relevance "
+                  f"{radius} m): outcomes {got}")
+            if d > radius - RELEVANCE_MARGIN_M:
+                continue
+            if not {"new", "update"} & set(got):
+                failures.append(f"DENM {a}/{seq}: station {b}, {d:.1f} m inside its {radius} m "
+                                f"relevance area, never accepted it (outcomes {got})")
+                continue
+            holders.append(b)
+            if (str(b), seq, a) not in on_mqtt:
+                failures.append(f"DENM {a}/{seq}: accepted by {b} but not on its/{b}/in/denm/{a}")
+        # Repetition while the warning lasts: until its cancellation, else the run's last DENM.
+        if len(live) >= 2:
+            gaps = sorted((q["ts"] - p["ts"]) / 1e6 for p, q in zip(live, live[1:]))
+            median = gaps[len(gaps) // 2]
+            print(f"e2e: DENM {a}/{seq}: {len(live)} transmissions, repetition median "
+                  f"{median:.1f} ms, max {gaps[-1]:.1f} ms; {'cancelled' if term else 'not cancelled'}")
+            if not abs(median - DENM_INTERVAL_MS) <= 20:
+                failures.append(f"DENM {a}/{seq}: repeated every {median:.1f} ms (median), not "
+                                f"{DENM_INTERVAL_MS} ms")
+        else:
+            print(f"e2e: DENM {a}/{seq}: {len(live)} transmission(s)")
+        # The warning that made the event: the last raise at its originator before it.
+        made_by = max((w for w in raises if w["station"] == a and w["ts"] <= first["ts"] + 1e6),
+                      key=lambda w: w["ts"], default=None)
+        cleared = [r for r in lcrw if r["station"] == a and r.get("event") == "cleared" and
+                   made_by is not None and r.get("from") == made_by.get("from") and
+                   r["ts"] > first["ts"]]
+        if term:
+            end = term[0]["ts"]
+            if live and end - live[-1]["ts"] > 3 * DENM_INTERVAL_MS * 1e6:
+                failures.append(f"DENM {a}/{seq}: repetition stopped "
+                                f"{(end - live[-1]['ts']) / 1e6:.0f} ms before the cancellation")
+            for b in holders:
+                if not any(r["station"] == b and r["origin"] == a and r["seq"] == seq and
+                           r["outcome"] == "cancelled" for r in rx):
+                    failures.append(f"DENM {a}/{seq}: cancelled, but {b}, which held it, never "
+                                    "took the cancellation")
+        elif cleared and cleared[0]["ts"] < tx[-1]["ts"]:
+            failures.append(f"DENM {a}/{seq}: the warning cleared but the event was never "
+                            "cancelled")
+    return failures
+
+
+def check_world_start(out, scenario):
+    """A pinned start time is the world's: sim-server traced it, and the stations' fixes carry
+    it (its.fix fix_ms within the run's sim time of it)."""
+    from datetime import datetime, timezone
+    by = trace_events(out)
+    pinned = round(datetime.strptime(scenario["start_time"], "%Y-%m-%dT%H:%M:%SZ").replace(
+        tzinfo=timezone.utc).timestamp() * 1000)
+    t0 = world_start_ms(by, scenario)
+    if t0 != pinned:
+        return [f"sim-server's world start {t0} ms is not the pinned start_time {pinned} ms"]
+    fixes = [r["fix_ms"] for r in by.get("its.fix", [])]
+    late = [f for f in fixes if not -60_000 <= f - t0 <= 600_000]
+    if not fixes or late:
+        return [f"{len(late)} of {len(fixes)} fixes not dated from the pinned start time"]
+    print(f"e2e: world start {scenario['start_time']}: {len(fixes)} fixes dated from it")
+    return []
+
+
 def wait_port(port, timeout):
     end = time.monotonic() + timeout
     while time.monotonic() < end:
@@ -261,6 +417,9 @@ def main():
     ap.add_argument("--build", required=True)
     ap.add_argument("--security", choices=["none", "signed", "signed-permissive"],
                     help="run the case with this security mode (scripts/testbed --security)")
+    ap.add_argument("--pin-start", choices=["past"],
+                    help="run a copy of the scenario that pins start_time a year before now "
+                         "(docs/time.md: the whole run, PKI included, on that epoch)")
     args = ap.parse_args()
     rc, steal = run_case(args)
     if rc != 0 and steal >= STEAL_RETRY_PERCENT:
@@ -356,6 +515,15 @@ def run_case(args):
         scenario_file = reimported(ROOT / "scenarios" / scenario, out, Path(args.build))
     else:
         scenario_file = ROOT / "scenarios" / scenario
+    if args.pin_start:
+        doc = json.loads(scenario_file.read_text())
+        assert "file" not in doc["map"], "a pinned copy needs a built-in map (no relative paths)"
+        past = time.gmtime(time.time() - 365 * 86400)
+        doc["start_time"] = time.strftime("%Y-%m-%dT%H:%M:%SZ", past)
+        scenario_file = out / f"{Path(scenario_file).stem}-pinned.json"
+        scenario_file.write_text(json.dumps(doc, indent=2))
+        scenario_file.chmod(0o644)
+        print(f"e2e: start_time pinned to {doc['start_time']}")
     testbed = subprocess.Popen(
         [sys.executable, str(ROOT / "scripts/testbed"), "run", str(scenario_file),
          "--build", args.build, "--duration", str(duration), "--out", str(out)] +
@@ -377,7 +545,8 @@ def run_case(args):
         # the broker drops what a subscriber that stopped reading is sent at QoS 0.
         sub_out = open(out / "mqtt-messages.txt", "w")
         sub = subprocess.Popen(["stdbuf", "-oL", "mosquitto_sub", "-h", "127.0.0.1", "-u", "hmi", "-P", "hmi",
-                                "-t", "its/+/app/lcrw", "-t", "its/+/in/cam/+", "-v"],
+                                "-t", "its/+/app/lcrw", "-t", "its/+/in/cam/+",
+                                "-t", "its/+/in/denm/+", "-t", "its/+/out/denm", "-v"],
                                stdout=sub_out, text=True)
         if args.case == "latency":
             # The red car's driver looks at the HMI; its page reports each warning's receipt.
@@ -453,6 +622,8 @@ def run_case(args):
             failures.append("the frontal warning was never cleared after red stopped")
         if args.case == "frontal":
             failures += check_frontal_ttc(out, json.loads(scenario_file.read_text()))
+        if args.case != "frontal-xodr":
+            failures += check_denms(out, json.loads(scenario_file.read_text()), messages)
     elif args.case == "start":
         failures += check_start(out, json.loads(scenario_file.read_text()), messages)
         if any(w.get("event") == "raised" for _, w in warnings):
@@ -517,12 +688,16 @@ def run_case(args):
             print(r.stdout + r.stderr)
             if r.returncode != 0:
                 failures.append("latency report failed its checks")
+        if args.case == "latency":
+            failures += check_denms(out, json.loads(scenario_file.read_text()), messages)
         if args.case == "scale":
             heard = {t.split("/")[1] for t in cams}
             if len(heard) < SCALE_STATIONS:
                 failures.append(f"only {len(heard)} of {SCALE_STATIONS} stations received CAMs")
         elif "hmi: station 1001 connected" not in hmi_log:
             failures.append("the headless HMI of station 1001 never connected to the broker")
+    if args.pin_start:
+        failures += check_world_start(out, json.loads(scenario_file.read_text()))
     cpu1 = cpu_times()
     steal = 100.0 * (cpu1[1] - cpu0[1]) / max(1, cpu1[0] - cpu0[0])
     print(f"e2e {args.case}: the host stole {steal:.1f} % of the CPU time during the run")

@@ -30,7 +30,11 @@ DenEventRequest LcrwDenmTrigger::request_for(const LcrwWarning& w,
   r.event_position = frame_.to_geodetic(geodesy::Enu{own.x, own.y, 0.0});
   r.event_heading_deg = own.heading_deg;
   r.detection_time = w.updated_at;
-  r.relevance_distance = relevance_for(w.distance_m);
+  // The area must hold the vehicle at risk: the gap is bumper to bumper, but the event lies at
+  // the own reference point and the other is seen at its own, up to a car length or two
+  // further, give or take GNSS error. Without the margin a 42 m gap got lessThan50m while the
+  // other car stood 46 m from the event, on the area's edge (e2e frontal, issue 31).
+  r.relevance_distance = relevance_for(w.distance_m + kRelevanceMarginM);
   // A rear-end risk concerns the traffic coming up behind; a head-on one both directions.
   r.relevance_traffic_direction = w.collision_case == CollisionCase::kForward
                                       ? RelevanceTrafficDirection::kUpstreamTraffic

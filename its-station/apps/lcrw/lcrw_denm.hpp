@@ -28,7 +28,9 @@ class LcrwDenmTrigger {
   /// The open events, by other station id.
   const std::map<std::uint32_t, ActionId>& open_events() const { return open_; }
 
-  /// Relevance distance for a gap: the smallest CDD class that holds it.
+  /// Added to the gap before choosing the relevance distance (request_for()).
+  static constexpr double kRelevanceMarginM = 20.0;
+  /// Relevance distance for a distance: the smallest CDD class that holds it.
   static RelevanceDistance relevance_for(double distance_m);
 
  private:

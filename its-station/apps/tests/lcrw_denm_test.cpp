@@ -73,7 +73,8 @@ TEST_F(LcrwDenmTest, RaisedWarningTriggersCollisionRiskDenmAtOwnPosition) {
   const auto p = frame.to_enu(r.event_position);
   EXPECT_NEAR(p.east, 100.0, 0.01);
   EXPECT_NEAR(p.north, 50.0, 0.01);
-  EXPECT_EQ(r.relevance_distance, RelevanceDistance::kLessThan100m);
+  // 80 m gap + 20 m for the reference points and GNSS error: 100 m is not "less than 100 m".
+  EXPECT_EQ(r.relevance_distance, RelevanceDistance::kLessThan200m);
   EXPECT_EQ(r.relevance_traffic_direction, RelevanceTrafficDirection::kAllTrafficDirections);
   EXPECT_EQ(r.traffic_class, 0);  // time-critical, as the emergency electronic brake light
   EXPECT_EQ(r.detection_time, warning(WarningEvent::kRaised, Severity::kWarning, 80).updated_at);
@@ -82,15 +83,23 @@ TEST_F(LcrwDenmTest, RaisedWarningTriggersCollisionRiskDenmAtOwnPosition) {
 
 TEST_F(LcrwDenmTest, UpdatesOnlyWhenSeverityOrRelevanceChanges) {
   LcrwDenmTrigger t(den, frame);
-  t.on_warning(warning(WarningEvent::kRaised, Severity::kWarning, 80), own());
-  t.on_warning(warning(WarningEvent::kUpdated, Severity::kWarning, 70), own());
+  t.on_warning(warning(WarningEvent::kRaised, Severity::kWarning, 75), own());   // 95 m
+  t.on_warning(warning(WarningEvent::kUpdated, Severity::kWarning, 65), own());  // 85 m
   EXPECT_TRUE(den.updated.empty());
-  t.on_warning(warning(WarningEvent::kUpdated, Severity::kWarning, 40), own());
+  t.on_warning(warning(WarningEvent::kUpdated, Severity::kWarning, 25), own());  // 45 m
   ASSERT_EQ(den.updated.size(), 1u);
   EXPECT_EQ(den.updated[0].second.relevance_distance, RelevanceDistance::kLessThan50m);
-  t.on_warning(warning(WarningEvent::kUpdated, Severity::kCritical, 30), own());
+  t.on_warning(warning(WarningEvent::kUpdated, Severity::kCritical, 20), own());
   ASSERT_EQ(den.updated.size(), 2u);
   EXPECT_EQ(den.updated[1].first, (ActionId{1, 1}));
+}
+
+// The frontal case's numbers: a 42 m gap, the other car's reference point 46 m from the own.
+TEST_F(LcrwDenmTest, RelevanceAreaHoldsTheOtherVehicleNotOnlyTheGap) {
+  LcrwDenmTrigger t(den, frame);
+  t.on_warning(warning(WarningEvent::kRaised, Severity::kWarning, 42), own());
+  ASSERT_EQ(den.triggered.size(), 1u);
+  EXPECT_EQ(den.triggered[0].relevance_distance, RelevanceDistance::kLessThan100m);
 }
 
 TEST_F(LcrwDenmTest, ClearedWarningTerminatesTheEvent) {
