@@ -22,6 +22,14 @@ if(TESTBED_SANITIZE)
   target_compile_options(testbed_options INTERFACE ${_san})
   target_link_options(testbed_options INTERFACE ${_san})
 endif()
+if(TESTBED_FUZZ)
+  # Coverage feedback from every library a fuzz target reaches, not only from its own file: all
+  # the testbed's code (every target of these helpers takes testbed_options) gets libFuzzer's
+  # counters, and whatever links it the coverage runtime; fuzz targets add -fsanitize=fuzzer.
+  # Prebuilt Debian libraries are not rebuilt and stay as they are.
+  target_compile_options(testbed_options INTERFACE -fsanitize=fuzzer-no-link)
+  target_link_options(testbed_options INTERFACE -fsanitize=fuzzer-no-link)
+endif()
 
 # testbed_library(<name> SOURCES ... [DEPS ...] [PRIVATE_DEPS ...])
 # Makes target <name> with alias testbed::<name>; header-only when SOURCES is empty.
