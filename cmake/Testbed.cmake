@@ -22,6 +22,14 @@ if(TESTBED_SANITIZE)
   target_compile_options(testbed_options INTERFACE ${_san})
   target_link_options(testbed_options INTERFACE ${_san})
 endif()
+if(TESTBED_FUZZ)
+  # Coverage feedback from every library a fuzz target reaches, not only from its own file: all
+  # the testbed's code (every target of these helpers takes testbed_options) gets libFuzzer's
+  # counters, and whatever links it the coverage runtime; fuzz targets add -fsanitize=fuzzer.
+  # Prebuilt Debian libraries are not rebuilt and stay as they are.
+  target_compile_options(testbed_options INTERFACE -fsanitize=fuzzer-no-link)
+  target_link_options(testbed_options INTERFACE -fsanitize=fuzzer-no-link)
+endif()
 
 # testbed_library(<name> SOURCES ... [DEPS ...] [PRIVATE_DEPS ...])
 # Makes target <name> with alias testbed::<name>; header-only when SOURCES is empty.
@@ -85,11 +93,20 @@ function(testbed_benchmark name)
   set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/bench)
 endfunction()
 
-# testbed_fuzzer(<name> SOURCES ... [DEPS ...] [CORPUS dir])
+# testbed_fuzzer(<name> SOURCES ... [DEPS ...] CORPUS dir... MIN_COVERAGE edges [DICT file]
+#                [SECONDS s])
 # A libFuzzer target, built only with TESTBED_FUZZ (clang); registered with ctest under label
-# "fuzz" to run for a bounded time on its corpus.
+# "fuzz" twice: fuzz.<name> runs it for a bounded time on its corpus folders (new inputs go to
+# the build's <name>.corpus, the folders are only read), and fuzz.<name>.coverage runs the
+# corpus once and fails when fewer than MIN_COVERAGE edges are covered — the floor that says
+# the code under test is instrumented and reached (cmake/FuzzCoverage.cmake). Set it about 15 %
+# under what the corpus covers in the fuzz build of scripts/test, so that a lost library's
+# counters fail it (README, "Fuzzing").
 function(testbed_fuzzer name)
-  cmake_parse_arguments(ARG "" "CORPUS;SECONDS" "SOURCES;DEPS" ${ARGN})
+  cmake_parse_arguments(ARG "" "SECONDS;MIN_COVERAGE;DICT" "SOURCES;DEPS;CORPUS" ${ARGN})
+  if(NOT ARG_CORPUS OR NOT ARG_MIN_COVERAGE MATCHES "^[1-9][0-9]*$")
+    message(FATAL_ERROR "testbed_fuzzer(${name}): needs CORPUS and MIN_COVERAGE (edges > 0)")
+  endif()
   if(NOT TESTBED_FUZZ)
     return()
   endif()
@@ -104,9 +121,22 @@ function(testbed_fuzzer name)
   target_link_libraries(${name} PRIVATE testbed_options ${ARG_DEPS})
   set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/fuzz)
   set(work ${CMAKE_BINARY_DIR}/fuzz/${name}.corpus)
+  set(dirs "")
+  foreach(dir IN LISTS ARG_CORPUS)
+    string(APPEND dirs " '${dir}'")
+  endforeach()
+  set(dict "")
+  if(ARG_DICT)
+    set(dict "-dict='${ARG_DICT}'")
+  endif()
   add_test(NAME fuzz.${name}
            COMMAND ${CMAKE_COMMAND} -E env ASAN_OPTIONS=detect_leaks=1
-                   sh -c "mkdir -p '${work}' && exec '$<TARGET_FILE:${name}>' -max_total_time=${ARG_SECONDS} -timeout=5 -rss_limit_mb=2048 '${work}' '${ARG_CORPUS}'")
+                   sh -c "mkdir -p '${work}' && exec '$<TARGET_FILE:${name}>' -max_total_time=${ARG_SECONDS} -timeout=5 -rss_limit_mb=2048 ${dict} '${work}'${dirs}")
   math(EXPR limit "${ARG_SECONDS} * 3 + 60")
   set_tests_properties(fuzz.${name} PROPERTIES LABELS fuzz TIMEOUT ${limit})
+  add_test(NAME fuzz.${name}.coverage
+           COMMAND ${CMAKE_COMMAND} -DFUZZER=$<TARGET_FILE:${name}>
+                   -DMIN_COVERAGE=${ARG_MIN_COVERAGE} "-DCORPUS=${ARG_CORPUS}"
+                   -P ${TESTBED_ROOT}/cmake/FuzzCoverage.cmake)
+  set_tests_properties(fuzz.${name}.coverage PROPERTIES LABELS fuzz TIMEOUT 120)
 endfunction()
