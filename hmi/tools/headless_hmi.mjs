@@ -5,7 +5,8 @@
 //
 //   node hmi/tools/headless_hmi.mjs --url http://127.0.0.1:9001/ --station 1001 [--station N]... [--trace]
 //
-// Prints "hmi: station N connected" per page once its broker connection is up, the page's
+// Prints "hmi: station N connected (URL) at T ms" (T: Unix ms) per page once its broker
+// connection is up, the page's
 // script errors as they happen, and one line per road event the page lists (#denm-list, read
 // from the page's DOM every 200 ms), when it first appears and again when it is shown ended:
 //   hmi: station N road event: from station X cause C seq S [sent by this station] [(ended)]
@@ -93,7 +94,7 @@ try {
     }
     await page.goto(url.toString());
     await page.waitForSelector('#conn[data-state="connected"]', { timeout: 20000 });
-    console.log(`hmi: station ${station} connected (${url})`);
+    console.log(`hmi: station ${station} connected (${url}) at ${Date.now()} ms`);
     pages.push({ station, page, printed: new Set() });
   }
   // One look at a time: the next one 200 ms after the last ended.
