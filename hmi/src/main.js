@@ -4,7 +4,7 @@ import mqtt from 'mqtt';
 import { beep, beepCount, audioState, prepareAudio, unlockAudio } from './audio.js';
 import { causeText, fixText, offsetM } from './etsi.js';
 import { drawMap } from './map.js';
-import { lcrwReceipt, traceTopic } from './trace.js';
+import { denmReceipt, lcrwReceipt, traceTopic } from './trace.js';
 import {
   createModel,
   expire,
@@ -19,7 +19,7 @@ const $ = (id) => document.getElementById(id);
 
 // Served by Mosquitto's http_dir on its WebSocket listener, the page finds the broker at its own
 // address; ?broker=, ?user=, ?password=, ?station=, ?prefix= override (and are remembered);
-// ?trace=1 reports the receipt of LCRW messages (trace.js), for this page load only.
+// ?trace=1 reports the receipt of LCRW messages and DENMs (trace.js), for this page load only.
 function settings() {
   const q = new URLSearchParams(location.search);
   const saved = JSON.parse(localStorage.getItem('hmi.settings') || '{}');
@@ -101,8 +101,9 @@ function connect() {
     if (what) {
       render(what);
     }
-    if (cfg.trace && what === 'warning') {
-      const record = lcrwReceipt(cfg.prefix, topic, text, receivedMs, wallClockMs());
+    if (cfg.trace && (what === 'warning' || what === 'denm')) {
+      const receipt = what === 'warning' ? lcrwReceipt : denmReceipt;
+      const record = receipt(cfg.prefix, topic, text, receivedMs, wallClockMs());
       if (record) {
         client.publish(traceTopic(cfg.prefix, model.station), record, { qos: 0 });
       }
@@ -185,6 +186,12 @@ function renderDenms() {
     ...model.denms.map((d) => {
       const li = document.createElement('li');
       li.dataset.cause = d.cause;
+      // The event's action ID and direction, for tests and tools (hmi/tools/headless_hmi.mjs).
+      if (d.originator != null && d.seq != null) {
+        li.dataset.originator = d.originator;
+        li.dataset.seq = d.seq;
+      }
+      li.dataset.direction = d.direction;
       li.classList.toggle('terminated', d.terminated);
       let where = '';
       if (model.own?.lat != null && d.lat != null) {

@@ -99,6 +99,7 @@ export function handleMessage(model, topic, text, now = Date.now()) {
       key,
       direction: parts[2],
       originator: mc.action_id?.originating_station_id,
+      seq: mc.action_id?.sequence_number,
       text: etsi.causeText(ev.cause, ev.subcause),
       cause: ev.cause,
       subcause: ev.subcause,

@@ -58,3 +58,38 @@ export function lcrwReceipt(prefix, topic, payload, receivedMs, shownMs) {
   });
   return `{"ts":${nsString(receivedMs)},${fields.slice(1, -1)},"shown_ns":${nsString(shownMs)}}`;
 }
+
+// The hmi.denm record of a DENM message (its/<station>/in/denm/<origin>, or the station's own on
+// its/<station>/out/denm) received at receivedMs and put in the road-event list at shownMs: the
+// topic's station, the event's action ID (origin, seq), the direction and whether it ends the
+// event. scripts/report joins it to the station's its.denm_rx of the same action ID. null for
+// any other message or one without an action ID.
+export function denmReceipt(prefix, topic, payload, receivedMs, shownMs) {
+  const parts = topic.split('/');
+  const incoming = parts.length === 5 && parts[2] === 'in';
+  const outgoing = parts.length === 4 && parts[2] === 'out';
+  if (parts[0] !== prefix || parts[3] !== 'denm' || !(incoming || outgoing) || !/^\d+$/.test(parts[1])) {
+    return null;
+  }
+  let mc;
+  try {
+    mc = JSON.parse(payload)?.message?.management_container;
+  } catch {
+    return null;
+  }
+  const id = mc?.action_id;
+  const ok = (v) => Number.isInteger(v) && v >= 0;
+  if (!id || !ok(id.originating_station_id) || !ok(id.sequence_number)) {
+    return null;
+  }
+  const fields = JSON.stringify({
+    proc: 'hmi',
+    ev: 'hmi.denm',
+    station: Number(parts[1]),
+    origin: id.originating_station_id,
+    seq: id.sequence_number,
+    dir: parts[2],
+    term: mc.termination !== undefined,
+  });
+  return `{"ts":${nsString(receivedMs)},${fields.slice(1, -1)},"shown_ns":${nsString(shownMs)}}`;
+}

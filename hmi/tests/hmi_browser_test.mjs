@@ -169,6 +169,41 @@ async function main() {
     const receipts = [];
     collector.on('message', (topic, payload) => receipts.push({ topic, text: payload.toString(), at: Date.now() }));
     await collector.subscribeAsync('its/+/hmi/trace', { qos: 0 });
+    const parseReceipt = (r) => {
+      try {
+        return { ...r, record: JSON.parse(r.text), tsMs: Number(BigInt(r.text.match(/"ts":(\d+)/)[1]) / 1000000n) };
+      } catch {
+        return { ...r, record: null, tsMs: NaN };
+      }
+    };
+    const receiptOf = (ev) => receipts.map(parseReceipt).find((r) => r.record?.ev === ev);
+
+    // A second road event of the neighbour: listed with its originator and action ID, and with
+    // ?trace=1 its receipt reported as hmi.denm (scripts/report's denm.hmi stage).
+    const denmAt = Date.now();
+    await pub('its/1001/in/denm/1002', envelope('denm', {
+      station_id: 1002,
+      management_container: { action_id: { originating_station_id: 1002, sequence_number: 2 }, event_position: { latitude: 480000000, longitude: 110005360 } },
+      situation_container: { event_type: { cause: 97, subcause: 1 } },
+    }));
+    const second = '#denm-list li[data-originator="1002"][data-seq="2"]';
+    await page.waitForSelector(second, { state: 'attached', timeout: 10000 }).catch(() => {});
+    const secondText = (await page.$(second)) ? await page.textContent(second) : null;
+    check('DENM on its/1001/in/denm/1002 listed with its originator and sequence number',
+      secondText !== null && secondText.includes('from station 1002') && secondText.includes('Collision risk'),
+      `${secondText} / list: ${await page.textContent('#denm-list')}`);
+    for (let i = 0; i < 50 && !receiptOf('hmi.denm'); i++) {
+      await new Promise((r) => setTimeout(r, 100));
+    }
+    const dr = receiptOf('hmi.denm');
+    check('trace=1: the DENM\'s receipt reported on its/1001/hmi/trace',
+      dr?.topic === 'its/1001/hmi/trace' && dr.record.station === 1001 && dr.record.origin === 1002 &&
+      dr.record.seq === 2 && dr.record.dir === 'in' && dr.record.term === false,
+      dr ? dr.text : `nothing received: ${JSON.stringify(receipts)}`);
+    check('trace=1: DENM receipt stamped between publication and arrival at the collector, shown after it',
+      dr !== undefined && dr.tsMs >= denmAt && dr.tsMs <= dr.at &&
+      BigInt(dr.text.match(/"shown_ns":(\d+)/)?.[1] ?? '0') >= BigInt(dr.text.match(/"ts":(\d+)/)[1]),
+      dr ? `ts ${dr.tsMs} published ${denmAt} collected ${dr.at}` : 'nothing received');
     const ownStateTime = Date.now() - 40;
     const otherStateTime = Date.now() - 60;
     const warning = (event, ttc) => envelope('lcrw_warning', {
@@ -194,17 +229,12 @@ async function main() {
     } finally {
       clearInterval(refresh);
     }
-    for (let i = 0; i < 50 && receipts.length === 0; i++) {
+    for (let i = 0; i < 50 && !receiptOf('hmi.lcrw'); i++) {
       await new Promise((r) => setTimeout(r, 100));
     }
-    const first = receipts[0];
-    let record = null;
-    try {
-      record = first ? JSON.parse(first.text) : null;
-    } catch {
-      record = null;
-    }
-    const tsMs = record ? Number(BigInt(first.text.match(/"ts":(\d+)/)[1]) / 1000000n) : NaN;
+    const first = receiptOf('hmi.lcrw');
+    const record = first?.record ?? null;
+    const tsMs = first?.tsMs ?? NaN;
     check('trace=1: the receipt of the warning reported on its/1001/hmi/trace',
       first?.topic === 'its/1001/hmi/trace' && record?.ev === 'hmi.lcrw' && record.station === 1001 &&
       record.from === 1002 && record.event === 'raised' && record.own_ms === ownStateTime &&

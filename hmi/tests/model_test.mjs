@@ -85,6 +85,8 @@ test('DENMs listed newest first, updates replace, termination shown', () => {
   assert.equal(m.denms[0].key, '2/1');
   assert.equal(m.denms[0].terminated, true);
   assert.equal(m.denms[0].text, 'Collision risk (longitudinal)');
+  // The action ID travels with each listed event (the page's li data-originator/data-seq).
+  assert.deepEqual(m.denms.map((d) => [d.originator, d.seq, d.direction]), [[2, 1, 'in'], [2, 2, 'in']]);
 });
 
 test('garbage is ignored', () => {

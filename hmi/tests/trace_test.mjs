@@ -2,7 +2,7 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
 
-import { generationDeltaTime, lcrwReceipt, nsString, traceTopic } from '../src/trace.js';
+import { denmReceipt, generationDeltaTime, lcrwReceipt, nsString, traceTopic } from '../src/trace.js';
 
 const ITS_EPOCH = 1072915200000;
 
@@ -61,4 +61,47 @@ test('anything else makes no record', () => {
 
 test('records go to the station\'s hmi/trace topic', () => {
   assert.equal(traceTopic('its', '1001'), 'its/1001/hmi/trace');
+});
+
+function denmPayload(actionId, extra = {}) {
+  return JSON.stringify({
+    type: 'denm', origin: 'self', version: '1.0.0', source_uuid: 'station-1002', timestamp: 0,
+    message: {
+      station_id: 1001,
+      management_container: { action_id: actionId, event_position: { latitude: 1, longitude: 2 }, ...extra },
+      situation_container: { event_type: { cause: 97, subcause: 1 } },
+    },
+  });
+}
+
+test('a received DENM becomes an hmi.denm record naming the topic\'s station and the action ID', () => {
+  const line = denmReceipt('its', 'its/1002/in/denm/1001',
+    denmPayload({ originating_station_id: 1001, sequence_number: 7 }), 1763770000123.5, 1763770000125);
+  assert.ok(line.startsWith('{"ts":1763770000123500000,'), line);
+  assert.ok(line.endsWith(',"shown_ns":1763770000125000000}'), line);
+  const r = JSON.parse(line);
+  assert.deepEqual(
+    { proc: r.proc, ev: r.ev, station: r.station, origin: r.origin, seq: r.seq, dir: r.dir, term: r.term },
+    { proc: 'hmi', ev: 'hmi.denm', station: 1002, origin: 1001, seq: 7, dir: 'in', term: false },
+  );
+});
+
+test('the station\'s own DENM and a termination are told apart', () => {
+  const own = JSON.parse(denmReceipt('its', 'its/1001/out/denm',
+    denmPayload({ originating_station_id: 1001, sequence_number: 0 }, { termination: 0 }), 1, 2));
+  assert.deepEqual([own.station, own.origin, own.seq, own.dir, own.term], [1001, 1001, 0, 'out', true]);
+});
+
+test('a DENM message without an action ID, or on another topic, makes no record', () => {
+  const good = denmPayload({ originating_station_id: 1001, sequence_number: 7 });
+  const at = [1, 2];
+  assert.equal(denmReceipt('its', 'its/1002/in/denm', good, ...at), null);
+  assert.equal(denmReceipt('its', 'its/1002/in/cam/1001', good, ...at), null);
+  assert.equal(denmReceipt('its', 'its/1002/out/denm/x', good, ...at), null);
+  assert.equal(denmReceipt('its', 'other/1002/in/denm/1001', good, ...at), null);
+  assert.equal(denmReceipt('its', 'its/abc/in/denm/1001', good, ...at), null);
+  assert.equal(denmReceipt('its', 'its/1002/in/denm/1001', '{not json', ...at), null);
+  assert.equal(denmReceipt('its', 'its/1002/in/denm/1001', denmPayload({ originating_station_id: 1001 }), ...at), null);
+  assert.equal(denmReceipt('its', 'its/1002/in/denm/1001', denmPayload({ sequence_number: 7 }), ...at), null);
+  assert.equal(denmReceipt('its', 'its/1002/in/denm/1001', denmPayload({ originating_station_id: -1, sequence_number: 7 }), ...at), null);
 });

@@ -5,8 +5,12 @@
 //
 //   node hmi/tools/headless_hmi.mjs --url http://127.0.0.1:9001/ --station 1001 [--station N]... [--trace]
 //
-// Prints "hmi: station N connected" per page once its broker connection is up, and the page's
-// script errors as they happen; exits 1 when Chromium or a page cannot start.
+// Prints "hmi: station N connected (URL) at T ms" (T: Unix ms) per page once its broker
+// connection is up, the page's
+// script errors as they happen, and one line per road event the page lists (#denm-list, read
+// from the page's DOM every 200 ms), when it first appears and again when it is shown ended:
+//   hmi: station N road event: from station X cause C seq S [sent by this station] [(ended)]
+// Exits 1 when Chromium or a page cannot start.
 import { mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
@@ -28,6 +32,33 @@ if (values.station.length === 0 || values.station.some((s) => !/^\d+$/.test(s)))
   process.exit(2);
 }
 
+// The road events a page lists, as its DOM shows them (hmi/src/main.js renderDenms).
+async function printRoadEvents() {
+  for (const p of pages) {
+    let events;
+    try {
+      events = await p.page.$$eval('#denm-list li[data-originator]', (lis) => lis.map((li) => ({
+        originator: li.dataset.originator,
+        seq: li.dataset.seq,
+        cause: li.dataset.cause,
+        own: li.dataset.direction === 'out',
+        ended: li.classList.contains('terminated'),
+      })));
+    } catch {
+      continue; // the page is closing
+    }
+    for (const e of events) {
+      const key = `${e.originator}/${e.seq}/${e.ended}`;
+      if (!p.printed.has(key)) {
+        p.printed.add(key);
+        console.log(`hmi: station ${p.station} road event: from station ${e.originator} cause ${e.cause} seq ${e.seq}` +
+          `${e.own ? ' sent by this station' : ''}${e.ended ? ' (ended)' : ''}`);
+      }
+    }
+  }
+}
+
+const pages = [];
 const userData = mkdtempSync(join(tmpdir(), 'hmi-headless-'));
 let context = null;
 let stopping = false;
@@ -63,8 +94,17 @@ try {
     }
     await page.goto(url.toString());
     await page.waitForSelector('#conn[data-state="connected"]', { timeout: 20000 });
-    console.log(`hmi: station ${station} connected (${url})`);
+    console.log(`hmi: station ${station} connected (${url}) at ${Date.now()} ms`);
+    pages.push({ station, page, printed: new Set() });
   }
+  // One look at a time: the next one 200 ms after the last ended.
+  const poll = async () => {
+    await printRoadEvents();
+    if (!stopping) {
+      setTimeout(poll, 200);
+    }
+  };
+  poll();
 } catch (e) {
   console.error(`headless_hmi: ${e.message ?? e}`);
   await stop(1);

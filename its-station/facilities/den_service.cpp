@@ -107,6 +107,9 @@ bool DenService::transmit(const messages::Denm& denm, const GeoArea& area,
     ++counters_.send_errors;
     return false;
   }
+  // Stamped before the send, as its.cam_tx: on a veth or hwsim radio the send already carries
+  // the frame to the medium, and a neighbour may take it in before the send returns.
+  const std::int64_t handed_ns = trace::Tracer::now_ns();
   const auto r = sender_.send_geobroadcast(kBtpPortDenm, area, std::span(buf.data(), *n),
                                            gn_lifetime_ms(denm.denm.management.validityDuration),
                                            traffic_class);
@@ -118,18 +121,20 @@ bool DenService::transmit(const messages::Denm& denm, const GeoArea& area,
   const auto& mc = denm.denm.management;
   if (forwarded) {
     ++counters_.forwarded;
-    trace::global().record("its.denm_fwd", {{"station", config_.station_id},
-                                            {"origin", mc.actionID.originatingStationID},
-                                            {"seq", unsigned{mc.actionID.sequenceNumber}},
-                                            {"ref", static_cast<std::uint64_t>(mc.referenceTime)}});
+    trace::global().record_at(handed_ns, "its.denm_fwd",
+                              {{"station", config_.station_id},
+                               {"origin", mc.actionID.originatingStationID},
+                               {"seq", unsigned{mc.actionID.sequenceNumber}},
+                               {"ref", static_cast<std::uint64_t>(mc.referenceTime)}});
     return true;
   }
   ++counters_.sent;
-  trace::global().record("its.denm_tx", {{"station", config_.station_id},
-                                         {"origin", mc.actionID.originatingStationID},
-                                         {"seq", unsigned{mc.actionID.sequenceNumber}},
-                                         {"ref", static_cast<std::uint64_t>(mc.referenceTime)},
-                                         {"term", mc.termination.has_value()}});
+  trace::global().record_at(handed_ns, "its.denm_tx",
+                            {{"station", config_.station_id},
+                             {"origin", mc.actionID.originatingStationID},
+                             {"seq", unsigned{mc.actionID.sequenceNumber}},
+                             {"ref", static_cast<std::uint64_t>(mc.referenceTime)},
+                             {"term", mc.termination.has_value()}});
   for (auto& l : sent_listeners_)
     l(denm);
   return true;
@@ -294,13 +299,17 @@ void DenService::receive(std::span<const std::uint8_t> payload, const DenmRecept
     ++counters_.own_heard;
     return;
   }
+  // Stamped when the LDM takes the DENM, before its listeners publish it to MQTT (which can
+  // take longer than the decision itself).
+  const std::int64_t taken_ns = trace::Tracer::now_ns();
   const auto outcome = ldm_.add_denm(*denm);
   if (!accepted(outcome))
     ++counters_.dropped;
-  trace::global().record("its.denm_rx", {{"station", config_.station_id},
-                                         {"origin", mc.actionID.originatingStationID},
-                                         {"seq", unsigned{mc.actionID.sequenceNumber}},
-                                         {"outcome", to_string(outcome)}});
+  trace::global().record_at(taken_ns, "its.denm_rx",
+                            {{"station", config_.station_id},
+                             {"origin", mc.actionID.originatingStationID},
+                             {"seq", unsigned{mc.actionID.sequenceNumber}},
+                             {"outcome", to_string(outcome)}});
   if (config_.keep_alive_forwarding)
     keep_alive(*denm, outcome, rx);
 }

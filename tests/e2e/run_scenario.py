@@ -28,9 +28,10 @@ CASE is one of:
                    station has a fix and has sent and received CAMs, and red, braking hard from
                    t = 0, shows it in its first CAMs after 0 (and not in those before)
   latency          scenarios/lcrw-three-vehicles.json for 30 s with tracing and the warned
-                   driver's HMI open in headless Chromium (?trace=1): scripts/report must find
-                   records for every stage, and state → CAM on the air p99 ≤ 250 ms (the
-                   thesis's ceiling)
+                   driver's HMI open in headless Chromium (?trace=1), and the black car's, which
+                   receives red's DENMs: scripts/report must find records for every stage (the
+                   DENM stages too), state → CAM on the air p99 ≤ 250 ms (the thesis's ceiling),
+                   and black's page must list every DENM its station accepted
   foreign-root     scenarios/lcrw-frontal.json signed, for 15 s, with the black car's station
                    from another test PKI ("station": {"pki": "foreign"}; issue 20): neither
                    station's LDM, MQTT CAM topics or LCRW ever hold the other, each counts the
@@ -78,6 +79,7 @@ CASES = {
     "foreign-root": (None, 15),  # generated: lcrw-frontal with black from another PKI
 }
 FOREIGN_STATION = 1002
+HMI_DENM_STATION = 1002  # latency: the black car, ahead of red, gets red's LCRW DENMs
 SCALE_STATIONS = 20
 # The stages a run without an HMI and without warnings has (scripts/report's ORDER).
 SCALE_STAGES = ("t1,t1.send,p1,fanout,t3.period,t2,p2,t3.gpsd,t3.uptake,t3.stack,p3,t4,p4.t5,air,"
@@ -265,6 +267,38 @@ def physics_at(by, station, ts):
     r = max(steps, key=lambda r: r["step_ns"])
     dt = (ts - r["step_ns"]) / 1e9
     return (r["x"] + r["v"] * math.cos(r["yaw"]) * dt, r["y"] + r["v"] * math.sin(r["yaw"]) * dt)
+
+
+def check_road_events(out, hmi_log, station=None):
+    """The HMI page of the black car lists every DENM its station accepted (its.denm_rx new or
+    update in the trace) once the page was connected, with the originator and sequence number
+    (hmi/tools/headless_hmi.mjs prints a line per listed road event) and cause 97 (collision
+    risk, what LCRW raises). Returns the failures."""
+    station = station or HMI_DENM_STATION
+    connected = None
+    listed = set()
+    for line in hmi_log.splitlines():
+        if line.startswith(f"hmi: station {station} connected") and " at " in line:
+            connected = int(line.rsplit(" at ", 1)[1].split()[0]) * 1_000_000
+        prefix = f"hmi: station {station} road event: from station "
+        if line.startswith(prefix):
+            words = line[len(prefix):].split()  # X cause C seq S [...]
+            if len(words) >= 5 and words[1] == "cause" and words[3] == "seq":
+                listed.add((int(words[0]), int(words[4]), int(words[2])))
+    if connected is None:
+        return [f"the headless HMI of station {station} never connected to the broker"]
+    by = trace_events(out)
+    accepted = {(r["origin"], r["seq"]) for r in by.get("its.denm_rx", [])
+                if r["station"] == station and r.get("outcome") in ("new", "update")
+                and r["ts"] > connected}
+    print(f"e2e: station {station} accepted DENMs {sorted(accepted)} while its HMI was open; "
+          f"the page listed {sorted(listed)}")
+    if not accepted:
+        return [f"station {station} accepted no DENM while its HMI was open: nothing to check "
+                "in its road-event list"]
+    return [f"the HMI of station {station} does not list the DENM {origin}/{seq} (cause 97) "
+            "its station accepted" for origin, seq in sorted(accepted)
+            if (origin, seq, 97) not in listed]
 
 
 def check_denms(out, scenario, messages):
@@ -701,8 +735,10 @@ def run_case(args):
                                stdout=sub_out, text=True)
         if args.case == "latency":
             # The red car's driver looks at the HMI; its page reports each warning's receipt.
+            # The black car's page lists red's DENMs (and reports their receipt).
             hmi = subprocess.Popen(["node", str(ROOT / "hmi/tools/headless_hmi.mjs"), "--url",
-                                    "http://127.0.0.1:9001/", "--station", "1001", "--trace"],
+                                    "http://127.0.0.1:9001/", "--station", "1001",
+                                    "--station", str(HMI_DENM_STATION), "--trace"],
                                    stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         log, _ = testbed.communicate(timeout=duration + 120)
     except subprocess.TimeoutExpired:
@@ -848,6 +884,8 @@ def run_case(args):
                 failures.append(f"only {len(heard)} of {SCALE_STATIONS} stations received CAMs")
         elif "hmi: station 1001 connected" not in hmi_log:
             failures.append("the headless HMI of station 1001 never connected to the broker")
+        else:
+            failures += check_road_events(out, hmi_log)
     if args.pin_start:
         failures += check_world_start(out, json.loads(scenario_file.read_text()))
     cpu1 = cpu_times()

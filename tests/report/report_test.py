@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Unit test of scripts/report's joins on hand-made trace records (no programs, no clocks):
-which steps count as state changes, the CAM and warning stages, the HMI's receipts, --require.
+which steps count as state changes, the CAM and warning stages, the HMI's receipts, the DENM
+stages, --require.
 
     python3 tests/report/report_test.py
 """
@@ -213,10 +214,95 @@ class ReportTest(unittest.TestCase):
         self.assertNotIn("state_to_warning", st)
         self.assertAlmostEqual(st["mqtt"]["mean"], 0.05, places=6)
 
+    def test_denm_stages(self):
+        # Station 1's LCRW evaluation at D warns about station 2 (and not about 3, in the same
+        # evaluation): its DEN service hands the new event (seq 0) to the network 0.3 ms later.
+        # Station 2 accepts it 1.5 ms after D; station 3, outside the relevance area then,
+        # accepts the repetition of D + 100.3 ms (same referenceTime) 1.0 ms after it. An update
+        # (new referenceTime) made in the evaluation of D + 150 ms leaves 0.2 ms after it and is
+        # accepted at 2 after 0.8 ms. Station 2's page receives the acceptances 2.0 and 3.0 ms
+        # after them.
+        D = step_ns(20) + 31 * MS
+        t = self.trace
+
+        def lcrw(at, about, warn):
+            t.add(at, "its.lcrw", station=1, **{"from": about}, gdt=1, warn=warn, ttc=2.0 if warn else None)
+
+        def tx(at, seq, ref, term=False):
+            t.add(at, "its.denm_tx", station=1, origin=1, seq=seq, ref=ref, term=term)
+
+        def rx(at, station, seq, outcome):
+            t.add(at, "its.denm_rx", station=station, origin=1, seq=seq, outcome=outcome)
+
+        def page(at, station, seq, direction="in", term=False):
+            t.add(at, "hmi.denm", station=station, origin=1, seq=seq, dir=direction, term=term,
+                  shown_ns=at + 100_000)
+
+        lcrw(D - 100 * MS, 2, False)
+        lcrw(D, 2, True)
+        lcrw(D, 3, False)
+        tx(D + 300_000, 0, 5000)
+        rx(D + 1_500_000, 2, 0, "new")
+        page(D + 3_500_000, 2, 0)
+        page(D + 3_600_000, 1, 0, direction="out")  # the originator's own page: not a neighbour's
+        lcrw(D + 50 * MS, 2, True)
+        tx(D + 100_300_000, 0, 5000)  # a repetition: no decision of its own
+        rx(D + 101_000_000, 2, 0, "repetition")
+        rx(D + 101_300_000, 3, 0, "new")
+        lcrw(D + 150 * MS, 2, True)
+        tx(D + 150_200_000, 0, 5150)  # the update
+        rx(D + 151_000_000, 2, 0, "update")
+        page(D + 154_000_000, 2, 0)
+        page(D + 154_500_000, 2, 0)  # the same publication on a second page: one sample
+        # Station 2 forwards the event (keep-alive) and station 4 accepts it: no join to the tx.
+        t.add(D + 200 * MS, "its.denm_fwd", station=2, origin=1, seq=0, ref=5150)
+        rx(D + 201 * MS, 4, 0, "new")
+        # The cancellation is no decision's DENM and no acceptance.
+        lcrw(D + 300 * MS, 2, False)
+        tx(D + 300_100_000, 0, 5300, term=True)
+        rx(D + 301 * MS, 2, 0, "cancelled")
+        page(D + 303 * MS, 2, 0, term=True)
+        # A DENM sent after an evaluation that did not warn (another application's, say): on the
+        # air, but no decision.
+        lcrw(D + 399_900_000, 2, False)
+        tx(D + 400 * MS, 1, 5400)
+        rx(D + 401 * MS, 2, 1, "new")
+        r, st = run_report(t, "--require", "denm.tx,denm.air,denm.accept,denm.hmi")
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        self.assertEqual(st["denm.tx"]["n"], 2)
+        self.assertAlmostEqual(st["denm.tx"]["min"], 0.2, places=6)
+        self.assertAlmostEqual(st["denm.tx"]["max"], 0.3, places=6)
+        # Air: 1.2 (2, new), 1.0 (3, the repetition), 0.8 (2, update), 1.0 (2, seq 1).
+        self.assertEqual(st["denm.air"]["n"], 4)
+        self.assertAlmostEqual(st["denm.air"]["mean"], 1.0, places=6)
+        self.assertAlmostEqual(st["denm.air"]["max"], 1.2, places=6)
+        self.assertAlmostEqual(st["denm.air"]["min"], 0.8, places=6)
+        # Decision → accepted: 1.5 (the new event at 2) and 1.0 (the update at 2).
+        self.assertEqual(st["denm.accept"]["n"], 2)
+        self.assertAlmostEqual(st["denm.accept"]["max"], 1.5, places=6)
+        self.assertAlmostEqual(st["denm.accept"]["min"], 1.0, places=6)
+        self.assertEqual(st["denm.hmi"]["n"], 2)
+        self.assertAlmostEqual(st["denm.hmi"]["min"], 2.0, places=6)
+        self.assertAlmostEqual(st["denm.hmi"]["max"], 3.0, places=6)
+
+    def test_a_denm_transmission_long_after_the_last_evaluation_has_no_decision(self):
+        D = step_ns(20) + 31 * MS
+        self.trace.add(D, "its.lcrw", station=1, **{"from": 2}, gdt=1, warn=True, ttc=2.0)
+        self.trace.add(D + 1_500 * MS, "its.denm_tx", station=1, origin=1, seq=0, ref=1, term=False)
+        self.trace.add(D + 1_501 * MS, "its.denm_rx", station=2, origin=1, seq=0, outcome="new")
+        # An acceptance long after the last transmission joins none.
+        self.trace.add(D + 2_600 * MS, "its.denm_rx", station=3, origin=1, seq=0, outcome="new")
+        r, st = run_report(self.trace, "--require", "denm.accept")
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("stage denm.accept has no records", r.stderr)
+        self.assertNotIn("denm.tx", st)
+        self.assertEqual(st["denm.air"]["n"], 1)
+        self.assertAlmostEqual(st["denm.air"]["mean"], 1.0, places=6)
+
     def test_require_all_names_the_missing_stages(self):
         r, _ = run_report(self.trace, "--require", "all")
         self.assertEqual(r.returncode, 1)
-        for stage in ("t1", "air", "hmi", "state_to_hmi"):
+        for stage in ("t1", "air", "hmi", "state_to_hmi", "denm.tx", "denm.accept", "denm.hmi"):
             self.assertIn(f"stage {stage} has no records", r.stderr)
         self.assertNotIn("stage state_to_cam has no records", r.stderr)
         # An unsigned run has no security stages: "all" leaves them out, naming one asks for it.
