@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 #include <unordered_map>
+#include <vector>
 
 namespace tb::map::odr {
 
@@ -45,6 +46,8 @@ class Reader {
     }
     for (const std::string& w : ignored_)
       net_.warnings.push_back(w);
+    for (std::string& w : not_applied_)
+      net_.warnings.push_back(std::move(w));
     return std::move(net_);
   }
 
@@ -54,6 +57,12 @@ class Reader {
   }
 
   void ignore_once(const std::string& what) { ignored_.insert(what + " ignored"); }
+
+  /// A 1.6/1.7 element that changes the geometry but is not applied to it: one warning per
+  /// occurrence, naming the file, the element's path (road and lane) and the values.
+  void not_applied(const std::string& path, const std::string& what) {
+    not_applied_.push_back(net_.source + ": " + path + ": " + what + " not applied");
+  }
 
   double number(pugi::xml_node n, const char* name, const std::string& path) const {
     const pugi::xml_attribute a = n.attribute(name);
@@ -131,6 +140,13 @@ class Reader {
       hd.offset_y = number_or(o, "y", 0, "header/offset");
       hd.offset_z = number_or(o, "z", 0, "header/offset");
       hd.offset_hdg = number_or(o, "hdg", 0, "header/offset");
+      if (hd.offset_x != 0 || hd.offset_y != 0 || hd.offset_z != 0 || hd.offset_hdg != 0) {
+        not_applied("header/offset",
+                    "<offset x=\"" + std::string(o.attribute("x").value()) + "\" y=\"" +
+                        o.attribute("y").value() + "\" z=\"" + o.attribute("z").value() +
+                        "\" hdg=\"" + o.attribute("hdg").value() +
+                        "\"> (the inertial frame's shift; coordinates are the file's)");
+      }
     }
   }
 
@@ -200,12 +216,17 @@ class Reader {
     }
     if (pugi::xml_node lp = r.child("lateralProfile")) {
       road.superelevation = profile(lp, "superelevation", "s", path + "/lateralProfile");
+      const auto& recs = road.superelevation.records();
+      has_superelevation_ = std::any_of(recs.begin(), recs.end(), [](const CubicRecord& c) {
+        return c.a != 0 || c.b != 0 || c.c != 0 || c.d != 0;
+      });
       if (lp.child("crossfall"))
         ignore_once("lateralProfile <crossfall>");
       if (lp.child("shape"))
         ignore_once("lateralProfile <shape>");
     }
     read_lanes(r.child("lanes"), road, path);
+    has_superelevation_ = false;
     check_extent(road, path);
     count_skipped(r);
     net_.roads.push_back(std::move(road));
@@ -380,7 +401,23 @@ class Reader {
     lane.id = integer(l, "id", path);
     lane.type = l.attribute("type") ? l.attribute("type").value() : "none";
     lane.drivable = is_drivable(lane.type);
-    lane.level = std::string(l.attribute("level").value()) == "true";
+    const std::string level = l.attribute("level").value();
+    lane.level = level == "true" || level == "1";
+    if (lane.level && has_superelevation_) {
+      not_applied(path,
+                  "level=\"" + level + "\" (the lane is tilted with the road's superelevation)");
+    }
+    int hi = 0;
+    for (pugi::xml_node h : l.children("height")) {
+      const std::string hp = indexed(path, "height", ++hi);
+      const double inner = number_or(h, "inner", 0, hp);
+      const double outer = number_or(h, "outer", 0, hp);
+      if (inner != 0 || outer != 0) {
+        not_applied(hp, "<height inner=\"" + std::string(h.attribute("inner").value()) +
+                            "\" outer=\"" + h.attribute("outer").value() +
+                            "\"> (the lane lies on the road surface)");
+      }
+    }
     if (pugi::xml_node link = l.child("link")) {
       if (pugi::xml_node p = link.child("predecessor")) {
         lane.predecessor = integer(p, "id", path + "/link/predecessor");
@@ -654,6 +691,8 @@ class Reader {
   std::unordered_map<std::string, int> road_ids_;
   std::unordered_map<std::string, int> junction_ids_;
   std::set<std::string> ignored_;
+  std::vector<std::string> not_applied_;
+  bool has_superelevation_ = false;  ///< the road being read banks somewhere
   std::size_t controllers_ = 0;
   double total_length_ = 0.0;
 };

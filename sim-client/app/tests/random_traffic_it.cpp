@@ -1,5 +1,6 @@
-// Scripted traffic with random routes for 10 minutes of sim time on every junction map (the
-// shared maps with junctions and the shipped ones), through the real programs: sim-server
+// Scripted traffic with random routes for 10 minutes of sim time on every junction map (every
+// map in ../shared/data/opendrive with a <junction>, found by reading the folder, and the
+// shipped ones in scenarios/maps), through the real programs: sim-server
 // --fast (lockstep with its drivers) with the map, one sim-client --scripted driving every car,
 // and this test watching the state stream: no two cars' footprints overlap, no wheel leaves the
 // drivable lanes, and the cars drive.
@@ -11,6 +12,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -339,10 +341,39 @@ TEST_P(RandomTraffic, TenMinutesWithoutCollisionsOrLeavingTheLanes) {
   fs::remove_all(dir);
 }
 
+// Every shared map (TESTBED_OPENDRIVE_DIR, else ../shared/data/opendrive) that has a
+// junction, found by reading the folder: a map added there is driven without a change here.
+// Their roads end in dead ends: a car spawned a few metres before one stops there at once, so
+// each car need drive only 2 m (the others drive on).
+std::vector<MapCase> shared_junction_maps() {
+  const char* env = std::getenv("TESTBED_OPENDRIVE_DIR");
+  const fs::path shared = env != nullptr && *env != '\0'
+                              ? fs::path(env)
+                              : root() / ".." / "shared" / "data" / "opendrive";
+  std::vector<MapCase> out;
+  if (!fs::is_directory(shared))
+    return out;
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(shared)) {
+    if (e.path().extension() == ".xodr")
+      files.push_back(e.path());
+  }
+  std::sort(files.begin(), files.end());
+  for (const fs::path& f : files) {
+    if (odr::load_opendrive(f.string()).junctions.empty())
+      continue;
+    std::string name = "shared_" + f.stem().string();
+    std::replace_if(
+        name.begin(), name.end(),
+        [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) == 0; }, '_');
+    out.push_back({name, f, "", 6, 10.0, 2.0});
+  }
+  return out;
+}
+
 std::vector<MapCase> cases() {
-  const fs::path shared = root() / ".." / "shared" / "data" / "opendrive";
   const fs::path shipped = root() / "scenarios" / "maps";
-  return {
+  std::vector<MapCase> out = {
       {"ring",
        {},
        R"({"type": "ring", "lanes": 2, "oncoming_lanes": 0, "radius": 100})",
@@ -354,7 +385,9 @@ std::vector<MapCase> cases() {
       // The motorway oval with its exit and the merge back.
       {"motorway_merge", shipped / "motorway_merge.xodr", "", 10, 20.0, 1000.0},
   };
-  (void)shared;
+  for (MapCase& c : shared_junction_maps())
+    out.push_back(std::move(c));
+  return out;
 }
 
 INSTANTIATE_TEST_SUITE_P(Maps, RandomTraffic, ::testing::ValuesIn(cases()),

@@ -5,9 +5,15 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <iterator>
+#include <map>
+#include <set>
+#include <tuple>
+#include <vector>
 
 #include "common/map/opendrive/reader.hpp"
 
@@ -88,19 +94,78 @@ TEST(RoadMesh, CoversEveryLaneCounterClockwiseWithTheLanesArea) {
   }
 }
 
-TEST(RoadMesh, VerticesLieOnTheSurfaceAndSectionsMeet) {
-  const RoadNetwork net = load_opendrive((shared_maps() / "crest-curve.xodr").string());
-  const RoadMesh mesh = road_mesh(net, 0.02);
-  const LaneLocator loc(net);
-  std::size_t checked = 0;
-  for (const Vertex& v : mesh.vertices) {
-    const auto at = loc.locate(v.x, v.y, v.z);
-    if (!at)
-      continue;  // the outermost border: on no lane's inside
-    EXPECT_NEAR(at->z, v.z, 1e-6);
-    ++checked;
+/// The first and the last (inner, outer) vertex pair of each lane strip of @p mesh, keyed by
+/// road, then section: a strip's vertices run along s, two (inner, outer) per sample.
+struct StripEnds {
+  std::vector<Vertex> first, last;
+};
+std::map<int, std::map<std::uint32_t, StripEnds>> strip_ends(const RoadMesh& mesh) {
+  std::map<std::tuple<int, std::uint32_t, int>, std::set<std::uint32_t>> strips;
+  for (std::size_t i = 0; i < mesh.triangles(); ++i) {
+    auto& v = strips[{mesh.lanes[i].road, mesh.sections[i], mesh.lanes[i].lane}];
+    v.insert(mesh.indices.begin() + static_cast<std::ptrdiff_t>(3 * i),
+             mesh.indices.begin() + static_cast<std::ptrdiff_t>(3 * i + 3));
   }
-  EXPECT_GT(checked, mesh.vertices.size() / 2);
+  std::map<int, std::map<std::uint32_t, StripEnds>> out;
+  for (const auto& [key, idx] : strips) {
+    StripEnds& e = out[std::get<0>(key)][std::get<1>(key)];
+    const auto lo = idx.begin();
+    const auto hi = idx.rbegin();
+    e.first.push_back(mesh.vertices[*lo]);
+    e.first.push_back(mesh.vertices[*std::next(lo)]);
+    e.last.push_back(mesh.vertices[*hi]);
+    e.last.push_back(mesh.vertices[*std::next(hi)]);
+  }
+  return out;
+}
+
+double nearest(const Vertex& v, const std::vector<Vertex>& others) {
+  double best = 1e300;
+  for (const Vertex& o : others)
+    best = std::min(best, std::hypot(v.x - o.x, v.y - o.y, v.z - o.z));
+  return best;
+}
+
+TEST(RoadMesh, VerticesLieOnTheSurfaceAndSectionsMeet) {
+  {
+    const RoadNetwork net = load_opendrive((shared_maps() / "crest-curve.xodr").string());
+    const RoadMesh mesh = road_mesh(net, 0.02);
+    const LaneLocator loc(net);
+    std::size_t checked = 0;
+    for (const Vertex& v : mesh.vertices) {
+      const auto at = loc.locate(v.x, v.y, v.z);
+      if (!at)
+        continue;  // the outermost border: on no lane's inside
+      EXPECT_NEAR(at->z, v.z, 1e-6);
+      ++checked;
+    }
+    EXPECT_GT(checked, mesh.vertices.size() / 2);
+  }
+  // Where one lane section ends, the next begins: every border vertex of the last row of one
+  // section has a vertex of the next section's first row within 1 mm, and the other way round
+  // (mesh vertices against mesh vertices; the files' lane widths are continuous there, e.g.
+  // multi_lanesections' lane 2 widens 0.0009*100^2 - 6e-6*100^3 = 3 m to meet the next 3 m).
+  std::size_t boundaries = 0;
+  for (const char* file : {"multi_lanesections.xodr", "highway_merge.xodr", "highway_exit.xodr"}) {
+    SCOPED_TRACE(file);
+    const RoadNetwork net = load_opendrive((shared_maps() / file).string());
+    const RoadMesh mesh = road_mesh(net, 0.02);
+    for (const auto& [road, sections] : strip_ends(mesh)) {
+      for (auto it = sections.begin(); std::next(it) != sections.end(); ++it) {
+        const auto next = std::next(it);
+        if (next->first != it->first + 1)
+          continue;  // a section without a strip in between
+        SCOPED_TRACE("road index " + std::to_string(road) + ", section " +
+                     std::to_string(it->first));
+        for (const Vertex& v : it->second.last)
+          EXPECT_LT(nearest(v, next->second.first), 1e-3);
+        for (const Vertex& v : next->second.first)
+          EXPECT_LT(nearest(v, it->second.last), 1e-3);
+        ++boundaries;
+      }
+    }
+  }
+  EXPECT_GE(boundaries, 4u);  // multi_lanesections alone has five sections on road 0
 }
 
 TEST(LaneLines, FollowTheTolerance) {

@@ -113,19 +113,40 @@ TEST(SharedMaps, FourWayIntersectionModel) {
 }
 
 TEST(SharedMaps, ElevationAndSuperelevationAreRead) {
+  // The file's records, each a + b*ds + c*ds^2 + d*ds^3 with ds = s - record s:
+  //   elevation s=250: 0 + 0.006 ds^2 - 4.0e-5 ds^3; s=350: 20 - 0.006 ds^2 + 4.0e-5 ds^3;
+  //   s=450: 0.
+  //   superelevation s=50: 0.00015 ds^2 - 1.0e-6 ds^3; s=150: 0.5 - 0.00015 ds^2 + 1.0e-6 ds^3;
+  //   s=250: 0.
   const RoadNetwork net =
       load_opendrive((shared_maps() / "straight_500_superelevation_elevation_curve.xodr").string());
-  bool elevated = false, banked = false;
-  for (const Road& r : net.roads) {
-    for (double s = 0; s < r.length; s += 5) {
-      elevated |= std::fabs(r.elevation.value(s)) > 0.5;
-      banked |= std::fabs(r.superelevation.value(s)) > 0.01;
-      const SurfacePose p = r.surface(s, 3.0);
-      EXPECT_NEAR(p.z, r.elevation.value(s) + 3.0 * std::tan(r.superelevation.value(s)), 1e-9);
-    }
+  ASSERT_EQ(net.roads.size(), 1u);
+  const Road& r = net.roads[0];
+  struct Expected {
+    double s, height, roll;
+  };
+  const Expected expected[] = {
+      {100, 0.0, 0.00015 * 50 * 50 - 1.0e-6 * 50 * 50 * 50},        // 0.375 - 0.125 = 0.25
+      {150, 0.0, 0.5},                                              // the s=150 record's a
+      {200, 0.0, 0.5 - 0.00015 * 50 * 50 + 1.0e-6 * 50 * 50 * 50},  // 0.25
+      {275, 0.006 * 25 * 25 - 4.0e-5 * 25 * 25 * 25, 0.0},          // 3.75 - 0.625 = 3.125
+      {300, 0.006 * 50 * 50 - 4.0e-5 * 50 * 50 * 50, 0.0},          // 15 - 5 = 10
+      {350, 20.0, 0.0},                                             // the s=350 record's a
+      {400, 20 - 0.006 * 50 * 50 + 4.0e-5 * 50 * 50 * 50, 0.0},     // 20 - 15 + 5 = 10
+      {475, 0.0, 0.0},
+  };
+  EXPECT_DOUBLE_EQ(expected[0].roll, 0.25);
+  EXPECT_DOUBLE_EQ(expected[4].height, 10.0);
+  for (const Expected& e : expected) {
+    SCOPED_TRACE("s = " + std::to_string(e.s));
+    EXPECT_NEAR(r.elevation.value(e.s), e.height, 1e-9);
+    EXPECT_NEAR(r.superelevation.value(e.s), e.roll, 1e-9);
+    // 3 m left of the reference line a roll of `roll` (positive raises the left) lifts the
+    // surface by 3 tan(roll): 3 tan(0.25) = 0.76603 m, 3 tan(0.5) = 1.63891 m.
+    EXPECT_NEAR(r.surface(e.s, 3.0).z, e.height + 3.0 * std::tan(e.roll), 1e-9);
+    EXPECT_NEAR(r.surface(e.s, -3.0).z, e.height - 3.0 * std::tan(e.roll), 1e-9);
   }
-  EXPECT_TRUE(elevated);
-  EXPECT_TRUE(banked);
+  EXPECT_NEAR(r.surface(150, 3.0).z, 1.63891, 1e-5);
 }
 
 TEST(SharedMaps, LeftHandTrafficAndParamPoly3) {
@@ -190,6 +211,77 @@ void expect_error(const std::string& xml, const std::string& path, const std::st
     EXPECT_NE(std::string(e.what()).find(reason), std::string::npos) << e.what();
     EXPECT_EQ(std::string(e.what()).rfind("bad.xodr: ", 0), 0u) << e.what();
   }
+}
+
+// ---- OpenDRIVE 1.6/1.7 elements the geometry does not apply: one warning each ---------------
+
+std::vector<std::string> warnings_naming(const RoadNetwork& net, const std::string& what) {
+  std::vector<std::string> out;
+  for (const std::string& w : net.warnings) {
+    if (w.find(what) != std::string::npos)
+      out.push_back(w);
+  }
+  return out;
+}
+
+TEST(NotApplied, HeaderOffsetIsNamedWithItsValues) {
+  const std::string xml =
+      R"(<?xml version="1.0"?><OpenDRIVE><header revMajor="1" revMinor="6"><offset x="100.5" y="-20" z="3" hdg="0.1"/></header>)" +
+      road_xml("7") + "</OpenDRIVE>";
+  const RoadNetwork net = parse_opendrive(xml, "shifted.xodr");
+  const auto w = warnings_naming(net, "<offset");
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_EQ(w[0],
+            "shifted.xodr: header/offset: <offset x=\"100.5\" y=\"-20\" z=\"3\" hdg=\"0.1\"> "
+            "(the inertial frame's shift; coordinates are the file's) not applied");
+  // The coordinates stay the file's: the road starts at (0, 0), heading 0, height 0.
+  const SurfacePose p = net.roads[0].surface(0, 0);
+  EXPECT_NEAR(p.x, 0.0, 1e-12);
+  EXPECT_NEAR(p.y, 0.0, 1e-12);
+  EXPECT_NEAR(p.z, 0.0, 1e-12);
+  EXPECT_NEAR(p.heading, 0.0, 1e-12);
+  // A zero offset changes nothing and is not worth a warning.
+  const std::string zero =
+      R"(<?xml version="1.0"?><OpenDRIVE><header><offset x="0" y="0" z="0" hdg="0"/></header>)" +
+      road_xml("7") + "</OpenDRIVE>";
+  EXPECT_TRUE(warnings_naming(parse_opendrive(zero, "zero.xodr"), "offset").empty());
+}
+
+TEST(NotApplied, LaneHeightIsNamedWithRoadLaneAndValues) {
+  const std::string lanes =
+      R"(<lanes><laneSection s="0"><right><lane id="-1" type="driving"><width sOffset="0" a="3.5" b="0" c="0" d="0"/></lane><lane id="-2" type="sidewalk"><width sOffset="0" a="2" b="0" c="0" d="0"/><height sOffset="0" inner="0.15" outer="0.12"/><height sOffset="40" inner="0" outer="0"/></lane></right></laneSection></lanes>)";
+  const RoadNetwork net = parse_opendrive(doc(road_xml("9", "", "", lanes)), "kerb.xodr");
+  const auto w = warnings_naming(net, "<height");
+  ASSERT_EQ(w.size(), 1u);  // the second record raises nothing
+  EXPECT_EQ(w[0],
+            "kerb.xodr: road[@id='9']/lanes/laneSection[1]/right/lane[@id='-2']/height[1]: "
+            "<height inner=\"0.15\" outer=\"0.12\"> (the lane lies on the road surface) "
+            "not applied");
+  // The sidewalk lies on the road surface (a flat road: height 0), its outer border at
+  // t = -(3.5 + 2) = -5.5.
+  const Road& r = net.roads[0];
+  EXPECT_NEAR(r.borders(0, 10).outer(-2), -5.5, 1e-12);
+  EXPECT_NEAR(r.surface(10, -5.5).z, 0.0, 1e-12);
+}
+
+TEST(NotApplied, LevelLaneOnABankedRoadIsNamed) {
+  const std::string plan =
+      R"(<planView><geometry s="0" x="0" y="0" hdg="0" length="100"><line/></geometry></planView><lateralProfile><superelevation s="0" a="0.05" b="0" c="0" d="0"/></lateralProfile>)";
+  const std::string lanes =
+      R"(<lanes><laneSection s="0"><right><lane id="-1" type="driving" level="true"><width sOffset="0" a="3.5" b="0" c="0" d="0"/></lane></right></laneSection></lanes>)";
+  const RoadNetwork net = parse_opendrive(doc(road_xml("4", plan, "", lanes)), "level.xodr");
+  const auto w = warnings_naming(net, "level=");
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_EQ(w[0],
+            "level.xodr: road[@id='4']/lanes/laneSection[1]/right/lane[@id='-1']: level=\"true\" "
+            "(the lane is tilted with the road's superelevation) not applied");
+  EXPECT_TRUE(net.roads[0].sections[0].right[0].level);
+  // Tilted as the rest of the road: 3.5 m right of the reference line, 3.5 tan(0.05) lower.
+  EXPECT_NEAR(net.roads[0].surface(50, -3.5).z, -3.5 * std::tan(0.05), 1e-12);
+  EXPECT_NEAR(-3.5 * std::tan(0.05), -0.17515, 1e-5);
+  // On a road that does not bank, level="true" changes nothing and is not named.
+  const RoadNetwork flat = parse_opendrive(doc(road_xml("4", "", "", lanes)), "flat.xodr");
+  EXPECT_TRUE(warnings_naming(flat, "level=").empty());
 }
 
 TEST(BadInput, MalformedXml) {
