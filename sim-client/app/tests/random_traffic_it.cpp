@@ -69,7 +69,8 @@ std::ostream& operator<<(std::ostream& o, const MapCase& c) {
   return o << c.name;
 }
 
-// Where the cars start: points every 25 m along the drivable lanes outside junctions, spread
+// Where the cars start: points every 25 m along the drivable lanes outside junctions (15 m
+// from their ends), spread
 // over the map (every k-th of them in a fixed order), at least 12 m apart.
 std::vector<odr::LanePosition> spawn_points(const odr::RoadNetwork& net, int cars) {
   const odr::LaneGraph g(net);
@@ -80,7 +81,10 @@ std::vector<odr::LanePosition> spawn_points(const odr::RoadNetwork& net, int car
     if (!n.drivable || r.junction_index >= 0 || n.length < 20.0)
       continue;
     const odr::LaneSection& ls = r.sections[n.section];
-    for (double s = ls.s + 8.0; s < ls.s_end - 8.0; s += 25.0)
+    // 15 m from either end: a car that starts at standstill a few metres before a dead end
+    // (the shared maps' roads end at the map's edge) has no room to gather speed and stop
+    // kEndMargin short of it, and overran it once in nine runs at 8 m.
+    for (double s = ls.s + 15.0; s < ls.s_end - 15.0; s += 25.0)
       all.push_back({{n.road, n.lane}, n.section, s, 0.0, 0.0});
   }
   std::vector<odr::LanePosition> out;
