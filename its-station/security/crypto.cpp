@@ -230,6 +230,27 @@ EcKey EcKey::load_private_pem(const std::string& path) {
   }
 }
 
+EcKey EcKey::load_public_pem(const std::string& path) {
+  BioPtr bio(BIO_new_file(path.c_str(), "r"));
+  if (!bio)
+    throw CryptoError(path + ": cannot open (" + openssl_error() + ")");
+  EVP_PKEY* k = PEM_read_bio_PUBKEY(bio.get(), nullptr, nullptr, nullptr);
+  if (k == nullptr)
+    throw CryptoError(path + ": not a PEM public key (SubjectPublicKeyInfo) (" + openssl_error() +
+                      ")");
+  try {
+    const EccCurve c = curve_of(k, path);
+    // The point on its curve (OpenSSL's full public-key check, not only the parse).
+    CtxPtr ctx(EVP_PKEY_CTX_new_from_pkey(nullptr, k, nullptr));
+    if (!ctx || EVP_PKEY_public_check(ctx.get()) != 1)
+      throw CryptoError(path + ": the public key fails OpenSSL's check (" + openssl_error() + ")");
+    return EcKey(k, c);
+  } catch (...) {
+    EVP_PKEY_free(k);
+    throw;
+  }
+}
+
 EcKey EcKey::from_point(EccCurve curve, const EccP256CurvePoint& p) {
   std::array<std::uint8_t, 65> buf{};
   std::size_t len = 0;
@@ -269,6 +290,14 @@ void EcKey::save_private_pem(const std::string& path) const {
     throw CryptoError(path + ": cannot create (" + openssl_error() + ")");
   ::chmod(path.c_str(), 0600);  // a private key: owner only
   if (PEM_write_bio_PrivateKey(bio.get(), key_, nullptr, nullptr, 0, nullptr, nullptr) != 1)
+    throw CryptoError(path + ": cannot write the key (" + openssl_error() + ")");
+}
+
+void EcKey::save_public_pem(const std::string& path) const {
+  BioPtr bio(BIO_new_file(path.c_str(), "w"));
+  if (!bio)
+    throw CryptoError(path + ": cannot create (" + openssl_error() + ")");
+  if (PEM_write_bio_PUBKEY(bio.get(), key_) != 1)
     throw CryptoError(path + ": cannot write the key (" + openssl_error() + ")");
 }
 

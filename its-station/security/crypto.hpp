@@ -53,11 +53,17 @@ class EcKey {
   static EcKey generate(EccCurve curve);
   /// A private key from a PEM file (PKCS#8 or SEC1). Throws CryptoError naming the file.
   static EcKey load_private_pem(const std::string& path);
+  /// A public key from a PEM file (SubjectPublicKeyInfo, "BEGIN PUBLIC KEY"), checked by
+  /// OpenSSL (the point on its curve). Throws CryptoError naming the file when it is no such
+  /// key or its curve is not one of the two.
+  static EcKey load_public_pem(const std::string& path);
   /// The public key of a 1609.2 point (compressed or uncompressed; x-only and fill cannot be
   /// keys). Throws CryptoError when the point is not on the curve.
   static EcKey from_point(EccCurve curve, const EccP256CurvePoint& p);
 
   void save_private_pem(const std::string& path) const;
+  /// The public key as SubjectPublicKeyInfo PEM.
+  void save_public_pem(const std::string& path) const;
   /// The public key as compressed-y-0/1.
   EccP256CurvePoint public_point() const;
   EccCurve curve() const { return curve_; }

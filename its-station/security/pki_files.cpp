@@ -155,4 +155,73 @@ std::vector<fs::path> make_pki(const PkiPaths& paths, const std::vector<std::uin
   return written;
 }
 
+std::vector<fs::path> issue_ticket(const PkiPaths& paths, std::uint32_t station,
+                                   const fs::path& public_key_pem, const PkiOptions& o) {
+  EcKey key;
+  try {
+    key = EcKey::load_public_pem(public_key_pem.string());
+  } catch (const CryptoError& e) {
+    throw PkiFileError(e.what());
+  }
+  if (key.curve() != EccCurve::kNistP256)
+    throw PkiFileError(public_key_pem.string() +
+                       ": a brainpoolP256r1 key; its-pki issues ATs for NIST P-256 keys only");
+  auto written = make_pki(paths, {}, o);  // root and AA valid at o.now
+  const Certificate aa = read_certificate(paths.aa_cert());
+  EcKey aa_key;
+  try {
+    aa_key = EcKey::load_private_pem(paths.aa_key().string());
+  } catch (const CryptoError& e) {
+    throw PkiFileError(e.what());
+  }
+  const Time32 start = o.now > 3600 ? o.now - 3600 : 0;
+  const Certificate at =
+      make_ticket(key, {start, DurationUnit::kHours, o.ticket_hours}, aa, aa_key);
+  std::error_code ec;
+  fs::remove(paths.at_key(station), ec);
+  if (ec)
+    throw PkiFileError(paths.at_key(station).string() + ": cannot remove (" + ec.message() + ")");
+  write_certificate(paths.at_cert(station), at);
+  written.push_back(paths.at_cert(station));
+  return written;
+}
+
+std::vector<fs::path> export_station(const PkiPaths& paths, std::uint32_t station,
+                                     const fs::path& out) {
+  const Certificate aa = read_certificate(paths.aa_cert());
+  const Certificate at = read_certificate(paths.at_cert(station));
+  read_certificate(paths.root_cert());
+  if (at.issuer.kind != IssuerIdentifier::Kind::kSha256AndDigest ||
+      at.issuer.digest != certificate_id(aa))
+    throw PkiFileError(paths.at_cert(station).string() + ": not issued by " +
+                       paths.aa_cert().string() + " (make it anew: its-pki make or issue)");
+  const bool with_key = fs::exists(paths.at_key(station));
+  if (with_key)
+    load_station_credentials(paths, station);  // the key is the AT's
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec)
+    throw PkiFileError(out.string() + ": cannot create (" + ec.message() + ")");
+  const PkiPaths to{out};
+  std::vector<std::pair<fs::path, fs::path>> files{{paths.root_cert(), to.root_cert()},
+                                                   {paths.aa_cert(), to.aa_cert()},
+                                                   {paths.at_cert(station), to.at_cert(station)}};
+  if (with_key)
+    files.emplace_back(paths.at_key(station), to.at_key(station));
+  else
+    fs::remove(to.at_key(station), ec);  // an older export's key is not this AT's
+  std::vector<fs::path> written;
+  for (const auto& [from, dest] : files) {
+    if (fs::exists(dest) && fs::equivalent(from, dest))
+      continue;  // exported into the PKI's own directory
+    fs::copy_file(from, dest, fs::copy_options::overwrite_existing, ec);
+    if (ec)
+      throw PkiFileError(dest.string() + ": cannot write (" + ec.message() + ")");
+    if (dest == to.at_key(station))
+      fs::permissions(dest, fs::perms::owner_read | fs::perms::owner_write, ec);
+    written.push_back(dest);
+  }
+  return written;
+}
+
 }  // namespace tb::its::security

@@ -65,4 +65,23 @@ std::vector<std::filesystem::path> make_pki(const PkiPaths& paths,
                                             const std::vector<std::uint32_t>& stations,
                                             const PkiOptions& options);
 
+/// Issues the AT of @p station for an outside key (another stack's): @p public_key_pem holds a
+/// NIST P-256 public key as SubjectPublicKeyInfo PEM (TS 103 097 5.4 / 1609.2 6.4.36 allow
+/// brainpoolP256r1 too, but our ATs and the C2C-CC profile use P-256). The AT is our stations'
+/// (make_ticket: the same appPermissions and SSPs, valid options.ticket_hours from an hour before
+/// options.now), written to at-<station>.cert under the AA; root and AA are made or made anew
+/// first as make_pki does. A key file the PKI had for that station (at-<station>.pem) is removed:
+/// the PKI does not hold the new AT's key. Errors name the key file. Returns the files written.
+std::vector<std::filesystem::path> issue_ticket(const PkiPaths& paths, std::uint32_t station,
+                                                const std::filesystem::path& public_key_pem,
+                                                const PkiOptions& options);
+
+/// Copies what another stack needs to run @p station into @p out (made when missing), under the
+/// names of PkiPaths (so that @p out is a PKI directory without the CA keys): root.cert, aa.cert,
+/// at-<station>.cert (COER, as our stations read them) and, where the PKI made the AT's key
+/// itself, at-<station>.pem (PKCS#8 PEM, owner-only). Checks first that the AT is the AA's and
+/// the key the AT's. Returns the files written.
+std::vector<std::filesystem::path> export_station(const PkiPaths& paths, std::uint32_t station,
+                                                  const std::filesystem::path& out);
+
 }  // namespace tb::its::security

@@ -1,7 +1,10 @@
 // its-pki: makes a scenario's test PKI (root CA, AA, one AT per station; TS 103 097 explicit
-// certificates with P-256 keys) in a directory, or shows a certificate file.
+// certificates with P-256 keys) in a directory, issues an AT for another stack's key, exports
+// what another stack needs, or shows a certificate file.
 //
-//   its-pki make --dir pki/ --station 1001 --station 1002
+//   its-pki make --dir pki/ --station 1001 --station 1002 [--at 2025-06-02T09:00:00Z]
+//   its-pki issue --dir pki/ --station 9001 --public-key key.pem [--at UTC]
+//   its-pki export --dir pki/ --station 9001 --out probe/
 //   its-pki show pki/at-1001.cert
 
 #include <CLI/CLI.hpp>
@@ -11,6 +14,7 @@
 #include <sstream>
 
 #include "common/clock/clock.hpp"
+#include "common/clock/utc.hpp"
 #include "its-station/security/pki.hpp"
 #include "its-station/security/pki_files.hpp"
 #include "its-station/security/time.hpp"
@@ -65,18 +69,58 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 65535));
   make->add_option("--ca-hours", options.ca_hours, "root and AA validity in hours")
       ->check(CLI::Range(1, 65535));
+  std::string at_text;
+  make->add_option("--at", at_text,
+                   "UTC instant (ISO 8601, 2025-06-02T09:00:00Z) taken as now instead of the "
+                   "host's clock: the world's start time of a scenario that pins one");
+  std::uint32_t station = 0;
+  std::string public_key;
+  auto* issue = app.add_subcommand(
+      "issue", "issue the AT of a station for an outside P-256 public key (another stack's)");
+  issue->add_option("--dir", dir, "directory of the PKI files")->required();
+  issue->add_option("--station", station, "station id of the AT (file at-ID.cert)")->required();
+  issue->add_option("--public-key", public_key, "P-256 public key, SubjectPublicKeyInfo PEM")
+      ->required();
+  issue->add_option("--at", at_text, "UTC instant taken as now (as for make)");
+  issue->add_option("--ticket-hours", options.ticket_hours, "AT validity in hours")
+      ->check(CLI::Range(1, 65535));
+  std::string out;
+  auto* export_cmd = app.add_subcommand(
+      "export",
+      "copy root.cert, aa.cert, at-ID.cert (COER) and at-ID.pem (when the PKI made the "
+      "key) into a folder for another stack");
+  export_cmd->add_option("--dir", dir, "directory of the PKI files")->required();
+  export_cmd->add_option("--station", station, "station id of the AT")->required();
+  export_cmd->add_option("--out", out, "folder to write the files to")->required();
   std::string file;
   auto* show_cmd = app.add_subcommand("show", "print a certificate file's fields");
   show_cmd->add_option("file", file, "a .cert file")->required();
   CLI11_PARSE(app, argc, argv);
+  tb::clock::WallTime now = tb::clock::WallClock::now();
+  if (!at_text.empty()) {
+    const auto at = tb::clock::parse_utc(at_text);
+    if (!at) {
+      std::cerr << "its-pki: --at \"" << at_text
+                << "\": not a UTC time like 2025-06-02T09:00:00Z (ISO 8601, ending in Z)\n";
+      return 2;
+    }
+    now = *at;
+  }
+  options.now = to_time32(now);
+  auto print_written = [](const std::vector<std::filesystem::path>& written) {
+    for (const auto& p : written)
+      std::cout << "wrote " << p.string() << "\n";
+  };
   try {
     if (*make) {
-      options.now = to_time32(tb::clock::WallClock::now());
       const auto written = make_pki(PkiPaths{dir}, stations, options);
-      for (const auto& p : written)
-        std::cout << "wrote " << p.string() << "\n";
+      print_written(written);
       if (written.empty())
         std::cout << "nothing to do: " << dir << " has every file\n";
+    } else if (*issue) {
+      print_written(issue_ticket(PkiPaths{dir}, station, public_key, options));
+    } else if (*export_cmd) {
+      print_written(export_station(PkiPaths{dir}, station, out));
     } else if (*show_cmd) {
       show(file);
     }
