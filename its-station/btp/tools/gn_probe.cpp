@@ -3,30 +3,40 @@
 // veth stand-in) end to end, in tests and by hand. Received packets are printed as JSON lines.
 // With --cam it is a minimal ITS station of its own (GN, BTP, a CAM of a fixed position, no CA
 // service rules, no LDM): the "bring your own stack" test runs it in a vehicle's place.
+// With --at-cert/--at-key/--trust/--aa it signs what it sends and verifies what it receives
+// (TS 103 097, `signed` mode: unverified packets are dropped) with certificate files another
+// stack would be given (its-pki export), and then dates the security and GN times from GNSS
+// time: the NMEA of --nmea-port (the station's feed), as every station must.
 
 #include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <cstdint>
+#include <cstdlib>
 #include <iostream>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 #include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/udp.hpp>
 #include <boost/asio/signal_set.hpp>
 #include <nlohmann/json.hpp>
 
 #include "common/clock/asio_runtime.hpp"
 #include "common/util/bytes.hpp"
+#include "its-station/app/its_clock.hpp"
 #include "its-station/btp/dispatcher.hpp"
 #include "its-station/link/capturing_link.hpp"
 #include "its-station/link/packet_socket_link.hpp"
 #include "its-station/messages/cam.hpp"
+#include "its-station/security/pki_files.hpp"
+#include "its-station/security/security_entity.hpp"
 
 namespace {
 
@@ -53,7 +63,96 @@ struct Options {
   std::string pcap;
   int station_type = static_cast<int>(geonet::StationType::kPassengerCar);
   std::int64_t cam_station_id = -1;  // -1: the payload is a sequence number, not a CAM
+  // Security (all four or none): the AT and its key, the trusted root, the AT's AA.
+  std::string at_cert;
+  std::string at_key;
+  std::string trust;
+  std::string aa;
+  std::uint16_t nmea_port = 10110;
 };
+
+/// The UTC time of an NMEA 0183 RMC sentence (`$--RMC,hhmmss.ss,A,...,ddmmyy,...*hh`) with a
+/// valid fix and checksum; nothing for any other sentence.
+std::optional<tb::clock::WallTime> rmc_time(std::string_view line) {
+  while (!line.empty() && (line.back() == '\r' || line.back() == '\n'))
+    line.remove_suffix(1);
+  const auto star = line.rfind('*');
+  if (line.size() < 7 || line[0] != '$' || line.substr(3, 4) != "RMC," ||
+      star == std::string_view::npos || star + 3 != line.size())
+    return std::nullopt;
+  unsigned sum = 0;
+  for (char c : line.substr(1, star - 1))
+    sum ^= static_cast<unsigned char>(c);
+  const std::string given(line.substr(star + 1));
+  char* end = nullptr;
+  if (std::strtoul(given.c_str(), &end, 16) != sum || end != given.c_str() + given.size())
+    return std::nullopt;
+  std::vector<std::string_view> f;
+  for (std::size_t at = 0; at <= star;) {
+    const auto comma = std::min(line.find(',', at), star);
+    f.push_back(line.substr(at, comma - at));
+    at = comma + 1;
+  }
+  if (f.size() < 10 || f[2] != "A" || f[1].size() < 6 || f[9].size() != 6)
+    return std::nullopt;
+  auto num = [](std::string_view v) {
+    int n = 0;
+    for (char c : v) {
+      if (c < '0' || c > '9')
+        return -1;
+      n = n * 10 + (c - '0');
+    }
+    return n;
+  };
+  const int hh = num(f[1].substr(0, 2)), mi = num(f[1].substr(2, 2)), ss = num(f[1].substr(4, 2));
+  const int dd = num(f[9].substr(0, 2)), mo = num(f[9].substr(2, 2)), yy = num(f[9].substr(4, 2));
+  double fraction = 0.0;  // hhmmss.ss: the digits after the point
+  if (f[1].size() > 7 && f[1][6] == '.') {
+    double scale = 0.1;
+    for (char c : f[1].substr(7)) {
+      if (c < '0' || c > '9')
+        return std::nullopt;
+      fraction += (c - '0') * scale;
+      scale /= 10;
+    }
+  }
+  const std::chrono::year_month_day date{std::chrono::year{2000 + yy},
+                                         std::chrono::month{static_cast<unsigned>(mo)},
+                                         std::chrono::day{static_cast<unsigned>(dd)}};
+  if (hh < 0 || mi < 0 || ss < 0 || dd < 0 || mo < 0 || yy < 0 || !date.ok())
+    return std::nullopt;
+  const auto t = std::chrono::sys_days{date} + std::chrono::hours{hh} + std::chrono::minutes{mi} +
+                 std::chrono::seconds{ss} + std::chrono::microseconds{std::llround(fraction * 1e6)};
+  return tb::clock::WallTime{
+      std::chrono::duration_cast<tb::clock::WallClock::duration>(t.time_since_epoch())};
+}
+
+/// The security entity of the certificate files in @p o (TS 103 097: sign with the AT, verify
+/// under the root through the AA); errors name the file.
+std::unique_ptr<security::SecurityEntity> make_security(const Options& o) {
+  namespace sec = security;
+  sec::Certificate root = sec::read_certificate(o.trust);
+  sec::Certificate aa = sec::read_certificate(o.aa);
+  sec::Certificate at = sec::read_certificate(o.at_cert);
+  sec::EcKey key;
+  try {
+    key = sec::EcKey::load_private_pem(o.at_key);
+  } catch (const sec::CryptoError& e) {
+    throw sec::PkiFileError(e.what());
+  }
+  if (at.tbs.verify_key.point != key.public_point())
+    throw sec::PkiFileError(o.at_key + ": not the key of " + o.at_cert);
+  sec::Verifier verifier({root});
+  // The chain now, its validity per packet on the GNSS clock (as its-station does).
+  const auto checked =
+      verifier.add_authority(aa, static_cast<sec::Time64>(aa.tbs.validity.start) * 1'000'000);
+  if (checked != sec::VerifyResult::kOk)
+    throw sec::PkiFileError(o.aa + ": does not verify under " + o.trust + ": " +
+                            std::string(sec::to_string(checked)));
+  return std::make_unique<sec::SecurityEntity>(sec::SecurityMode::kSigned,
+                                               sec::Signer(std::move(at), std::move(key), aa),
+                                               std::move(verifier));
+}
 
 /// ms since 2004-01-01T00:00:00 UTC (CDD TimestampIts, V1.3.1: UTC) of @p t.
 std::int64_t timestamp_its(tb::clock::WallTime t) {
@@ -117,6 +216,19 @@ int main(int argc, char** argv) {
                  "send CAMs of this station ID (UPER, EN 302 637-2) as the payload instead of a "
                  "sequence number, and print the station ID of every CAM received")
       ->check(CLI::Range(std::int64_t{0}, std::int64_t{4294967295}));
+  auto* at_cert = app.add_option("--at-cert", o.at_cert,
+                                 "sign with this AT (COER certificate file, its-pki export)");
+  auto* at_key = app.add_option("--at-key", o.at_key, "the AT's private key (PEM)");
+  auto* trust = app.add_option("--trust", o.trust, "trusted root certificate (COER file)");
+  auto* aa = app.add_option("--aa", o.aa, "the AA certificate (COER file) of our AT");
+  at_cert->needs(at_key, trust, aa);
+  at_key->needs(at_cert);
+  trust->needs(at_cert);
+  aa->needs(at_cert);
+  app.add_option("--nmea-port", o.nmea_port,
+                 "UDP port of the station's NMEA feed: when signing, security and GN times are "
+                 "GNSS time, and nothing is sent before the first fix")
+      ->capture_default_str();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -138,6 +250,51 @@ int main(int argc, char** argv) {
 
   boost::asio::io_context io;
   tb::clock::AsioRuntime rt{io};
+  const bool secured = !o.at_cert.empty();
+  std::unique_ptr<security::SecurityEntity> security;
+  if (secured) {
+    try {
+      security = make_security(o);
+    } catch (const std::exception& e) {  // PkiFileError, CryptoError: they name the file
+      spdlog::error("security: {}", e.what());
+      return kExitBadArguments;
+    }
+  }
+  // The ITS clock: GNSS time from the NMEA feed when signing (generationTime, certificate
+  // validity and GN timestamps on the world's clock), else the host's.
+  station::GnssDisciplinedRuntime its_clock{rt};
+  boost::asio::ip::udp::socket nmea{io};
+  std::array<char, 4096> nmea_buffer{};
+  std::function<void()> read_nmea = [&] {
+    nmea.async_receive(boost::asio::buffer(nmea_buffer),
+                       [&](const boost::system::error_code& ec, std::size_t n) {
+                         if (ec)
+                           return;
+                         std::string_view text(nmea_buffer.data(), n);
+                         for (std::size_t at = 0; at < text.size();) {
+                           const auto end = std::min(text.find('\n', at), text.size());
+                           if (const auto t = rmc_time(text.substr(at, end - at))) {
+                             if (!its_clock.synchronised())
+                               spdlog::info("ITS clock: on GNSS time from the first fix");
+                             its_clock.on_fix(*t);
+                           }
+                           at = end + 1;
+                         }
+                         read_nmea();
+                       });
+  };
+  if (secured) {
+    boost::system::error_code ec;
+    nmea.open(boost::asio::ip::udp::v4(), ec);
+    if (!ec)
+      nmea.bind({boost::asio::ip::udp::v4(), o.nmea_port}, ec);
+    if (ec) {
+      spdlog::error("NMEA on UDP {}: {}", o.nmea_port, ec.message());
+      return kExitLinkError;
+    }
+    read_nmea();
+  }
+  tb::clock::Runtime& clock = secured ? static_cast<tb::clock::Runtime&>(its_clock) : rt;
   auto opened = link::PacketSocketLink::open(io, o.interface);
   if (!opened) {
     spdlog::error("{}", opened.error().message());
@@ -167,8 +324,11 @@ int main(int argc, char** argv) {
   // before each packet, since receivers take a single-hop packet whose fix is not newer than
   // the last one's for a duplicate (EN 302 636-4-1 Annex A.3).
   auto stamp = [&] {
-    if (!o.position.empty())
-      position.set({rt.wall_now(), o.position[0], o.position[1], o.speed_mps, o.heading_deg, true});
+    // Signing, no position before GNSS time: a beacon dated on the host's clock would be out of
+    // the others' generation-time window.
+    if (!o.position.empty() && !(secured && !its_clock.synchronised()))
+      position.set(
+          {clock.wall_now(), o.position[0], o.position[1], o.speed_mps, o.heading_deg, true});
   };
   std::function<void()> refresh = [&] {
     stamp();
@@ -178,7 +338,11 @@ int main(int argc, char** argv) {
 
   geonet::RouterConfig config;
   config.station_type = static_cast<geonet::StationType>(o.station_type);
-  geonet::Router router{rt, *link, position, config};
+  geonet::Router router{clock, *link, position, config};
+  if (security) {
+    router.set_security(security.get());
+    spdlog::info("security: signed, AT {} under {} and {}", o.at_cert, o.aa, o.trust);
+  }
   btp::Dispatcher btp{router};
 
   int sent = 0;
@@ -227,10 +391,16 @@ int main(int argc, char** argv) {
         geonet::make_geo_area(geonet::AreaShape::kCircle, {o.area[0], o.area[1]}, o.area[2]),
         static_cast<std::uint8_t>(o.hops));
   std::function<void()> send_next = [&] {
+    if (secured && !its_clock.synchronised()) {
+      // No world time yet: a generationTime on the host's clock would be out of the others'
+      // window (the world's epoch may be anything).
+      rt.schedule_in(std::chrono::milliseconds{o.interval_ms}, send_next);
+      return;
+    }
     std::array<std::uint8_t, messages::kCamMaxEncodedSize> payload{};
     std::size_t length = 8;
     if (o.cam_station_id >= 0) {
-      const auto n = messages::encode(probe_cam(o, rt.wall_now()), payload);
+      const auto n = messages::encode(probe_cam(o, clock.wall_now()), payload);
       if (!n) {
         spdlog::error("cannot encode the CAM: {}", asn1::to_string(n.error()));
         io.stop();
@@ -274,12 +444,20 @@ int main(int argc, char** argv) {
     if (router.stats().drops[i] > 0)
       drops[geonet::to_string(static_cast<geonet::DropReason>(i))] = router.stats().drops[i];
   }
-  print({{"event", "summary"},
-         {"sent", sent},
-         {"received", received},
-         {"beacons_sent", router.stats().beacons_sent},
-         {"forwarded", router.stats().forwarded},
-         {"drops", drops}});
+  json summary{{"event", "summary"},
+               {"sent", sent},
+               {"received", received},
+               {"beacons_sent", router.stats().beacons_sent},
+               {"forwarded", router.stats().forwarded},
+               {"drops", drops}};
+  if (security) {
+    json verify = json::object();
+    for (std::size_t i = 0; i < static_cast<std::size_t>(security::VerifyResult::kCount); ++i)
+      if (const auto n = security->verifier().counts()[i]; n > 0)
+        verify[std::string(security::to_string(static_cast<security::VerifyResult>(i)))] = n;
+    summary["security"] = {{"mode", "signed"}, {"verify", verify}};
+  }
+  print(summary);
   if (pcap)
     pcap->flush();
   if (o.receive_count > 0 && received < o.receive_count) {
