@@ -40,6 +40,10 @@ CASE is one of:
                    minimal stack that is not its-station) through the scenario's "station":
                    {"command": [...]}; both its-stations must have its CAMs in their LDM (their
                    MQTT in/cam topics) and it must have received CAMs of both (its log)
+  own-stack-signed the same, signed (issue 31): the launcher gives the probe only what
+                   its-pki export writes (root, AA, its AT and key); the its-stations verified
+                   its CAMs (status verify ok, its/<id>/in/cam/9001) and it verified theirs
+                   (its summary), nobody refused a packet (unknown_signer aside)
   scale            20 scripted vehicles on the ring of tests/e2e/gen_scale_scenario.py for 20 s
                    with tracing (issue 21): scripts/report must find records for every stage
                    from the client's input to the CAM received by the others' LDM and LCRW
@@ -74,6 +78,7 @@ CASES = {
     "curve": ("lcrw-curve.json", 25),
     "reversing": ("lcrw-reversing.json", 25),
     "own-stack": ("own-stack-probe.json", 20),
+    "own-stack-signed": ("own-stack-probe.json", 20),
     "start": ("brake-at-start.json", 10),
     "scale": (None, 20),  # the scenario is generated: SCALE_STATIONS on the ring
     "foreign-root": (None, 15),  # generated: lcrw-frontal with black from another PKI
@@ -684,6 +689,54 @@ def reimported(source, out, build):
     return path
 
 
+def own_stack_signed(out):
+    """own-stack-probe.json signed, the probe's command given the files of its-pki export
+    ({pki_dir}: the launcher exports them) and its station's NMEA for GNSS time."""
+    doc = json.loads((ROOT / "scenarios/own-stack-probe.json").read_text())
+    doc["name"] += "-signed"
+    doc["security"] = "signed"
+    for v in doc["vehicles"]:
+        if "command" in v.get("station", {}):
+            v["station"]["command"] += ["--at-cert", "{pki_dir}/at-{station_id}.cert",
+                                        "--at-key", "{pki_dir}/at-{station_id}.pem",
+                                        "--trust", "{pki_dir}/root.cert",
+                                        "--aa", "{pki_dir}/aa.cert", "--nmea-port", "{nmea_port}"]
+    path = out / "own-stack-probe-signed.json"
+    path.write_text(json.dumps(doc, indent=2))
+    path.chmod(0o644)
+    return path
+
+
+def own_stack_signed_failures(out, probe=9001):
+    """Our stations verified the probe's packets, it verified ours, nobody refused any."""
+    failures = []
+    for status in sorted(out.glob("run-*/station-*.status.json")):
+        sec = json.loads(status.read_text()).get("security", {})
+        verify = sec.get("verify", {})
+        print(f"e2e: {status.name}: security {sec.get('mode')} {verify}")
+        if sec.get("mode") != "signed" or verify.get("ok", 0) == 0:
+            failures.append(f"{status.name}: security {sec.get('mode')}, verified {verify}")
+        refused = {k: v for k, v in verify.items() if k not in ("ok", "unknown_signer")}
+        if refused:
+            failures.append(f"{status.name}: verification failures {refused}")
+    summaries = []
+    for log_file in sorted(out.glob(f"run-*/its-station-{probe}.log")):
+        for line in log_file.read_text(errors="replace").splitlines():
+            if line.startswith("{") and '"summary"' in line:
+                summaries.append(json.loads(line))
+    if not summaries:
+        return failures + [f"the probe {probe} printed no summary"]
+    sec = summaries[-1].get("security", {})
+    print(f"e2e: probe {probe}: security {sec}")
+    verify = sec.get("verify", {})
+    if verify.get("ok", 0) == 0:
+        failures.append(f"the probe verified no packet ({sec})")
+    refused = {k: v for k, v in verify.items() if k not in ("ok", "unknown_signer")}
+    if refused:
+        failures.append(f"the probe refused packets: {refused}")
+    return failures
+
+
 def run_case(args):
     """One run of the case. Returns (exit status, % of CPU time the host stole meanwhile)."""
     scenario, duration = CASES[args.case]
@@ -710,6 +763,8 @@ def run_case(args):
         scenario_file = reimported(ROOT / "scenarios" / scenario, out, Path(args.build))
     else:
         scenario_file = ROOT / "scenarios" / scenario
+    if args.case == "own-stack-signed":
+        scenario_file = own_stack_signed(out)
     if args.pin_start:
         doc = json.loads(scenario_file.read_text())
         assert "file" not in doc["map"], "a pinned copy needs a built-in map (no relative paths)"
@@ -849,7 +904,7 @@ def run_case(args):
             failures.append(f"stations did not receive each other's CAMs ({sorted(cams)})")
         if any(w.get("event") == "raised" for _, w in warnings):
             failures.append("a warning was raised for vehicles in different lanes")
-    elif args.case == "own-stack":
+    elif args.case in ("own-stack", "own-stack-signed"):
         # Our LDMs have the probe's CAMs; our stations hear each other too.
         for topic in ("its/1001/in/cam/9001", "its/1002/in/cam/9001", "its/1001/in/cam/1002"):
             if topic not in cams:
@@ -870,6 +925,8 @@ def run_case(args):
             if heard.get(sid, 0) < 10:
                 failures.append(f"the probe decoded {heard.get(sid, 0)} CAMs of station {sid}, "
                                 "not >= 10")
+        if args.case == "own-stack-signed":
+            failures += own_stack_signed_failures(out)
     elif args.case in ("latency", "scale"):
         runs = sorted(out.glob("run-*"))
         if not runs:
