@@ -139,15 +139,32 @@ std::vector<fs::path> make_pki(const PkiPaths& paths, const std::vector<std::uin
   }
   const HashedId8 aa_id = certificate_id(aa);
   for (const auto station : stations) {
-    if (!fresh_ca && fs::exists(paths.at_cert(station)) && fs::exists(paths.at_key(station))) {
+    // An AT issued for another stack's key (issue_ticket): renewed for that key.
+    const bool outside =
+        !fs::exists(paths.at_key(station)) && fs::exists(paths.at_public_key(station));
+    if (!fresh_ca && fs::exists(paths.at_cert(station)) &&
+        (outside || fs::exists(paths.at_key(station)))) {
       const Certificate at = read_certificate(paths.at_cert(station));
       if (at.issuer.kind == IssuerIdentifier::Kind::kSha256AndDigest && at.issuer.digest == aa_id &&
           lasts(at, o.now, kTicketMargin) && permits_all(at))
         continue;
     }
+    const ValidityPeriod validity{start, DurationUnit::kHours, o.ticket_hours};
+    if (outside) {
+      EcKey k;
+      try {
+        k = EcKey::load_public_pem(paths.at_public_key(station).string());
+      } catch (const CryptoError& e) {
+        throw PkiFileError(e.what());
+      }
+      write_certificate(paths.at_cert(station), make_ticket(k, validity, aa, aa_key));
+      written.push_back(paths.at_cert(station));
+      continue;
+    }
     EcKey k = EcKey::generate(EccCurve::kNistP256);
-    const Certificate at =
-        make_ticket(k, {start, DurationUnit::kHours, o.ticket_hours}, aa, aa_key);
+    const Certificate at = make_ticket(k, validity, aa, aa_key);
+    std::error_code gone;
+    fs::remove(paths.at_public_key(station), gone);  // the AT is of the PKI's key from now on
     save_key(k, paths.at_key(station));
     write_certificate(paths.at_cert(station), at);
     written.push_back(paths.at_cert(station));
@@ -166,23 +183,20 @@ std::vector<fs::path> issue_ticket(const PkiPaths& paths, std::uint32_t station,
   if (key.curve() != EccCurve::kNistP256)
     throw PkiFileError(public_key_pem.string() +
                        ": a brainpoolP256r1 key; its-pki issues ATs for NIST P-256 keys only");
-  auto written = make_pki(paths, {}, o);  // root and AA valid at o.now
-  const Certificate aa = read_certificate(paths.aa_cert());
-  EcKey aa_key;
+  std::error_code ec;
+  fs::create_directories(paths.dir, ec);
+  for (const auto& stale : {paths.at_key(station), paths.at_cert(station)}) {
+    fs::remove(stale, ec);
+    if (ec)
+      throw PkiFileError(stale.string() + ": cannot remove (" + ec.message() + ")");
+  }
   try {
-    aa_key = EcKey::load_private_pem(paths.aa_key().string());
+    key.save_public_pem(paths.at_public_key(station).string());
   } catch (const CryptoError& e) {
     throw PkiFileError(e.what());
   }
-  const Time32 start = o.now > 3600 ? o.now - 3600 : 0;
-  const Certificate at =
-      make_ticket(key, {start, DurationUnit::kHours, o.ticket_hours}, aa, aa_key);
-  std::error_code ec;
-  fs::remove(paths.at_key(station), ec);
-  if (ec)
-    throw PkiFileError(paths.at_key(station).string() + ": cannot remove (" + ec.message() + ")");
-  write_certificate(paths.at_cert(station), at);
-  written.push_back(paths.at_cert(station));
+  auto written = make_pki(paths, {station}, o);  // root and AA valid at o.now, then the AT
+  written.insert(written.begin(), paths.at_public_key(station));
   return written;
 }
 

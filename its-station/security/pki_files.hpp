@@ -4,6 +4,7 @@
 ///   root.cert  root.pem         the root CA (the scenario's trust anchor)
 ///   aa.cert    aa.pem           the authorization authority
 ///   at-<station id>.cert/.pem   each station's authorization ticket
+///   at-<station id>.pub.pem     instead of .pem: the other stack's public key it was issued for
 ///
 /// `.cert` files hold a certificate's COER octets (what goes on the air), `.pem` files the
 /// P-256 private key (PKCS#8, owner-only). Errors name the file and what was wrong.
@@ -35,6 +36,10 @@ struct PkiPaths {
   std::filesystem::path at_key(std::uint32_t station) const {
     return dir / ("at-" + std::to_string(station) + ".pem");
   }
+  /// The outside public key an AT was issued for (its-pki issue), in place of at_key.
+  std::filesystem::path at_public_key(std::uint32_t station) const {
+    return dir / ("at-" + std::to_string(station) + ".pub.pem");
+  }
 };
 
 Certificate read_certificate(const std::filesystem::path& file);
@@ -60,7 +65,8 @@ struct PkiOptions {
 /// them anew when the root or AA was made). What is there but would not work any more is made
 /// anew too: a root or AA that expires within a day or whose AA lacks a permission its-pki gives
 /// today (GN-MGMT came later), an AT that expires within an hour, was issued by another AA or
-/// lacks a permission. Returns the files written.
+/// lacks a permission. An AT issued for an outside key (issue_ticket) is made anew for that key.
+/// Returns the files written.
 std::vector<std::filesystem::path> make_pki(const PkiPaths& paths,
                                             const std::vector<std::uint32_t>& stations,
                                             const PkiOptions& options);
@@ -70,8 +76,9 @@ std::vector<std::filesystem::path> make_pki(const PkiPaths& paths,
 /// brainpoolP256r1 too, but our ATs and the C2C-CC profile use P-256). The AT is our stations'
 /// (make_ticket: the same appPermissions and SSPs, valid options.ticket_hours from an hour before
 /// options.now), written to at-<station>.cert under the AA; root and AA are made or made anew
-/// first as make_pki does. A key file the PKI had for that station (at-<station>.pem) is removed:
-/// the PKI does not hold the new AT's key. Errors name the key file. Returns the files written.
+/// first as make_pki does. The key is kept as at-<station>.pub.pem, so that make_pki renews the
+/// AT for it; a key file the PKI had for that station (at-<station>.pem) is removed: the PKI
+/// does not hold the new AT's key. Errors name the key file. Returns the files written.
 std::vector<std::filesystem::path> issue_ticket(const PkiPaths& paths, std::uint32_t station,
                                                 const std::filesystem::path& public_key_pem,
                                                 const PkiOptions& options);

@@ -181,8 +181,17 @@ TEST(PkiFiles, IssuesAnAtForAnOutsideKeyAndExportsIt) {
   key.save_public_pem((outside / "pub.pem").string());
 
   const auto written = issue_ticket(paths, 9001, outside / "pub.pem", o);
-  ASSERT_EQ(written, std::vector{paths.at_cert(9001)});  // root and AA were there
+  // Root and AA were there: the key kept for renewals, and the AT.
+  ASSERT_EQ(written, (std::vector{paths.at_public_key(9001), paths.at_cert(9001)}));
   EXPECT_FALSE(fs::exists(paths.at_key(9001)));
+  // make (the launcher, for every station) keeps it, and renews it for the same key when due.
+  EXPECT_TRUE(make_pki(paths, {1001, 9001}, o).empty());
+  PkiOptions week_later = o;
+  week_later.now += 7 * 24 * 3600;
+  EXPECT_EQ(make_pki(paths, {9001}, week_later), std::vector{paths.at_cert(9001)});
+  EXPECT_EQ(read_certificate(paths.at_cert(9001)).tbs.verify_key.point, key.public_point());
+  EXPECT_FALSE(fs::exists(paths.at_key(9001)));
+  ASSERT_EQ(issue_ticket(paths, 9001, outside / "pub.pem", o).size(), 2u);  // back to o.now
   const Certificate at = read_certificate(paths.at_cert(9001));
   EXPECT_EQ(at.tbs.verify_key.point, key.public_point());
   EXPECT_EQ(*at.tbs.app_permissions, ticket_permissions());
@@ -267,6 +276,7 @@ TEST(PkiFiles, OutsideKeysThatAreNoP256PublicKeyAreRefusedByName) {
   const fs::path bp = paths.dir / "brainpool.pem";
   EcKey::generate(EccCurve::kBrainpoolP256r1).save_public_pem(bp.string());
   refused(bp, "a brainpoolP256r1 key");
+  EXPECT_FALSE(fs::exists(paths.at_public_key(9001)));
   EXPECT_NO_THROW(issue_ticket(paths, 9001, pub, o));
 }
 
