@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <string>
 #include <utility>
@@ -11,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/clock/utc.hpp"
 #include "its-station/geonet/tests/netns_fixture.hpp"
 
 namespace tb::its {
@@ -138,6 +140,91 @@ TEST_F(VethPair, ProbeExitCodesNameTheProblem) {
   // Nothing arrives: 3 once the time is up.
   Child lonely{in_ns(*a_, "--receive-count 1 --duration-s 0.2")};
   EXPECT_EQ(lonely.wait(), 3);
+}
+
+/// A GNSS receiver's NMEA for @p seconds in @p ns: an RMC every 100 ms to UDP 10110 (the
+/// station contract's feed), in the background, of the host's UTC less @p days_back days (a
+/// world whose start time is pinned in the past).
+void feed_nmea(const testing::Netns& ns, int seconds, int days_back) {
+  const std::string script = ::testing::TempDir() + "/rmc_feed.py";
+  std::FILE* f = std::fopen(script.c_str(), "w");
+  ASSERT_NE(f, nullptr);
+  std::fputs(
+      "import datetime, socket, sys, time\n"
+      "s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)\n"
+      "end = time.time() + float(sys.argv[1])\n"
+      "while time.time() < end:\n"
+      "    t = datetime.datetime.now(datetime.timezone.utc) - "
+      "datetime.timedelta(days=int(sys.argv[2]))\n"
+      "    body = 'GPRMC,%s.%02d,A,4809.006,N,00136.000,W,0.0,0.0,%s,,,A' % (\n"
+      "        t.strftime('%H%M%S'), t.microsecond // 10000, t.strftime('%d%m%y'))\n"
+      "    cs = 0\n"
+      "    for c in body:\n"
+      "        cs ^= ord(c)\n"
+      "    s.sendto(('$%s*%02X\\r\\n' % (body, cs)).encode(), ('127.0.0.1', 10110))\n"
+      "    time.sleep(0.1)\n",
+      f);
+  std::fclose(f);
+  ASSERT_EQ(std::system(("ip -n " + ns.name() + " link set lo up").c_str()), 0);
+  ASSERT_EQ(
+      std::system(("ip netns exec " + ns.name() + " python3 " + script + " " +
+                   std::to_string(seconds) + " " + std::to_string(days_back) + " >/dev/null 2>&1 &")
+                      .c_str()),
+      0);
+}
+
+// Signing (issue 31): two probes with the files its-pki export writes verify each other's CAMs,
+// dated on the GNSS time of their NMEA, a year behind the host's clock (the PKI made --at that
+// time: on the host's clock the certificates would not be valid yet... nor the packets fresh);
+// an unsigned probe's CAMs are dropped.
+TEST_F(VethPair, SignedProbesVerifyEachOtherAndDropTheUnsigned) {
+  const std::string bin = std::getenv("TESTBED_BIN") ? std::getenv("TESTBED_BIN") : "build/bin";
+  const std::string pki = ::testing::TempDir() + "/gn-probe-pki";
+  constexpr int kDaysBack = 365;
+  const std::string world =
+      clock::format_utc(clock::WallClock::now() - std::chrono::hours{24 * kDaysBack});
+  ASSERT_EQ(std::system(("rm -rf " + pki + " && " + bin + "/its-pki make --dir " + pki +
+                         "/ca --at " + world + " --station 77 --station 88 >/dev/null && " + bin +
+                         "/its-pki export --dir " + pki + "/ca --station 77 --out " + pki +
+                         "/77 >/dev/null && " + bin + "/its-pki export --dir " + pki +
+                         "/ca --station 88 --out " + pki + "/88 >/dev/null")
+                            .c_str()),
+            0);
+  auto files = [&](int id) {
+    const std::string d = pki + "/" + std::to_string(id);
+    return " --at-cert " + d + "/at-" + std::to_string(id) + ".cert --at-key " + d + "/at-" +
+           std::to_string(id) + ".pem --trust " + d + "/root.cert --aa " + d + "/aa.cert";
+  };
+  feed_nmea(*a_, 15, kDaysBack);
+  feed_nmea(*b_, 15, kDaysBack);
+  Child rx{
+      in_ns(*b_, "--receive-count 3 --duration-s 12 --position 48.15 -1.6 --cam 88" + files(88))};
+  ASSERT_EQ(rx.next()["event"], "ready");
+  Child unsigned_tx{
+      in_ns(*a_, "--send shb --count 3 --interval-ms 20 --position 48.1501 -1.6 --cam 55")};
+  EXPECT_EQ(unsigned_tx.wait(), 0);
+  Child tx{in_ns(
+      *a_, "--send shb --count 3 --interval-ms 50 --position 48.1501 -1.6 --cam 77" + files(77))};
+  EXPECT_EQ(tx.wait(), 0);
+  for (int i = 0; i < 3; ++i) {
+    const json j = rx.next();
+    ASSERT_TRUE(j.is_object()) << "line " << i;
+    EXPECT_EQ(j["event"], "rx");
+    EXPECT_EQ(j["cam_station_id"], 77) << j.dump();  // never 55's: unsigned, dropped
+  }
+  const json summary = rx.next();
+  EXPECT_EQ(summary["event"], "summary");
+  EXPECT_EQ(summary["security"]["verify"]["ok"], 3) << summary.dump();
+  EXPECT_EQ(rx.wait(), 0);
+  // A missing certificate file is named, exit 2.
+  EXPECT_EQ(
+      std::system(("ip netns exec " + a_->name() + " " + probe() + " --cam 1 --at-cert " + pki +
+                   "/none.cert --at-key x --trust y --aa z 2>&1 | grep -q "
+                   "'none.cert: cannot open'")
+                      .c_str()),
+      0);
+  Child bad{in_ns(*a_, "--cam 1 --at-cert " + pki + "/none.cert --at-key x --trust y --aa z")};
+  EXPECT_EQ(bad.wait(), 2);
 }
 
 }  // namespace

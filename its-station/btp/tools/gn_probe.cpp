@@ -131,9 +131,9 @@ std::optional<tb::clock::WallTime> rmc_time(std::string_view line) {
 /// under the root through the AA); errors name the file.
 std::unique_ptr<security::SecurityEntity> make_security(const Options& o) {
   namespace sec = security;
+  sec::Certificate at = sec::read_certificate(o.at_cert);
   sec::Certificate root = sec::read_certificate(o.trust);
   sec::Certificate aa = sec::read_certificate(o.aa);
-  sec::Certificate at = sec::read_certificate(o.at_cert);
   sec::EcKey key;
   try {
     key = sec::EcKey::load_private_pem(o.at_key);
