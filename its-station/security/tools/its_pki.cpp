@@ -1,13 +1,15 @@
 // its-pki: makes a scenario's test PKI (root CA, AA, one AT per station; TS 103 097 explicit
 // certificates with P-256 keys) in a directory, or shows a certificate file.
 //
-//   its-pki make --dir pki/ --station 1001 --station 1002
+//   its-pki make --dir pki/ --station 1001 --station 1002 [--at 2025-06-02T09:00:00Z]
 //   its-pki show pki/at-1001.cert
 
 #include <CLI/CLI.hpp>
 
+#include <ctime>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "common/clock/clock.hpp"
@@ -49,6 +51,19 @@ void show(const std::string& file) {
     std::cout << "certIssuePermissions: " << c.tbs.cert_issue_permissions->size() << " group(s)\n";
 }
 
+/// A UTC instant written YYYY-MM-DDThh:mm:ssZ (a scenario's start_time, whole seconds), or
+/// nothing when the text is not one.
+std::optional<tb::clock::WallTime> parse_utc(const std::string& text) {
+  std::tm tm{};
+  const char* end = strptime(text.c_str(), "%Y-%m-%dT%H:%M:%S", &tm);
+  if (end == nullptr || std::string(end) != "Z")
+    return std::nullopt;
+  const std::time_t t = timegm(&tm);
+  if (t < kEpoch2004UnixSeconds)
+    return std::nullopt;
+  return tb::clock::WallClock::from_time_t(t);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -65,13 +80,28 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 65535));
   make->add_option("--ca-hours", options.ca_hours, "root and AA validity in hours")
       ->check(CLI::Range(1, 65535));
+  std::string at;
+  make->add_option("--at", at,
+                   "the world's time the PKI must be valid at (a scenario's pinned start_time, "
+                   "YYYY-MM-DDThh:mm:ssZ; default: now). Certificates not valid then are "
+                   "made again");
   std::string file;
   auto* show_cmd = app.add_subcommand("show", "print a certificate file's fields");
   show_cmd->add_option("file", file, "a .cert file")->required();
   CLI11_PARSE(app, argc, argv);
   try {
     if (*make) {
-      options.now = to_time32(tb::clock::WallClock::now());
+      auto now = tb::clock::WallClock::now();
+      if (!at.empty()) {
+        const auto parsed = parse_utc(at);
+        if (!parsed) {
+          std::cerr << "its-pki: --at '" << at
+                    << "': expected a UTC time after 2004 like 2025-06-02T09:00:00Z\n";
+          return 2;
+        }
+        now = *parsed;
+      }
+      options.now = to_time32(now);
       const auto written = make_pki(PkiPaths{dir}, stations, options);
       for (const auto& p : written)
         std::cout << "wrote " << p.string() << "\n";
