@@ -469,20 +469,43 @@ GAP_TOLERANCE_M = 1.0
 TTC_TOLERANCE_S = 0.15
 
 
-def check_curve_geometry(out, scenario, warning):
-    """The curve's raise graded on the physics: the gap along the ring between the two cars
-    (the arc between their centres at the lane's radius, less half of each length), and the
-    TTC from it and the speeds along the lane; LCRW's distance_m and ttc_s must match them, and
-    the physics' gap must be ≥ 22 m (warned well before the cars meet)."""
+def raise_moment(out, scenario):
+    """The moment station 1001 published its first raise about 1002, with the physics' states
+    of both then: (trace, its host time, red's state, black's state, lengths by station), or
+    the failures when the trace lacks them."""
     by = trace_events(out)
     pub = first_raise_ts(by, 1001, 1002)
     if pub is None:
-        return ["no its.mqtt record of the curve's raise"]
+        return ["no its.mqtt record of the raise of 1001 about 1002"]
     red, black = state_at(by, 1001, pub), state_at(by, 1002, pub)
     if red is None or black is None:
         return ["no physics state of the two cars before the raise"]
     lengths = {v["station_id"]: v.get("model", {}).get("length_m", DEFAULT_LENGTH_M)
                for v in scenario["vehicles"]}
+    return by, pub, red, black, lengths
+
+
+def lcrw_figures_failures(got_gap, got_ttc, gap, ttc):
+    """LCRW's own distance and TTC against the physics' gap and TTC, within the tolerances."""
+    failures = []
+    if got_gap is None or abs(got_gap - gap) > GAP_TOLERANCE_M:
+        failures.append(f"LCRW's distance {got_gap} m is not the physics' gap {gap:.2f} m "
+                        f"± {GAP_TOLERANCE_M} m")
+    if got_ttc is None or abs(got_ttc - ttc) > TTC_TOLERANCE_S:
+        failures.append(f"LCRW's TTC {got_ttc} s is not the physics' {ttc:.2f} s "
+                        f"± {TTC_TOLERANCE_S} s")
+    return failures
+
+
+def check_curve_geometry(out, scenario, warning):
+    """The curve's raise graded on the physics: the gap along the ring between the two cars
+    (the arc between their centres at the lane's radius, less half of each length), and the
+    TTC from it and the speeds along the lane; LCRW's distance_m and ttc_s must match them, and
+    the physics' gap must be ≥ 22 m (warned well before the cars meet)."""
+    at = raise_moment(out, scenario)
+    if isinstance(at, list):
+        return at
+    by, pub, red, black, lengths = at
     # The ring is centred on the map's origin, counter-clockwise (common/map builtin_network).
     a_red, a_black = math.atan2(red[1], red[0]), math.atan2(black[1], black[0])
     radius = (math.hypot(red[0], red[1]) + math.hypot(black[0], black[1])) / 2.0
@@ -493,15 +516,9 @@ def check_curve_geometry(out, scenario, warning):
     got_gap, got_ttc = warning.get("distance_m"), warning.get("ttc_s")
     print(f"e2e: curve raise: physics gap along the ring {gap:.2f} m, closing {closing:.2f} m/s, "
           f"TTC {ttc:.2f} s; LCRW said {got_gap} m, {got_ttc} s")
-    failures = []
+    failures = lcrw_figures_failures(got_gap, got_ttc, gap, ttc)
     if gap < 22.0:
         failures.append(f"warned at a physics gap of {gap:.2f} m along the ring, not >= 22 m")
-    if got_gap is None or abs(got_gap - gap) > GAP_TOLERANCE_M:
-        failures.append(f"LCRW's distance {got_gap} m is not the physics' gap {gap:.2f} m "
-                        f"± {GAP_TOLERANCE_M} m")
-    if got_ttc is None or abs(got_ttc - ttc) > TTC_TOLERANCE_S:
-        failures.append(f"LCRW's TTC {got_ttc} s is not the physics' {ttc:.2f} s "
-                        f"± {TTC_TOLERANCE_S} s")
     return failures
 
 
@@ -549,15 +566,10 @@ def check_reversing_geometry(out, scenario, warning):
     (centre distance less half of each length) and red's reversing speed give the TTC, which
     must be between 2 s and the 3 s threshold (plus the tolerance), and LCRW's distance_m and
     ttc_s must match them."""
-    by = trace_events(out)
-    pub = first_raise_ts(by, 1001, 1002)
-    if pub is None:
-        return ["no its.mqtt record of the reversing raise"]
-    red, black = state_at(by, 1001, pub), state_at(by, 1002, pub)
-    if red is None or black is None:
-        return ["no physics state of the two cars before the raise"]
-    lengths = {v["station_id"]: v.get("model", {}).get("length_m", DEFAULT_LENGTH_M)
-               for v in scenario["vehicles"]}
+    at = raise_moment(out, scenario)
+    if isinstance(at, list):
+        return at
+    by, pub, red, black, lengths = at
     dx, dy = black[0] - red[0], black[1] - red[1]
     dist = math.hypot(dx, dy)
     gap = dist - (lengths[1001] + lengths[1002]) / 2.0
@@ -578,13 +590,7 @@ def check_reversing_geometry(out, scenario, warning):
     if not 2.0 <= ttc <= LCRW_TTC_WARNING_S + TTC_TOLERANCE_S:
         failures.append(f"warned at a physics TTC of {ttc:.2f} s, not in [2, "
                         f"{LCRW_TTC_WARNING_S + TTC_TOLERANCE_S}] s")
-    if got_gap is None or abs(got_gap - gap) > GAP_TOLERANCE_M:
-        failures.append(f"LCRW's distance {got_gap} m is not the physics' gap {gap:.2f} m "
-                        f"± {GAP_TOLERANCE_M} m")
-    if got_ttc is None or abs(got_ttc - ttc) > TTC_TOLERANCE_S:
-        failures.append(f"LCRW's TTC {got_ttc} s is not the physics' {ttc:.2f} s "
-                        f"± {TTC_TOLERANCE_S} s")
-    return failures
+    return failures + lcrw_figures_failures(got_gap, got_ttc, gap, ttc)
 
 
 def wait_port(port, timeout):

@@ -206,6 +206,18 @@ TEST_F(TwoStationNamespaces, EachSeesTheOtherInItsLdm) {
   EXPECT_LT(db, 5.0);
 }
 
+/// Runs an its-station command line; its exit status and what it printed (stdout and stderr).
+std::pair<int, std::string> run_station(const std::string& command) {
+  FILE* p = ::popen((command + " 2>&1").c_str(), "r");
+  if (p == nullptr)
+    return {-1, "popen failed"};
+  std::string out;
+  char buf[512];
+  while (std::fgets(buf, sizeof buf, p) != nullptr)
+    out += buf;
+  return {::pclose(p), out};
+}
+
 // Bad values of the received-CAM mirror's interval stop the program before it opens anything,
 // with a message that names the option and the value.
 TEST(ItsStationOptions, MqttCamIntervalOutsideItsRangeIsRefusedByName) {
@@ -214,16 +226,8 @@ TEST(ItsStationOptions, MqttCamIntervalOutsideItsRangeIsRefusedByName) {
   if (!fs::exists(station))
     GTEST_SKIP() << station << " not built";
   for (const std::string value : {"5", "60001", "fast"}) {
-    const std::string cmd = station.string() +
-                            " --station-id 1001 --radio none-such --mqtt-cam-interval-ms " + value +
-                            " 2>&1";
-    FILE* p = ::popen(cmd.c_str(), "r");
-    ASSERT_NE(p, nullptr);
-    std::string out;
-    char buf[512];
-    while (std::fgets(buf, sizeof buf, p) != nullptr)
-      out += buf;
-    const int status = ::pclose(p);
+    const auto [status, out] = run_station(
+        station.string() + " --station-id 1001 --radio none-such --mqtt-cam-interval-ms " + value);
     EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) != 0) << value << ": " << out;
     EXPECT_NE(out.find("--mqtt-cam-interval-ms"), std::string::npos) << out;
     EXPECT_NE(out.find(value), std::string::npos) << out;
@@ -244,17 +248,11 @@ TEST(ItsStationOptions, SecurityTimeWindowThatIsNotPsidEqualsMsIsRefusedByName) 
       {"36", "no '='"},
   };
   for (const auto& [value, part] : cases) {
-    const std::string cmd = station.string() +
-                            " --station-id 1001 --radio none-such --security-time-window 36=2000 "
-                            "--security-time-window " +
-                            value + " 2>&1";
-    FILE* p = ::popen(cmd.c_str(), "r");
-    ASSERT_NE(p, nullptr);
-    std::string out;
-    char buf[512];
-    while (std::fgets(buf, sizeof buf, p) != nullptr)
-      out += buf;
-    const int status = ::pclose(p);
+    const auto [status, out] =
+        run_station(station.string() +
+                    " --station-id 1001 --radio none-such --security-time-window 36=2000 "
+                    "--security-time-window " +
+                    value);
     EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) != 0) << value << ": " << out;
     EXPECT_NE(out.find("--security-time-window"), std::string::npos) << out;
     EXPECT_NE(out.find("\"" + value + "\""), std::string::npos) << out;

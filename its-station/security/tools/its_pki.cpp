@@ -99,9 +99,11 @@ int main(int argc, char** argv) {
   tb::clock::WallTime now = tb::clock::WallClock::now();
   if (!at_text.empty()) {
     const auto at = tb::clock::parse_utc(at_text);
-    if (!at) {
-      std::cerr << "its-pki: --at \"" << at_text
-                << "\": not a UTC time like 2025-06-02T09:00:00Z (ISO 8601, ending in Z)\n";
+    // 1609.2 times count from 2004 (6.4.12): an earlier "now" has no Time32.
+    if (!at || tb::clock::to_unix_ns(*at) < kEpoch2004UnixSeconds * 1'000'000'000) {
+      std::cerr << "its-pki: --at '" << at_text
+                << "': not a UTC time after 2004 like 2025-06-02T09:00:00Z (ISO 8601, ending in "
+                   "Z)\n";
       return 2;
     }
     now = *at;
