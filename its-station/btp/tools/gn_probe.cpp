@@ -119,7 +119,8 @@ std::optional<tb::clock::WallTime> rmc_time(std::string_view line) {
   const std::chrono::year_month_day date{std::chrono::year{2000 + yy},
                                          std::chrono::month{static_cast<unsigned>(mo)},
                                          std::chrono::day{static_cast<unsigned>(dd)}};
-  if (hh < 0 || mi < 0 || ss < 0 || dd < 0 || mo < 0 || yy < 0 || !date.ok())
+  if (hh < 0 || hh > 23 || mi < 0 || mi > 59 || ss < 0 || ss > 59 || dd < 0 || mo < 0 || yy < 0 ||
+      !date.ok())
     return std::nullopt;
   const auto t = std::chrono::sys_days{date} + std::chrono::hours{hh} + std::chrono::minutes{mi} +
                  std::chrono::seconds{ss} + std::chrono::microseconds{std::llround(fraction * 1e6)};
