@@ -32,6 +32,7 @@
 #include "common/trace/tracer.hpp"
 #include "its-station/app/adapters.hpp"
 #include "its-station/app/its_clock.hpp"
+#include "its-station/app/time_synced_link.hpp"
 #include "its-station/apps/lcrw/lcrw_app.hpp"
 #include "its-station/apps/mqtt/publisher.hpp"
 #include "its-station/btp/dispatcher.hpp"
@@ -268,7 +269,8 @@ int run(const Options& o) {
   tb::its::station::GnPositionAdapter gn_position(position);
   tb::its::geonet::RouterConfig gn_cfg;
   gn_cfg.station_type = static_cast<tb::its::geonet::StationType>(ca_cfg.station_type);
-  tb::its::geonet::Router router(its_clock, **link, gn_position, gn_cfg);
+  tb::its::station::TimeSyncedLink synced_link(**link, its_clock);
+  tb::its::geonet::Router router(its_clock, synced_link, gn_position, gn_cfg);
   std::unique_ptr<tb::its::security::SecurityEntity> security = make_security(o, scenario);
   router.set_security(security.get());
   if (security)
@@ -502,6 +504,7 @@ int run(const Options& o) {
       j["latitude_deg"] = position.current()->latitude_deg;
       j["longitude_deg"] = position.current()->longitude_deg;
     }
+    j["frames_before_first_fix"] = synced_link.dropped_before_sync();
     j["cams_sent"] = ca.counters().sent;
     j["cams_received"] = ca.counters().received;
     j["denms_sent"] = den.counters().sent;
@@ -619,10 +622,12 @@ int run(const Options& o) {
   if (mqtt)
     mqtt->stop();
   tb::trace::global().flush();
-  spdlog::info("CAMs sent {}, received {}; DENMs sent {}, received {}; router drops: {} parse",
-               ca.counters().sent, ca.counters().received, den.counters().sent,
-               den.counters().received,
-               router.stats().dropped(tb::its::geonet::DropReason::kParseError));
+  spdlog::info(
+      "CAMs sent {}, received {}; DENMs sent {}, received {}; router drops: {} parse; {} "
+      "frame(s) heard before the first fix, not taken in (no world time yet)",
+      ca.counters().sent, ca.counters().received, den.counters().sent, den.counters().received,
+      router.stats().dropped(tb::its::geonet::DropReason::kParseError),
+      synced_link.dropped_before_sync());
   return exit_code;
 }
 

@@ -34,7 +34,11 @@ Hub::Hub(physics::World& world, const scenario::Scenario& scenario, std::string 
       scenario_json_(std::move(scenario_json)),
       clock_(clock),
       server_name_(std::move(server_name)),
-      world_start_ns_(clock::to_unix_ns(scenario::world_start(scenario, clock.wall_now()))),
+      // Sim time runs from -warmup_s: sim time 0 comes a warm-up after the start, so that the
+      // world's time is the host's from then on (less the wait for the drivers, if any).
+      world_start_ns_(clock::to_unix_ns(scenario::world_start(
+          scenario, clock.wall_now() + std::chrono::duration_cast<clock::WallClock::duration>(
+                                           std::chrono::duration<double>(scenario.warmup_s))))),
       vehicles_(world.size()) {
   for (std::size_t v = 0; v < vehicles_.size(); ++v) {
     // A car spawned with speed rolls on until before_step() finds nobody drives it.
