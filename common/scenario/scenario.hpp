@@ -336,9 +336,8 @@ struct Scenario {
   const Vehicle* find_station(std::uint32_t station_id) const;
 };
 
-/// The world's start time (UTC of sim time 0) of a run whose sim time 0 comes at @p now (the
-/// host's clock at the start plus the warm-up): the scenario's pinned start_time, else @p now
-/// rounded down to the second. sim-server fixes it once and hands
+/// The world's start time (UTC of sim time 0) of a run that starts at @p now: the scenario's
+/// pinned start_time, else @p now rounded down to the second. sim-server fixes it once and hands
 /// it to every program (docs/time.md).
 inline std::chrono::system_clock::time_point world_start(
     const Scenario& s, std::chrono::system_clock::time_point now) {
