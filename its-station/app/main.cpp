@@ -24,6 +24,7 @@
 #include "common/can/socketcan_bus.hpp"
 #include "common/can/udp_can_bus.hpp"
 #include "common/clock/asio_runtime.hpp"
+#include "common/clock/gnss_disciplined_runtime.hpp"
 #include "common/clock/utc.hpp"
 #include "common/geodesy/local_frame.hpp"
 #include "common/map/scenario_map.hpp"
@@ -31,7 +32,6 @@
 #include "common/scenario/loader.hpp"
 #include "common/trace/tracer.hpp"
 #include "its-station/app/adapters.hpp"
-#include "its-station/app/its_clock.hpp"
 #include "its-station/app/time_synced_link.hpp"
 #include "its-station/apps/lcrw/lcrw_app.hpp"
 #include "its-station/apps/mqtt/publisher.hpp"
@@ -239,7 +239,7 @@ int run(const Options& o) {
   // clock (the scenario's start time + sim time), as on a real OBU. The host's clock only
   // serves sockets, gpsd, CAN, MQTT and trace records. It is told of a fix before anything else
   // hears of it.
-  tb::its::station::GnssDisciplinedRuntime its_clock(runtime);
+  tb::clock::GnssDisciplinedRuntime its_clock(runtime);
   position.on_fix([&](const fac::PositionFix& fix) {
     const bool first = !its_clock.synchronised();
     const unsigned resyncs = its_clock.resyncs();

@@ -3,7 +3,7 @@
 
 #include <cstdint>
 
-#include "its-station/app/its_clock.hpp"
+#include "common/clock/gnss_disciplined_runtime.hpp"
 #include "its-station/link/link_layer.hpp"
 
 namespace tb::its::station {
@@ -15,7 +15,7 @@ namespace tb::its::station {
 /// either: received frames are counted and dropped until the clock is synchronised.
 class TimeSyncedLink final : public link::LinkLayer {
  public:
-  TimeSyncedLink(link::LinkLayer& inner, const GnssDisciplinedRuntime& clock)
+  TimeSyncedLink(link::LinkLayer& inner, const clock::GnssDisciplinedRuntime& clock)
       : inner_(inner), clock_(clock) {}
 
   link::MacAddress address() const override { return inner_.address(); }
@@ -41,7 +41,7 @@ class TimeSyncedLink final : public link::LinkLayer {
 
  private:
   link::LinkLayer& inner_;
-  const GnssDisciplinedRuntime& clock_;
+  const clock::GnssDisciplinedRuntime& clock_;
   std::uint64_t dropped_before_sync_ = 0;
 };
 

@@ -29,8 +29,8 @@
 #include <nlohmann/json.hpp>
 
 #include "common/clock/asio_runtime.hpp"
+#include "common/clock/gnss_disciplined_runtime.hpp"
 #include "common/util/bytes.hpp"
-#include "its-station/app/its_clock.hpp"
 #include "its-station/btp/dispatcher.hpp"
 #include "its-station/link/capturing_link.hpp"
 #include "its-station/link/packet_socket_link.hpp"
@@ -263,7 +263,7 @@ int main(int argc, char** argv) {
   }
   // The ITS clock: GNSS time from the NMEA feed when signing (generationTime, certificate
   // validity and GN timestamps on the world's clock), else the host's.
-  station::GnssDisciplinedRuntime its_clock{rt};
+  tb::clock::GnssDisciplinedRuntime its_clock{rt};
   boost::asio::ip::udp::socket nmea{io};
   std::array<char, 4096> nmea_buffer{};
   std::function<void()> read_nmea = [&] {

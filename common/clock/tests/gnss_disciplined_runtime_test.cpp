@@ -1,17 +1,11 @@
-#include "its-station/app/its_clock.hpp"
-
-#include <array>
+#include "common/clock/gnss_disciplined_runtime.hpp"
 
 #include <gtest/gtest.h>
 
-#include "its-station/app/time_synced_link.hpp"
-#include "its-station/link/test_link.hpp"
-
-namespace tb::its::station {
+namespace tb::clock {
 namespace {
 
 using namespace std::chrono_literals;
-using clock::WallTime;
 
 // The host believes it is late 2026; the world (a pinned scenario) runs in mid 2025.
 const WallTime kHostStart{std::chrono::seconds{1'795'000'000}};
@@ -22,7 +16,7 @@ std::int64_t ms_between(WallTime a, WallTime b) {
 }
 
 TEST(GnssDisciplinedRuntime, IsTheHostClockUntilTheFirstFix) {
-  clock::ManualRuntime host(kHostStart);
+  ManualRuntime host(kHostStart);
   GnssDisciplinedRuntime its(host);
   EXPECT_FALSE(its.synchronised());
   EXPECT_EQ(its.wall_now(), host.wall_now());
@@ -30,7 +24,7 @@ TEST(GnssDisciplinedRuntime, IsTheHostClockUntilTheFirstFix) {
 }
 
 TEST(GnssDisciplinedRuntime, RunsOnTheWorldsEpochFromTheFirstFix) {
-  clock::ManualRuntime host(kHostStart);
+  ManualRuntime host(kHostStart);
   GnssDisciplinedRuntime its(host);
   host.advance(3s);
   its.on_fix(kWorldStart);
@@ -43,7 +37,7 @@ TEST(GnssDisciplinedRuntime, RunsOnTheWorldsEpochFromTheFirstFix) {
 }
 
 TEST(GnssDisciplinedRuntime, SteadyTimeIsContinuousAcrossTheFirstFix) {
-  clock::ManualRuntime host(kHostStart);
+  ManualRuntime host(kHostStart);
   GnssDisciplinedRuntime its(host);
   host.advance(2s);
   const auto before = its.steady_now();
@@ -53,7 +47,7 @@ TEST(GnssDisciplinedRuntime, SteadyTimeIsContinuousAcrossTheFirstFix) {
 
 // sim-server --fast: the world runs 4 times as fast as the host.
 TEST(GnssDisciplinedRuntime, FollowsSimTimeWhenItRunsFasterThanTheHost) {
-  clock::ManualRuntime host(kHostStart);
+  ManualRuntime host(kHostStart);
   GnssDisciplinedRuntime its(host);
   WallTime world = kWorldStart;
   for (int i = 0; i < 60; ++i) {  // 10 Hz fixes of sim time: every 25 ms of host time
@@ -76,7 +70,7 @@ TEST(GnssDisciplinedRuntime, FollowsSimTimeWhenItRunsFasterThanTheHost) {
 }
 
 TEST(GnssDisciplinedRuntime, RealTimeJitterDoesNotMoveTheRateMuch) {
-  clock::ManualRuntime host(kHostStart);
+  ManualRuntime host(kHostStart);
   GnssDisciplinedRuntime its(host);
   WallTime world = kWorldStart;
   for (int i = 0; i < 50; ++i) {  // fixes delivered 100 ms apart ± 3 ms
@@ -89,7 +83,7 @@ TEST(GnssDisciplinedRuntime, RealTimeJitterDoesNotMoveTheRateMuch) {
 }
 
 TEST(GnssDisciplinedRuntime, APauseOfTheFeedIsNotARate) {
-  clock::ManualRuntime host(kHostStart);
+  ManualRuntime host(kHostStart);
   GnssDisciplinedRuntime its(host);
   WallTime world = kWorldStart;
   its.on_fix(world);
@@ -103,7 +97,7 @@ TEST(GnssDisciplinedRuntime, APauseOfTheFeedIsNotARate) {
 }
 
 TEST(GnssDisciplinedRuntime, ANewWorldIsTakenAsItIs) {
-  clock::ManualRuntime host(kHostStart);
+  ManualRuntime host(kHostStart);
   GnssDisciplinedRuntime its(host);
   its.on_fix(kWorldStart);
   host.advance(100ms);
@@ -114,7 +108,7 @@ TEST(GnssDisciplinedRuntime, ANewWorldIsTakenAsItIs) {
 }
 
 TEST(GnssDisciplinedRuntime, TimersScheduledBeforeTheFirstFixRunOnTheHost) {
-  clock::ManualRuntime host(kHostStart);
+  ManualRuntime host(kHostStart);
   GnssDisciplinedRuntime its(host);
   bool fired = false;
   const auto id = its.schedule_in(50ms, [&] { fired = true; });
@@ -126,34 +120,4 @@ TEST(GnssDisciplinedRuntime, TimersScheduledBeforeTheFirstFixRunOnTheHost) {
 }
 
 }  // namespace
-}  // namespace tb::its::station
-
-namespace tb::its::station {
-namespace {
-
-// The e2e signed three-vehicle case: a station that had no fix yet judged its neighbours' CAMs
-// on the host's clock, seconds ahead of the world's, and refused them as out of the window.
-TEST(TimeSyncedLink, TakesFramesInOnlyOnceTheClockHasAFix) {
-  clock::ManualRuntime host(kHostStart);
-  GnssDisciplinedRuntime its(host);
-  link::TestLink inner(link::MacAddress{2, 0, 0, 0, 0, 1});
-  TimeSyncedLink synced(inner, its);
-  int delivered = 0;
-  synced.set_receive_handler([&](const link::ReceivedFrame&) { ++delivered; });
-  const std::array<std::uint8_t, 3> payload{1, 2, 3};
-  inner.inject(link::MacAddress{2, 0, 0, 0, 0, 2}, link::kBroadcastMac, 0x8947, payload,
-               host.wall_now());
-  EXPECT_EQ(delivered, 0);
-  EXPECT_EQ(synced.dropped_before_sync(), 1u);
-  its.on_fix(kWorldStart);
-  inner.inject(link::MacAddress{2, 0, 0, 0, 0, 2}, link::kBroadcastMac, 0x8947, payload,
-               host.wall_now());
-  EXPECT_EQ(delivered, 1);
-  EXPECT_EQ(synced.dropped_before_sync(), 1u);
-  // Sending is not gated here: before a fix the station has nothing to send.
-  EXPECT_FALSE(synced.send(link::kBroadcastMac, 0x8947, payload));
-  EXPECT_EQ(inner.sent().size(), 1u);
-}
-
-}  // namespace
-}  // namespace tb::its::station
+}  // namespace tb::clock

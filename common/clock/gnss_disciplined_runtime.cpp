@@ -1,53 +1,52 @@
-#include "its-station/app/its_clock.hpp"
+#include "common/clock/gnss_disciplined_runtime.hpp"
 
 #include <chrono>
 #include <cmath>
 
-namespace tb::its::station {
+namespace tb::clock {
 
 namespace {
 
-clock::Duration times(clock::Duration d, double factor) {
-  return clock::Duration{std::llround(static_cast<double>(d.count()) * factor)};
+Duration times(Duration d, double factor) {
+  return Duration{std::llround(static_cast<double>(d.count()) * factor)};
 }
 
 }  // namespace
 
-clock::Duration GnssDisciplinedRuntime::scaled(clock::Duration host_elapsed) const {
+Duration GnssDisciplinedRuntime::scaled(Duration host_elapsed) const {
   return rate_ == 1.0 ? host_elapsed : times(host_elapsed, rate_);
 }
 
-clock::SteadyTime GnssDisciplinedRuntime::its_steady(clock::SteadyTime host) const {
+SteadyTime GnssDisciplinedRuntime::its_steady(SteadyTime host) const {
   if (!anchored_)
     return host;
   return steady_anchor_its_ + scaled(host - steady_anchor_host_);
 }
 
-clock::WallTime GnssDisciplinedRuntime::its_wall(clock::SteadyTime host) const {
+WallTime GnssDisciplinedRuntime::its_wall(SteadyTime host) const {
   if (!last_fix_)
     return host_.wall_now() +
-           std::chrono::duration_cast<clock::WallClock::duration>(host - host_.steady_now());
+           std::chrono::duration_cast<WallClock::duration>(host - host_.steady_now());
   return last_fix_->gnss +
-         std::chrono::duration_cast<clock::WallClock::duration>(scaled(host - last_fix_->host));
+         std::chrono::duration_cast<WallClock::duration>(scaled(host - last_fix_->host));
 }
 
-clock::WallTime GnssDisciplinedRuntime::to_its(clock::WallTime host_wall) const {
+WallTime GnssDisciplinedRuntime::to_its(WallTime host_wall) const {
   // The host's wall clock only locates the stamp against now; the world's time comes from the
   // fix, so an epoch far from the host's date (a pinned start_time) does not matter.
-  const clock::SteadyTime host_now = host_.steady_now();
-  return its_wall(host_now -
-                  std::chrono::duration_cast<clock::Duration>(host_.wall_now() - host_wall));
+  const SteadyTime host_now = host_.steady_now();
+  return its_wall(host_now - std::chrono::duration_cast<Duration>(host_.wall_now() - host_wall));
 }
 
-void GnssDisciplinedRuntime::set_rate(clock::SteadyTime host, double rate) {
+void GnssDisciplinedRuntime::set_rate(SteadyTime host, double rate) {
   steady_anchor_its_ = its_steady(host);
   steady_anchor_host_ = host;
   anchored_ = true;
   rate_ = rate;
 }
 
-void GnssDisciplinedRuntime::on_fix(clock::WallTime gnss_time) {
-  const clock::SteadyTime now = host_.steady_now();
+void GnssDisciplinedRuntime::on_fix(WallTime gnss_time) {
+  const SteadyTime now = host_.steady_now();
   const Sample fix{now, gnss_time};
   if (!last_fix_) {
     set_rate(now, 1.0);
@@ -80,13 +79,12 @@ void GnssDisciplinedRuntime::on_fix(clock::WallTime gnss_time) {
   set_rate(now, measured);
 }
 
-clock::TimerId GnssDisciplinedRuntime::schedule_at(clock::SteadyTime when,
-                                                   clock::TimerCallback cb) {
+TimerId GnssDisciplinedRuntime::schedule_at(SteadyTime when, TimerCallback cb) {
   if (!anchored_)
     return host_.schedule_at(when, std::move(cb));
   const auto its_ahead = when - steady_anchor_its_;
-  const clock::Duration host_ahead = rate_ == 1.0 ? its_ahead : times(its_ahead, 1.0 / rate_);
+  const Duration host_ahead = rate_ == 1.0 ? its_ahead : times(its_ahead, 1.0 / rate_);
   return host_.schedule_at(steady_anchor_host_ + host_ahead, std::move(cb));
 }
 
-}  // namespace tb::its::station
+}  // namespace tb::clock
