@@ -263,15 +263,10 @@ def enu_of(lat_deg, lon_deg, origin):
 
 
 def physics_at(by, station, ts):
-    """The physics' own position of @p station at host time @p ts (client.forward, the step
-    before, moved on by its speed): (x, y) in the map frame."""
-    steps = [r for r in by.get("client.forward", []) if r["station"] == station and
-             r.get("step_ns") and r["step_ns"] <= ts]
-    if not steps:
-        return None
-    r = max(steps, key=lambda r: r["step_ns"])
-    dt = (ts - r["step_ns"]) / 1e9
-    return (r["x"] + r["v"] * math.cos(r["yaw"]) * dt, r["y"] + r["v"] * math.sin(r["yaw"]) * dt)
+    """The physics' own position of @p station at host time @p ts, warm-up included: (x, y) in
+    the map frame."""
+    state = state_at(by, station, ts, warmup=True)
+    return state[:2] if state else None
 
 
 def check_road_events(out, hmi_log, station=None):
@@ -447,11 +442,12 @@ def first_raise_ts(by, station, other):
     return raised[0] if raised else None
 
 
-def state_at(by, station, ts):
+def state_at(by, station, ts, warmup=False):
     """The physics' own state of @p station at host time @p ts: the last step before it
-    (client.forward), moved on by its speed: (x, y, vx, vy)."""
+    (client.forward; a warm-up step only with @p warmup), moved on by its speed:
+    (x, y, vx, vy)."""
     steps = [r for r in by.get("client.forward", []) if r["station"] == station and
-             r.get("step_ns") and r["step_ns"] <= ts and r.get("sim_ns", 1) > 0]
+             r.get("step_ns") and r["step_ns"] <= ts and (warmup or r.get("sim_ns", 1) > 0)]
     if not steps:
         return None
     r = max(steps, key=lambda r: r["step_ns"])
