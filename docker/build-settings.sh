@@ -1,3 +1,4 @@
+# shellcheck shell=bash disable=SC2034  # sets variables for the script that sources it
 # Proxy and extra CA for the image builds, shared by scripts/up and scripts/drive (sourced; bash).
 #
 #   build_settings ROOT   sets build_args (--build-arg pairs) and build_settings_said (what to
