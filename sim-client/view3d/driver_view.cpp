@@ -50,19 +50,32 @@ class FollowEye : public osg::Transform {
   }
 };
 
+osg::ref_ptr<osg::Geometry> triangles(osg::Vec3Array* v, osg::Vec4Array* c) {
+  osg::ref_ptr<osg::Geometry> g = new osg::Geometry;
+  g->setUseDisplayList(false);
+  g->setUseVertexBufferObjects(true);
+  g->setVertexArray(v);
+  g->setColorArray(c, osg::Array::BIND_PER_VERTEX);
+  g->addPrimitiveSet(new osg::DrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(v->size())));
+  g->setCullingActive(false);
+  return g;
+}
+
 /// The colour of the sky @p elevation radians above the horizon.
 osg::Vec4 sky_colour(double elevation) {
   const double t = elevation <= 0.0 ? 0.0 : std::pow(std::sin(elevation), 0.6);
   return kSky * static_cast<float>(1.0 - t) + kZenith * static_cast<float>(t);
 }
 
-/// A dome of coloured rings (with a skirt below the horizon, where the world's edge may open)
-/// and the sun's disc with a glow, drawn first, unlit, without fog or depth writes: everything
-/// else draws over it.
+/// A dome of coloured rings from the horizon up and the sun's disc with a glow, drawn first,
+/// unlit, without fog, depth test or depth writes: everything else draws over it. Below the
+/// horizon the clear colour (the horizon's) shows where the world ends, so the dome needs no
+/// skirt; and it is opaque, only the glow blends: on a software renderer every blended pixel
+/// of a sky across half the screen costs.
 osg::ref_ptr<osg::Node> make_sky() {
   constexpr int kSides = 32;
   constexpr double kDeg = std::numbers::pi / 180;
-  const double rings[] = {-30, 0, 4, 10, 20, 35, 55, 90};
+  const double rings[] = {0, 4, 10, 20, 35, 55, 90};
   osg::ref_ptr<osg::Vec3Array> v = new osg::Vec3Array;
   osg::ref_ptr<osg::Vec4Array> c = new osg::Vec4Array;
   const auto at = [](double el, double az) {
@@ -83,6 +96,10 @@ osg::ref_ptr<osg::Node> make_sky() {
       }
     }
   }
+  osg::ref_ptr<osg::Geode> geode = new osg::Geode;
+  geode->addDrawable(triangles(v, c));
+  v = new osg::Vec3Array;
+  c = new osg::Vec4Array;
   // The sun: a disc 1.2° wide in the light's direction, in a glow that fades out over 5°.
   const osg::Vec3 sun = kSunDirection * (0.95f * kSkyRadius);
   osg::Vec3 u = kSunDirection ^ osg::Vec3(0, 0, 1);
@@ -112,23 +129,20 @@ osg::ref_ptr<osg::Node> make_sky() {
       c->push_back(col);
     }
   }
-  osg::ref_ptr<osg::Geometry> g = new osg::Geometry;
-  g->setUseDisplayList(false);
-  g->setUseVertexBufferObjects(true);
-  g->setVertexArray(v);
-  g->setColorArray(c, osg::Array::BIND_PER_VERTEX);
-  g->addPrimitiveSet(new osg::DrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(v->size())));
-  g->setCullingActive(false);
-  osg::ref_ptr<osg::Geode> geode = new osg::Geode;
-  geode->addDrawable(g);
+  osg::ref_ptr<osg::Geometry> sun_disc = triangles(v, c);
+  osg::StateSet* blend = sun_disc->getOrCreateStateSet();
+  blend->setMode(GL_BLEND, osg::StateAttribute::ON);
+  blend->setAttributeAndModes(new osg::BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA));
+  // A bin nested in the dome's (-10): a positive number draws after the dome's own leaves.
+  blend->setRenderBinDetails(1, "RenderBin");
+  geode->addDrawable(sun_disc);
   geode->setCullingActive(false);
   osg::StateSet* ss = geode->getOrCreateStateSet();
   const auto off = osg::StateAttribute::OFF | osg::StateAttribute::PROTECTED;
   ss->setMode(GL_LIGHTING, off);
   ss->setMode(GL_FOG, off);
   ss->setMode(GL_CULL_FACE, off);
-  ss->setMode(GL_BLEND, osg::StateAttribute::ON);
-  ss->setAttributeAndModes(new osg::BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA));
+  ss->setMode(GL_BLEND, off);
   ss->setAttributeAndModes(new osg::Depth(osg::Depth::ALWAYS, 0.0, 1.0, false));
   // Before the ground (bin -1), which is drawn without depth writes too.
   ss->setRenderBinDetails(-10, "RenderBin");

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <functional>
@@ -517,6 +518,81 @@ TEST_F(View3dRender, ACarFromTheSideAtFiftyMetresHasBonnetCabinAndBoot) {
     EXPECT_FALSE(differs(static_cast<int>(front.x()) + 4, y)) << "row " << y;
     EXPECT_FALSE(differs(static_cast<int>(back.x()) - 4, y)) << "row " << y;
   }
+}
+
+// The sky: a gradient that is bluer and darker overhead than just above the horizon (chase
+// camera, flat map), and the sun's disc where the light comes from: south-east, 20° up.
+TEST_F(View3dRender, SkyDarkensUpwardsAndTheSunStandsSouthEast) {
+  auto w = straight_world({look("me", 1001, "#2040e0")});
+  const Image im = shoot(driving(w, {at(100.0, 0.0)}), "sky_chase");
+  const CameraPose& pose = view_->pose();
+  // The horizon: a far point level with the eye, straight ahead (east).
+  const int horizon =
+      static_cast<int>(project(pose, pose.eye + osg::Vec3d(2000.0, 0.0, 0.0), kW, kH).y());
+  ASSERT_GT(horizon, 100);
+  // Right of the mirror inset and the HUD's text.
+  const auto mean = [&](int y0, int y1) {
+    double r = 0, g = 0, b = 0;
+    int n = 0;
+    for (int y = y0; y < y1; ++y)
+      for (int x = 900; x < kW - 10; x += 4) {
+        const Rgb c = pixel(im, x, y);
+        r += c.r;
+        g += c.g;
+        b += c.b;
+        ++n;
+      }
+    return std::array<double, 3>{r / n, g / n, b / n};
+  };
+  const auto top = mean(4, 24), low = mean(horizon - 30, horizon - 10);
+  RecordProperty("sky_top_rgb", fmt::format("{:.0f} {:.0f} {:.0f}", top[0], top[1], top[2]));
+  RecordProperty("sky_low_rgb", fmt::format("{:.0f} {:.0f} {:.0f}", low[0], low[1], low[2]));
+  EXPECT_GT(top[2] - top[0], low[2] - low[0] + 20);                    // bluer
+  EXPECT_LT(top[0] + top[1] + top[2], low[0] + low[1] + low[2] - 60);  // darker
+  EXPECT_GT(low[2], low[0]);                                           // still sky, not haze-grey
+
+  // Watching (no mirror) from behind a car heading south-east, the sun is in view (the chase camera
+  // sees about 21° above the horizon straight ahead).
+  FrameInput in = driving(w, {at(100.0, 0.0, -50.0 * 3.14159265 / 180)});
+  in.own = -1;
+  in.choice.target = 0;
+  const CameraPose east = pose;
+  ASSERT_NE(view_->mirror(), nullptr);
+  const Rect east_mirror = *view_->mirror();
+  view_ = std::make_unique<DriverView>(kW, kH);  // a chase camera that starts behind this car
+  const Image sunny = shoot(in, "sky_sun");
+  const double el = 20.0 * 3.14159265 / 180, az = -45.0 * 3.14159265 / 180;
+  const osg::Vec3d toward(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+  const osg::Vec2d sun = project(view_->pose(), view_->pose().eye + toward * 1000.0, kW, kH);
+  ASSERT_TRUE(clear_of_hud(sun) || sun.y() < 150) << sun.x() << "," << sun.y();
+  ASSERT_TRUE(sun.x() > 20 && sun.x() < kW - 20 && sun.y() > 10 && sun.y() < kH - 10)
+      << sun.x() << "," << sun.y();
+  const auto bright = [](Rgb c) { return c.r > 240 && c.g > 235 && c.b > 190; };
+  // Above the horizon (below it the lane marks are as white).
+  const auto in_sky = [&](const Image& image, const CameraPose& p, double heading,
+                          const Rect* mirror) {
+    const osg::Vec3d ahead(std::cos(heading), std::sin(heading), 0.0);
+    const int h = static_cast<int>(project(p, p.eye + ahead * 2000.0, kW, kH).y()) - 3;
+    Box b;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < kW; ++x) {
+        // Not the HUD's title, nor the mirror's inset (the road behind).
+        const bool hud =
+            (x < 420 && y < 60) || (mirror && x >= mirror->x && x < mirror->x + mirror->w &&
+                                    y >= kH - mirror->y - mirror->h - 4 && y < kH - mirror->y + 4);
+        if (!hud && bright(pixel(image, x, y)))
+          b.add(x, y);
+      }
+    return b;
+  };
+  EXPECT_TRUE(bright(pixel(sunny, static_cast<int>(sun.x()), static_cast<int>(sun.y()))));
+  // The disc is small (1.2° ≈ 17 px at 90°): the brightest pixels are around that point only.
+  const Box disc = in_sky(sunny, view_->pose(), -50.0 * 3.14159265 / 180, nullptr);
+  EXPECT_NEAR((disc.x0 + disc.x1) / 2.0, sun.x(), 3.0);
+  EXPECT_NEAR((disc.y0 + disc.y1) / 2.0, sun.y(), 3.0);
+  EXPECT_LT(disc.width(), 30);
+  // And none in the first view, facing east with the sun 45° off to the right and higher.
+  EXPECT_EQ(in_sky(im, east, 0.0, &east_mirror).n, 0);
 }
 
 bool overlay_yellow(Rgb c) {
