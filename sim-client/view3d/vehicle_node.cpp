@@ -267,7 +267,8 @@ VehicleNode::VehicleNode(const VehicleLook& look)
   root_->addChild(shell);
   root_->addChild(make_glasshouse(profile, W, H, paint));
   // Lamps (unlit: their colour is their light).
-  const float lamp_z = 0.40f * H;
+  // Below the nose (45 % of the height) and the tail (50 %): the lamps sit in the body's ends.
+  const float lamp_z = 0.36f * H;
   auto lamp = [&](Lamp& l, std::initializer_list<std::pair<osg::Vec3, osg::Vec3>> boxes) {
     MeshBuilder m;
     for (const auto& [lo, hi] : boxes)
@@ -286,8 +287,8 @@ VehicleNode::VehicleNode(const VehicleLook& look)
   auto corner = [&](float x, float y) {
     const float sx = x > 0 ? -1.0f : 1.0f, sy = y > 0 ? -1.0f : 1.0f;
     return std::pair<osg::Vec3, osg::Vec3>{
-        {std::min(x, x + sx * 0.14f) - d, std::min(y, y + sy * 0.10f) - d, lamp_z + 0.07f},
-        {std::max(x, x + sx * 0.14f) + d, std::max(y, y + sy * 0.10f) + d, lamp_z + 0.15f}};
+        {std::min(x, x + sx * 0.14f) - d, std::min(y, y + sy * 0.10f) - d, lamp_z + 0.06f},
+        {std::max(x, x + sx * 0.14f) + d, std::max(y, y + sy * 0.10f) + d, lamp_z + 0.13f}};
   };
   lamp(left_, {corner(L / 2, W / 2), corner(-L / 2, W / 2)});
   lamp(right_, {corner(L / 2, -W / 2), corner(-L / 2, -W / 2)});
