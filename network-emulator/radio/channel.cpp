@@ -1,7 +1,6 @@
 #include "network-emulator/radio/channel.hpp"
 
 #include <cmath>
-#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -70,37 +69,12 @@ LinkStats& LinkStats::operator+=(const LinkStats& o) {
 }
 
 namespace {
-constexpr double kSpeedOfLight = 299'792'458.0;
-
-double wavelength_m(const scenario::ChannelModel& m) {
-  return kSpeedOfLight / (m.frequency_mhz * 1e6);
-}
-
-// Friis free-space loss between isotropic antennas.
-double free_space_db(double d, double lambda) {
-  return 20.0 * std::log10(4.0 * std::numbers::pi * d / lambda);
-}
-
 void require(bool ok, const char* field, double value, const char* what) {
   if (!ok)
     throw std::invalid_argument("channel model: " + std::string(field) + " = " +
                                 std::to_string(value) + ": " + what);
 }
 }  // namespace
-
-double path_loss_db(const scenario::ChannelModel& m, double distance_m) {
-  const double d = std::max(distance_m, 1.0);
-  if (m.kind == Kind::kLogDistance)
-    return m.reference_loss_db + 10.0 * m.path_loss_exponent * std::log10(d);
-  // Two-ray ground reflection with equal antenna heights: free space up to the crossover
-  // distance d_c = 4π h_t h_r / λ, then 40 log10(d) − 20 log10(h_t h_r); the two meet at d_c.
-  const double lambda = wavelength_m(m);
-  const double h = m.antenna_height_m;
-  const double crossover = 4.0 * std::numbers::pi * h * h / lambda;
-  if (d <= crossover)
-    return free_space_db(d, lambda);
-  return 40.0 * std::log10(d) - 20.0 * std::log10(h * h);
-}
 
 Channel::Channel(const scenario::ChannelModel& model, const PositionSource& positions,
                  std::uint64_t seed)

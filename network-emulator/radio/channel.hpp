@@ -17,6 +17,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "common/clock/clock.hpp"
+#include "common/scenario/channel_range.hpp"
 #include "common/scenario/scenario.hpp"
 #include "common/wire/vehicle_state.hpp"
 
@@ -80,9 +81,9 @@ struct LinkStats {
   LinkStats& operator+=(const LinkStats& o);
 };
 
-/// Path loss in dB at @p distance_m for the log-distance or two-ray model; distances below 1 m
-/// count as 1 m (the reference distance). Not defined for ideal and range.
-double path_loss_db(const scenario::ChannelModel& m, double distance_m);
+/// Path loss in dB for the log-distance or two-ray model (common/scenario/channel_range.hpp, one
+/// definition with the range the operator's view draws).
+using scenario::path_loss_db;
 
 /// Decides, for each frame and receiver, whether the frame arrives and after what delay, and
 /// counts the outcome per link. Reproducible: the same seed and the same sequence of calls give

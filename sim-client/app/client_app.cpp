@@ -8,6 +8,8 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "common/scenario/channel_range.hpp"
+
 namespace tb::client {
 namespace {
 
@@ -177,9 +179,16 @@ void ClientApp::feed_3d() {
       looks.push_back(std::move(l));
     }
     const auto net = session_->shared_network();
-    if (!world_ || world_->network != net || world_->vehicles != looks) {
+    // The scenario came with the Welcome: its channel model gives the range the radio medium
+    // enforces, so the operator's view needs nothing more on the wire.
+    std::optional<double> range;
+    if (const auto* sc = session_->scenario())
+      range = scenario::max_range_m(sc->channel);
+    if (!world_ || world_->network != net || world_->vehicles != looks ||
+        world_->radio_range_m != range) {
       auto world = std::make_shared<view3d::World>();
       world->network = net;
+      world->radio_range_m = range;
       world->vehicles = std::move(looks);
       if (const auto* m = session_->map(); m != nullptr && m->origin().origin) {
         try {

@@ -61,6 +61,13 @@ bool more_urgent(const LcrwAlert& a, const LcrwAlert& b) {
 
 }  // namespace
 
+std::optional<double> relevance_radius_m(std::int64_t relevance_distance) {
+  static constexpr double kRadius[] = {50.0, 100.0, 200.0, 500.0, 1000.0, 5000.0, 10000.0, 20000.0};
+  if (relevance_distance < 0 || relevance_distance > 7)
+    return std::nullopt;
+  return kRadius[relevance_distance];
+}
+
 const LcrwAlert* V2xPicture::alert_for(std::uint32_t station) const {
   // alerts are sorted most urgent first.
   for (const auto& a : alerts)
@@ -203,6 +210,26 @@ bool V2xMonitor::on_denm(std::string_view payload, clock::SteadyTime now) {
       e.cause = static_cast<int>(integer(*et, "cause").value_or(0));
       e.subcause = static_cast<int>(integer(*et, "subcause").value_or(0));
     }
+  }
+  // Optional in the DENM; when there, inside the CDD's range, else the message is not one a
+  // station sends.
+  if (mc.contains("relevance_distance")) {
+    const auto rd = integer(mc, "relevance_distance");
+    e.relevance_radius_m = rd ? relevance_radius_m(*rd) : std::nullopt;
+    if (!e.relevance_radius_m) {
+      last_error_ = "management_container.relevance_distance: not a CDD RelevanceDistance (0..7)";
+      return false;
+    }
+  }
+  if (mc.contains("relevance_traffic_direction")) {
+    const auto td = integer(mc, "relevance_traffic_direction");
+    if (!td || *td < 0 || *td > 3) {
+      last_error_ =
+          "management_container.relevance_traffic_direction: not a CDD "
+          "RelevanceTrafficDirection (0..3)";
+      return false;
+    }
+    e.relevance_traffic_direction = static_cast<int>(*td);
   }
   clock::Duration validity = cfg_.denm_default_validity;
   if (const auto v = integer(mc, "validity_duration"); v && *v >= 0 && *v <= 86400)

@@ -42,7 +42,19 @@ struct DenmEvent {
   double longitude_deg = 0.0;
   int cause = 0;
   int subcause = 0;
+  /// The relevance area (EN 302 637-3, 7.1.2): a circle around the event position as wide as
+  /// the upper bound of the DENM's relevanceDistance class (CDD RelevanceDistance: lessThan50m
+  /// → 50 m … over10km → 20 km, the GeoBroadcast area the DEN service sends it to); empty when
+  /// the DENM names none.
+  std::optional<double> relevance_radius_m;
+  /// CDD RelevanceTrafficDirection: 0 all, 1 upstream, 2 downstream, 3 opposite; empty: none.
+  std::optional<int> relevance_traffic_direction;
 };
+
+/// The radius of a CDD RelevanceDistance class (0 … 7), as the station's DEN service draws its
+/// GeoBroadcast area (its-station/facilities/cdd_convert.cpp, relevance_radius_m); empty for a
+/// value outside the CDD.
+std::optional<double> relevance_radius_m(std::int64_t relevance_distance);
 
 struct V2xPicture {
   std::vector<LcrwAlert> alerts;  ///< every station's, most urgent first

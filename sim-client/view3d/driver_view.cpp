@@ -3,15 +3,154 @@
 #include <algorithm>
 #include <cmath>
 
+#include <numbers>
+
+#include <osg/BlendFunc>
+#include <osg/Depth>
 #include <osg/Fog>
+#include <osg/Geode>
 #include <osg/Light>
 #include <osg/LightSource>
 #include <osg/Material>
+#include <osg/Transform>
+#include <osgUtil/CullVisitor>
 
 namespace tb::client::view3d {
 namespace {
 
-const osg::Vec4 kSky(0.66f, 0.78f, 0.92f, 1.0f);
+// The sky: pale at the horizon (the fog's and the clear colour, so that the far world fades
+// into it without a seam), deep blue overhead.
+const osg::Vec4 kSky(0.74f, 0.83f, 0.93f, 1.0f);
+const osg::Vec4 kZenith(0.20f, 0.40f, 0.78f, 1.0f);
+// The sun: south-east, 20° up — low enough to be seen ahead in the chase camera (which sees
+// about 21° above the horizon) and the cockpit, high enough to light the ground.
+const osg::Vec3 kSunDirection = [] {
+  constexpr double el = 20.0 * std::numbers::pi / 180, az = -45.0 * std::numbers::pi / 180;
+  return osg::Vec3(static_cast<float>(std::cos(el) * std::cos(az)),
+                   static_cast<float>(std::cos(el) * std::sin(az)),
+                   static_cast<float>(std::sin(el)));
+}();
+/// Radius of the sky dome around the eye: inside every perspective camera's far plane.
+constexpr float kSkyRadius = 1200.0f;
+
+/// Keeps its children centred on the eye of the camera that draws them (the main view's or the
+/// mirror's): the sky never comes nearer, so it shows no parallax.
+class FollowEye : public osg::Transform {
+ public:
+  FollowEye() { setCullingActive(false); }
+  bool computeLocalToWorldMatrix(osg::Matrix& m, osg::NodeVisitor* nv) const override {
+    if (auto* cv = dynamic_cast<osgUtil::CullVisitor*>(nv))
+      m.preMultTranslate(cv->getEyeLocal());
+    return true;
+  }
+  bool computeWorldToLocalMatrix(osg::Matrix& m, osg::NodeVisitor* nv) const override {
+    if (auto* cv = dynamic_cast<osgUtil::CullVisitor*>(nv))
+      m.postMultTranslate(-cv->getEyeLocal());
+    return true;
+  }
+};
+
+osg::ref_ptr<osg::Geometry> triangles(osg::Vec3Array* v, osg::Vec4Array* c) {
+  osg::ref_ptr<osg::Geometry> g = new osg::Geometry;
+  g->setUseDisplayList(false);
+  g->setUseVertexBufferObjects(true);
+  g->setVertexArray(v);
+  g->setColorArray(c, osg::Array::BIND_PER_VERTEX);
+  g->addPrimitiveSet(new osg::DrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(v->size())));
+  g->setCullingActive(false);
+  return g;
+}
+
+/// The colour of the sky @p elevation radians above the horizon.
+osg::Vec4 sky_colour(double elevation) {
+  const double t = elevation <= 0.0 ? 0.0 : std::pow(std::sin(elevation), 0.6);
+  return kSky * static_cast<float>(1.0 - t) + kZenith * static_cast<float>(t);
+}
+
+/// A dome of coloured rings from the horizon up and the sun's disc with a glow, drawn first,
+/// unlit, without fog, depth test or depth writes: everything else draws over it. Below the
+/// horizon the clear colour (the horizon's) shows where the world ends, so the dome needs no
+/// skirt; and it is opaque, only the glow blends: on a software renderer every blended pixel
+/// of a sky across half the screen costs.
+osg::ref_ptr<osg::Node> make_sky() {
+  constexpr int kSides = 32;
+  constexpr double kDeg = std::numbers::pi / 180;
+  const double rings[] = {0, 4, 10, 20, 35, 55, 90};
+  osg::ref_ptr<osg::Vec3Array> v = new osg::Vec3Array;
+  osg::ref_ptr<osg::Vec4Array> c = new osg::Vec4Array;
+  const auto at = [](double el, double az) {
+    return osg::Vec3(static_cast<float>(std::cos(el) * std::cos(az)),
+                     static_cast<float>(std::cos(el) * std::sin(az)),
+                     static_cast<float>(std::sin(el))) *
+           kSkyRadius;
+  };
+  for (std::size_t r = 0; r + 1 < std::size(rings); ++r) {
+    const double e0 = rings[r] * kDeg, e1 = rings[r + 1] * kDeg;
+    for (int i = 0; i < kSides; ++i) {
+      const double a0 = 2 * std::numbers::pi * i / kSides;
+      const double a1 = 2 * std::numbers::pi * (i + 1) / kSides;
+      for (const auto& [e, a] :
+           {std::pair{e0, a0}, {e0, a1}, {e1, a1}, {e0, a0}, {e1, a1}, {e1, a0}}) {
+        v->push_back(at(e, a));
+        c->push_back(sky_colour(e));
+      }
+    }
+  }
+  osg::ref_ptr<osg::Geode> geode = new osg::Geode;
+  geode->addDrawable(triangles(v, c));
+  v = new osg::Vec3Array;
+  c = new osg::Vec4Array;
+  // The sun: a disc 1.2° wide in the light's direction, in a glow that fades out over 5°.
+  const osg::Vec3 sun = kSunDirection * (0.95f * kSkyRadius);
+  osg::Vec3 u = kSunDirection ^ osg::Vec3(0, 0, 1);
+  u.normalize();
+  const osg::Vec3 w = u ^ kSunDirection;
+  const float disc = 0.95f * kSkyRadius * static_cast<float>(std::tan(0.6 * kDeg));
+  const float glow = 0.95f * kSkyRadius * static_cast<float>(std::tan(5.0 * kDeg));
+  const osg::Vec4 white(1.0f, 0.98f, 0.88f, 1.0f), clear(1.0f, 0.96f, 0.82f, 0.0f);
+  const osg::Vec4 haze(1.0f, 0.96f, 0.82f, 0.45f);
+  for (int i = 0; i < kSides; ++i) {
+    const double a0 = 2 * std::numbers::pi * i / kSides;
+    const double a1 = 2 * std::numbers::pi * (i + 1) / kSides;
+    const osg::Vec3 d0 =
+        u * static_cast<float>(std::cos(a0)) + w * static_cast<float>(std::sin(a0));
+    const osg::Vec3 d1 =
+        u * static_cast<float>(std::cos(a1)) + w * static_cast<float>(std::sin(a1));
+    for (const auto& [p, col] : {std::pair{sun + d0 * disc, haze},
+                                 {sun + d0 * glow, clear},
+                                 {sun + d1 * glow, clear},
+                                 {sun + d0 * disc, haze},
+                                 {sun + d1 * glow, clear},
+                                 {sun + d1 * disc, haze},
+                                 {sun, white},
+                                 {sun + d0 * disc, white},
+                                 {sun + d1 * disc, white}}) {
+      v->push_back(p);
+      c->push_back(col);
+    }
+  }
+  osg::ref_ptr<osg::Geometry> sun_disc = triangles(v, c);
+  osg::StateSet* blend = sun_disc->getOrCreateStateSet();
+  blend->setMode(GL_BLEND, osg::StateAttribute::ON);
+  blend->setAttributeAndModes(new osg::BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA));
+  // A bin nested in the dome's (-10): a positive number draws after the dome's own leaves.
+  blend->setRenderBinDetails(1, "RenderBin");
+  geode->addDrawable(sun_disc);
+  geode->setCullingActive(false);
+  osg::StateSet* ss = geode->getOrCreateStateSet();
+  const auto off = osg::StateAttribute::OFF | osg::StateAttribute::PROTECTED;
+  ss->setMode(GL_LIGHTING, off);
+  ss->setMode(GL_FOG, off);
+  ss->setMode(GL_CULL_FACE, off);
+  ss->setMode(GL_BLEND, off);
+  ss->setAttributeAndModes(new osg::Depth(osg::Depth::ALWAYS, 0.0, 1.0, false));
+  // Before the ground (bin -1), which is drawn without depth writes too.
+  ss->setRenderBinDetails(-10, "RenderBin");
+  osg::ref_ptr<FollowEye> follow = new FollowEye;
+  follow->addChild(geode);
+  follow->setNodeMask(kMaskWorld);
+  return follow;
+}
 
 }  // namespace
 
@@ -78,13 +217,15 @@ DriverView::DriverView(int width, int height)
   cam->setClearColor(kSky);
   cam->setComputeNearFarMode(osg::CullSettings::DO_NOT_COMPUTE_NEAR_FAR);
 
-  // The sun: a directional light from the south-east, 50° up, placed in world coordinates so
-  // that the main camera and the mirror light the world alike.
+  // The sun: a directional light from the sun's disc in the sky, placed in world coordinates
+  // so that the main camera and the mirror light the world alike. Low, so the ambient part is
+  // larger: flat ground gets about what it got from the former 50° sun. Specular only shows
+  // on the cars' glass (the only material with a specular colour).
   osg::ref_ptr<osg::Light> sun = new osg::Light(0);
-  sun->setPosition(osg::Vec4(0.45f, -0.45f, 0.77f, 0.0f));
-  sun->setAmbient(osg::Vec4(0.45f, 0.45f, 0.47f, 1));
-  sun->setDiffuse(osg::Vec4(0.72f, 0.72f, 0.68f, 1));
-  sun->setSpecular(osg::Vec4(0, 0, 0, 1));
+  sun->setPosition(osg::Vec4(kSunDirection, 0.0f));
+  sun->setAmbient(osg::Vec4(0.62f, 0.62f, 0.64f, 1));
+  sun->setDiffuse(osg::Vec4(0.90f, 0.89f, 0.84f, 1));
+  sun->setSpecular(osg::Vec4(0.9f, 0.88f, 0.8f, 1));
   osg::ref_ptr<osg::LightSource> ls = new osg::LightSource;
   ls->setLight(sun);
   ls->setReferenceFrame(osg::LightSource::RELATIVE_RF);
@@ -102,6 +243,7 @@ DriverView::DriverView(int width, int height)
   fog->setColor(kSky);
   ss->setAttributeAndModes(fog);
 
+  scene_->addChild(make_sky());
   roads_->setNodeMask(kMaskWorld);
   scene_->addChild(roads_);
   scene_->addChild(cars_);

@@ -38,6 +38,9 @@ struct World {
   std::vector<VehicleLook> vehicles;  ///< Welcome order
   /// Where WGS84 positions (DENM events) land in the local frame; empty: not drawn.
   std::optional<geodesy::LocalFrame> frame;
+  /// How far a station's frames reach under the scenario's channel model
+  /// (scenario::max_range_m, what the radio medium enforces); empty: the ideal channel, no limit.
+  std::optional<double> radio_range_m;
   std::uint64_t version = 0;  ///< changes whenever anything above does
 };
 

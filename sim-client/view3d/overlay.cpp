@@ -1,10 +1,15 @@
 #include "sim-client/view3d/overlay.hpp"
 
+#include <cmath>
 #include <map>
+#include <numbers>
 
 #include <fmt/format.h>
+#include <osg/BlendColor>
 #include <osg/BlendFunc>
+#include <osg/Depth>
 #include <osg/LineWidth>
+#include <osg/PolygonOffset>
 
 #include "sim-client/view3d/hud.hpp"
 #include "sim-client/view3d/vehicle_node.hpp"
@@ -12,17 +17,8 @@
 namespace tb::client::view3d {
 namespace {
 
-osg::ref_ptr<osg::Geometry> dynamic_geometry(osg::Vec3Array* v, osg::Vec4Array* c,
-                                             osg::DrawArrays* d) {
-  osg::ref_ptr<osg::Geometry> g = new osg::Geometry;
-  g->setUseDisplayList(false);
-  g->setUseVertexBufferObjects(true);
-  g->setDataVariance(osg::Object::DYNAMIC);
-  g->setVertexArray(v);
-  g->setColorArray(c, osg::Array::BIND_PER_VERTEX);
-  g->addPrimitiveSet(d);
-  return g;
-}
+/// Ring and disc resolution: 96 sides keep a 300 m ring within 0.2 m of the circle.
+constexpr int kCircleSides = 96;
 
 /// An upside-down pyramid with its tip at @p tip: a marker pointing at what it marks.
 void pyramid(osg::Vec3Array& v, osg::Vec4Array& c, const osg::Vec3& tip, float size, float height,
@@ -43,32 +39,128 @@ void pyramid(osg::Vec3Array& v, osg::Vec4Array& c, const osg::Vec3& tip, float s
   }
 }
 
+osg::Vec3 on_circle(const osg::Vec3& centre, double r, int i) {
+  const double a = 2.0 * std::numbers::pi * i / kCircleSides;
+  return centre +
+         osg::Vec3(static_cast<float>(r * std::cos(a)), static_cast<float>(r * std::sin(a)), 0.0f);
+}
+
+/// A horizontal circle as line segments.
+void ring(osg::Vec3Array& v, osg::Vec4Array& c, const osg::Vec3& centre, double r,
+          const osg::Vec4& colour) {
+  for (int i = 0; i < kCircleSides; ++i) {
+    v.push_back(on_circle(centre, r, i));
+    v.push_back(on_circle(centre, r, i + 1));
+    c.push_back(colour);
+    c.push_back(colour);
+  }
+}
+
+/// A horizontal disc as a triangle fan, paler in the middle so that the rim reads as the edge.
+void disc(osg::Vec3Array& v, osg::Vec4Array& c, const osg::Vec3& centre, double r,
+          const osg::Vec4& rim) {
+  const osg::Vec4 middle(rim.r(), rim.g(), rim.b(), rim.a() * 0.5f);
+  for (int i = 0; i < kCircleSides; ++i) {
+    v.push_back(centre);
+    v.push_back(on_circle(centre, r, i));
+    v.push_back(on_circle(centre, r, i + 1));
+    c.push_back(middle);
+    c.push_back(rim);
+    c.push_back(rim);
+  }
+}
+
+/// An arrow head at @p tip pointing along @p dir (horizontal unit vector): two crossed
+/// triangles (one flat, one upright), so that it reads from above and from the side.
+void arrow_head(osg::Vec3Array& v, osg::Vec4Array& c, const osg::Vec3& tip, const osg::Vec3& dir,
+                const osg::Vec4& colour) {
+  const float len = 1.4f, half = 0.55f;
+  const osg::Vec3 back = tip - dir * len;
+  const osg::Vec3 side(-dir.y(), dir.x(), 0.0f);
+  for (const auto& p : {tip, back + side * half, back - side * half, tip,
+                        back + osg::Vec3(0, 0, half), back - osg::Vec3(0, 0, half)}) {
+    v.push_back(p);
+    c.push_back(colour);
+  }
+}
+
 /// Text glyphs are laid out again on every setText(): only when the text changes.
 void set_text(osgText::Text& t, const std::string& s) {
   if (t.getText().createUTF8EncodedString() != s)
     t.setText(s, osgText::String::ENCODING_UTF8);
 }
 
+/// Depth-tested, no depth writes, pulled towards the eye: over the road and the ground, never
+/// fighting them, and hidden by what stands in front.
+void ground_state(osg::StateSet& ss) {
+  ss.setAttributeAndModes(new osg::Depth(osg::Depth::LEQUAL, 0.0, 1.0, false));
+  ss.setAttributeAndModes(new osg::PolygonOffset(-2.0f, -8.0f));
+}
+
 }  // namespace
+
+V2xOverlay::Layer::Layer(GLenum mode)
+    : v(new osg::Vec3Array),
+      c(new osg::Vec4Array),
+      d(new osg::DrawArrays(mode, 0, 0)),
+      g(new osg::Geometry) {
+  g->setUseDisplayList(false);
+  g->setUseVertexBufferObjects(true);
+  g->setDataVariance(osg::Object::DYNAMIC);
+  g->setVertexArray(v);
+  g->setColorArray(c, osg::Array::BIND_PER_VERTEX);
+  g->addPrimitiveSet(d);
+}
+
+void V2xOverlay::Layer::clear() {
+  v->clear();
+  c->clear();
+}
+
+void V2xOverlay::Layer::commit() {
+  d->setCount(static_cast<GLsizei>(v->size()));
+  v->dirty();
+  c->dirty();
+  g->dirtyBound();
+}
 
 V2xOverlay::V2xOverlay()
     : root_(new osg::Group),
       geode_(new osg::Geode),
-      lv_(new osg::Vec3Array),
-      sv_(new osg::Vec3Array),
-      lc_(new osg::Vec4Array),
-      sc_(new osg::Vec4Array),
-      ld_(new osg::DrawArrays(GL_LINES, 0, 0)),
-      sd_(new osg::DrawArrays(GL_TRIANGLES, 0, 0)),
+      lines_(GL_LINES),
+      solids_(GL_TRIANGLES),
+      warn_(GL_LINES),
+      rings_(GL_LINES),
+      areas_(GL_TRIANGLES),
       font_(dejavu("DejaVuSans-Bold.ttf")) {
   root_->setNodeMask(kMaskOverlay);
-  lines_ = dynamic_geometry(lv_, lc_, ld_);
-  solids_ = dynamic_geometry(sv_, sc_, sd_);
-  geode_->addDrawable(lines_);
-  geode_->addDrawable(solids_);
+  geode_->addDrawable(lines_.g);
+  geode_->addDrawable(solids_.g);
+  geode_->addDrawable(warn_.g);
+  warn_.g->getOrCreateStateSet()->setAttributeAndModes(new osg::LineWidth(5.0f));
   root_->addChild(geode_);
+
+  // The ground shapes, and the rings once more without depth test and faint: what a hill or a
+  // car hides of a range still shows.
+  osg::ref_ptr<osg::Geode> ground = new osg::Geode;
+  ground->addDrawable(areas_.g);
+  ground->addDrawable(rings_.g);
+  ground_state(*ground->getOrCreateStateSet());
+  ground->getOrCreateStateSet()->setAttributeAndModes(new osg::LineWidth(2.0f));
+  root_->addChild(ground);
+  osg::ref_ptr<osg::Geode> ghost = new osg::Geode;
+  ghost->addDrawable(rings_.g);
+  osg::StateSet* gs = ghost->getOrCreateStateSet();
+  gs->setAttributeAndModes(new osg::Depth(osg::Depth::ALWAYS, 0.0, 1.0, false));
+  gs->setAttributeAndModes(new osg::BlendColor(osg::Vec4(0, 0, 0, 0.3f)));
+  gs->setAttributeAndModes(new osg::BlendFunc(GL_CONSTANT_ALPHA, GL_ONE_MINUS_CONSTANT_ALPHA));
+  gs->setAttributeAndModes(new osg::LineWidth(1.0f));
+  root_->addChild(ghost);
+
   osg::StateSet* ss = root_->getOrCreateStateSet();
   ss->setMode(GL_LIGHTING, osg::StateAttribute::OFF | osg::StateAttribute::PROTECTED);
+  // The world's fog would grey a ring 300 m away into the haze it is meant to outline.
+  ss->setMode(GL_FOG, osg::StateAttribute::OFF | osg::StateAttribute::PROTECTED);
   ss->setMode(GL_BLEND, osg::StateAttribute::ON);
   ss->setAttributeAndModes(new osg::BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA));
   ss->setAttributeAndModes(new osg::LineWidth(3.0f));
@@ -94,19 +186,19 @@ osgText::Text* V2xOverlay::label(const std::string& key) {
 }
 
 void V2xOverlay::update(const FrameInput& in) {
-  lv_->clear();
-  lc_->clear();
-  sv_->clear();
-  sc_->clear();
-  links_ = markers_ = denms_ = 0;
+  for (Layer* l : {&lines_, &solids_, &warn_, &rings_, &areas_})
+    l->clear();
+  links_ = markers_ = denms_ = rings_n_ = warnings_ = areas_n_ = 0;
   std::map<std::string, bool> shown;
   if (in.choice.overlay && in.world) {
     std::map<std::uint32_t, osg::Vec3> at;  // station → position
+    std::map<std::uint32_t, float> roof;    // station → height of the car
     for (std::size_t i = 0; i < in.vehicles.size() && i < in.world->vehicles.size(); ++i) {
       const auto& p = in.vehicles[i].position;
       const VehicleLook& look = in.world->vehicles[i];
       at[look.station_id] =
           osg::Vec3(static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]));
+      roof[look.station_id] = look.height_m;
       const std::string key = fmt::format("car{}", look.station_id);
       osgText::Text* t = label(key);
       set_text(*t, std::to_string(look.station_id));
@@ -114,30 +206,58 @@ void V2xOverlay::update(const FrameInput& in) {
       t->setColor(osg::Vec4(1, 1, 1, 1));
       shown[key] = true;
     }
+    // Each station's communication range (none for the ideal channel: it has no limit).
+    if (in.world->radio_range_m && *in.world->radio_range_m > 0.0) {
+      for (const auto& [sid, p] : at) {
+        ring(*rings_.v, *rings_.c, p + osg::Vec3(0, 0, kGroundLift), *in.world->radio_range_m,
+             osg::Vec4(0.35f, 1.0f, 0.45f, 0.85f));
+        ++rings_n_;
+      }
+    }
     // Links, 1.6 m up, fading from the sender (cyan) to the receiver (white).
     for (const auto& l : in.v2x.links) {
       const auto a = at.find(l.from), b = at.find(l.to);
       if (a == at.end() || b == at.end())
         continue;
-      lv_->push_back(a->second + osg::Vec3(0, 0, 1.6f));
-      lc_->push_back(osg::Vec4(0.1f, 0.9f, 1.0f, 0.9f));
-      lv_->push_back(b->second + osg::Vec3(0, 0, 1.6f));
-      lc_->push_back(osg::Vec4(1.0f, 1.0f, 1.0f, 0.6f));
+      lines_.v->push_back(a->second + osg::Vec3(0, 0, 1.6f));
+      lines_.c->push_back(osg::Vec4(0.1f, 0.9f, 1.0f, 0.9f));
+      lines_.v->push_back(b->second + osg::Vec3(0, 0, 1.6f));
+      lines_.c->push_back(osg::Vec4(1.0f, 1.0f, 1.0f, 0.6f));
       ++links_;
     }
-    // A red marker over each warned car (once, however many warnings it has).
+    // A red marker over each warned car (once, however many warnings it has), and a yellow
+    // arrow over the roofs from it to every car it is warned about.
     std::map<std::uint32_t, bool> warned;
-    for (const auto& a : in.v2x.alerts)
+    const osg::Vec4 yellow(1.0f, 0.88f, 0.0f, 1.0f);
+    for (const auto& a : in.v2x.alerts) {
       warned[a.station] = true;
+      const auto from = at.find(a.station), to = at.find(a.other);
+      if (from == at.end() || to == at.end() || a.station == a.other)
+        continue;
+      const osg::Vec3 p = from->second + osg::Vec3(0, 0, roof[a.station] + kWarningOverRoof);
+      const osg::Vec3 q = to->second + osg::Vec3(0, 0, roof[a.other] + kWarningOverRoof);
+      osg::Vec3 dir = q - p;
+      dir.z() = 0.0f;
+      if (dir.length() < 0.5f)
+        continue;
+      dir.normalize();
+      warn_.v->push_back(p);
+      warn_.v->push_back(q);
+      warn_.c->push_back(yellow);
+      warn_.c->push_back(yellow);
+      arrow_head(*solids_.v, *solids_.c, q - dir * 1.0f, dir, yellow);
+      ++warnings_;
+    }
     for (std::size_t i = 0; i < in.world->vehicles.size() && i < in.vehicles.size(); ++i) {
       const VehicleLook& look = in.world->vehicles[i];
       if (!warned.contains(look.station_id))
         continue;
-      pyramid(*sv_, *sc_, at[look.station_id] + osg::Vec3(0, 0, look.height_m + 2.2f), 0.6f, 1.2f,
-              osg::Vec4(1.0f, 0.1f, 0.05f, 0.95f), true);
+      pyramid(*solids_.v, *solids_.c, at[look.station_id] + osg::Vec3(0, 0, look.height_m + 2.2f),
+              0.6f, 1.2f, osg::Vec4(1.0f, 0.1f, 0.05f, 0.95f), true);
       ++markers_;
     }
-    // DENM events as orange pylons with their cause code.
+    // DENM events as orange pylons with their cause code, on a translucent disc as wide as
+    // their relevance area.
     if (in.world->frame) {
       for (const auto& d : in.v2x.denms) {
         const geodesy::Enu e = in.world->frame->to_enu({d.latitude_deg, d.longitude_deg, 0.0});
@@ -151,8 +271,14 @@ void V2xOverlay::update(const FrameInput& in) {
             base.z() = p.z();
           }
         }
-        pyramid(*sv_, *sc_, base + osg::Vec3(0, 0, 2.5f), 0.7f, 2.5f,
+        pyramid(*solids_.v, *solids_.c, base + osg::Vec3(0, 0, 2.5f), 0.7f, 2.5f,
                 osg::Vec4(1.0f, 0.5f, 0.0f, 0.95f), false);
+        if (d.relevance_radius_m) {
+          const osg::Vec3 c = base + osg::Vec3(0, 0, kGroundLift);
+          disc(*areas_.v, *areas_.c, c, *d.relevance_radius_m, osg::Vec4(1.0f, 0.45f, 0.0f, 0.28f));
+          ring(*rings_.v, *rings_.c, c, *d.relevance_radius_m, osg::Vec4(1.0f, 0.55f, 0.1f, 0.9f));
+          ++areas_n_;
+        }
         const std::string key = fmt::format("denm{}/{}", d.originator, d.sequence);
         osgText::Text* t = label(key);
         set_text(*t, fmt::format("DENM {}/{}", d.cause, d.subcause));
@@ -166,13 +292,8 @@ void V2xOverlay::update(const FrameInput& in) {
   for (auto& [key, t] : labels_)
     if (!shown.contains(key))
       set_text(*t, "");
-  ld_->setCount(static_cast<GLsizei>(lv_->size()));
-  sd_->setCount(static_cast<GLsizei>(sv_->size()));
-  for (osg::Array* a : {static_cast<osg::Array*>(lv_.get()), static_cast<osg::Array*>(lc_.get()),
-                        static_cast<osg::Array*>(sv_.get()), static_cast<osg::Array*>(sc_.get())})
-    a->dirty();
-  lines_->dirtyBound();
-  solids_->dirtyBound();
+  for (Layer* l : {&lines_, &solids_, &warn_, &rings_, &areas_})
+    l->commit();
 }
 
 }  // namespace tb::client::view3d

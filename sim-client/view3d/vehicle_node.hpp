@@ -28,6 +28,10 @@ bool indicator_lit(std::int64_t sim_time_ns);
 
 class MeshBuilder;
 
+/// Triangles drawn for @p node (quads count two; a shared child counts once per parent): the
+/// cost of one car, which the view draws 20–300 times.
+std::size_t count_triangles(osg::Node& node);
+
 /// One lamp group that is either lit or not: an unlit shape whose colour switches.
 class Lamp {
  public:

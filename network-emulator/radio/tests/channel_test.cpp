@@ -112,6 +112,31 @@ TEST(PathLoss, TwoRayIsContinuousAtCrossoverAndFallsWithFourthPowerBeyond) {
   EXPECT_NEAR(path_loss_db(m, 1.0), 47.86, 0.01);
 }
 
+// The range the operator's view draws (scenario::max_range_m) is where this medium stops
+// delivering: every model, just inside and just outside, short of and past the two-ray crossover.
+TEST_F(ChannelTest, MaxRangeIsWhereTheMediumStopsDelivering) {
+  std::vector<scenario::ChannelModel> models;
+  models.push_back(model(Kind::kRange));
+  models.back().range_m = 420.0;
+  models.push_back(model(Kind::kLogDistance));
+  models.push_back(model(Kind::kLogDistance));
+  models.back().path_loss_exponent = 2.7;
+  models.push_back(model(Kind::kTwoRay));  // beyond the crossover (≈ 556 m)
+  models.push_back(model(Kind::kTwoRay));
+  models.back().sensitivity_dbm = -60.0;  // short of it
+  for (const auto& m : models) {
+    const auto r = scenario::max_range_m(m);
+    ASSERT_TRUE(r.has_value());
+    place(1, 0.0);
+    place(2, *r * 0.995);
+    place(3, *r * 1.005);
+    Channel ch(m, positions, 1);
+    EXPECT_TRUE(ch.decide(1, 2).deliver) << to_string(m.kind) << " range " << *r;
+    EXPECT_FALSE(ch.decide(1, 3).deliver) << to_string(m.kind) << " range " << *r;
+  }
+  EXPECT_FALSE(scenario::max_range_m(model(Kind::kIdeal)).has_value());
+}
+
 TEST_F(ChannelTest, PacketErrorRateWithinToleranceAndReproducible) {
   auto m = model(Kind::kRange);
   m.range_m = 1000.0;

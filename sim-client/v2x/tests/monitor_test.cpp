@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include <nlohmann/json.hpp>
+
+#include "its-station/apps/mqtt/messages.hpp"
 
 namespace tb::client::v2x {
 namespace {
@@ -133,6 +137,74 @@ TEST(V2xMonitor, BadPayloadsAreRejectedWithTheReasonAndChangeNothing) {
   EXPECT_EQ(m.rejected(), 6u);
   // The raised warning is untouched by the bad clears.
   EXPECT_NE(m.picture(at(0)).alert_for(1001), nullptr);
+}
+
+// The payload a station publishes on its/<id>/in/denm/<origin> (its-station's own writer), for
+// every RelevanceDistance class: the relevance area's radius is the class's upper bound (CDD,
+// TS 102 894-2: lessThan50m … lessThan10km; over10km drawn as 20 km).
+TEST(V2xMonitor, DenmRelevanceAreaFromTheStationsPayload) {
+  const double want[] = {50, 100, 200, 500, 1000, 5000, 10000, 20000};
+  for (int k = 0; k < 8; ++k) {
+    its::apps::mqtt::DenmView d;
+    d.action_id = {1001, static_cast<std::uint16_t>(k)};
+    d.cause_code = 97;
+    d.sub_cause_code = 1;
+    d.event_latitude_deg = 41.105;
+    d.event_longitude_deg = 29.023;
+    d.relevance_distance = static_cast<its::apps::RelevanceDistance>(k);
+    d.relevance_traffic_direction = static_cast<its::apps::RelevanceTrafficDirection>(k % 4);
+    d.validity_duration_s = 60;
+    const std::string payload = its::apps::mqtt::envelope("denm", "remote", 1002, clock::WallTime{},
+                                                          its::apps::mqtt::denm_message(d))
+                                    .dump();
+    V2xMonitor m;
+    ASSERT_TRUE(m.on_message("its/1002/in/denm/1001", payload, at(0))) << m.last_error();
+    const auto p = m.picture(at(1));
+    ASSERT_EQ(p.denms.size(), 1u);
+    ASSERT_TRUE(p.denms[0].relevance_radius_m.has_value()) << k;
+    EXPECT_DOUBLE_EQ(*p.denms[0].relevance_radius_m, want[k]);
+    EXPECT_EQ(p.denms[0].relevance_traffic_direction, k % 4);
+  }
+}
+
+TEST(V2xMonitor, DenmWithoutRelevanceHasNoAreaAndBadOnesAreRejected) {
+  V2xMonitor m;
+  ASSERT_TRUE(m.on_message("its/1002/in/denm/1001", denm(1001, 1), at(0)));
+  auto p = m.picture(at(0));
+  ASSERT_EQ(p.denms.size(), 1u);
+  EXPECT_FALSE(p.denms[0].relevance_radius_m.has_value());
+  EXPECT_FALSE(p.denms[0].relevance_traffic_direction.has_value());
+  for (const json& bad : {json(8), json(-1), json("far"), json(1.5)}) {
+    json d = json::parse(denm(1001, 2));
+    d["message"]["management_container"]["relevance_distance"] = bad;
+    EXPECT_FALSE(m.on_message("its/1002/in/denm/1001", d.dump(), at(0))) << bad;
+    EXPECT_NE(m.last_error().find("relevance_distance"), std::string::npos) << m.last_error();
+  }
+  json d = json::parse(denm(1001, 3));
+  d["message"]["management_container"]["relevance_traffic_direction"] = 4;
+  EXPECT_FALSE(m.on_message("its/1002/in/denm/1001", d.dump(), at(0)));
+  EXPECT_NE(m.last_error().find("relevance_traffic_direction"), std::string::npos);
+  // Nothing of the rejected ones is in force.
+  p = m.picture(at(0));
+  ASSERT_EQ(p.denms.size(), 1u);
+  EXPECT_EQ(p.denms[0].sequence, 1u);
+}
+
+// The operator's lines: one per (warned station, station it is warned about), both named.
+TEST(V2xMonitor, EveryWarnedPairIsInThePicture) {
+  V2xMonitor m;
+  EXPECT_TRUE(m.on_message("its/1001/app/lcrw", lcrw(1001, 1002, "raised", 2.0), at(0)));
+  EXPECT_TRUE(m.on_message("its/1001/app/lcrw", lcrw(1001, 1003, "raised", 3.0), at(0)));
+  EXPECT_TRUE(m.on_message("its/1003/app/lcrw", lcrw(1003, 1001, "raised", 3.1), at(0)));
+  auto p = m.picture(at(0.1));
+  ASSERT_EQ(p.alerts.size(), 3u);
+  std::set<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  for (const auto& a : p.alerts)
+    pairs.insert({a.station, a.other});
+  EXPECT_EQ(pairs, (std::set<std::pair<std::uint32_t, std::uint32_t>>{
+                       {1001, 1002}, {1001, 1003}, {1003, 1001}}));
+  EXPECT_TRUE(m.on_message("its/1001/app/lcrw", lcrw(1001, 1003, "cleared"), at(0.2)));
+  EXPECT_EQ(m.picture(at(0.3)).alerts.size(), 2u);
 }
 
 TEST(V2xMonitor, OtherTopicsAndPrefixesAreNotCounted) {
