@@ -37,6 +37,8 @@ std::string_view to_string(SimSession::Phase p) {
       return "connected";
     case SimSession::Phase::kListed:
       return "listed";
+    case SimSession::Phase::kFinished:
+      return "scenario finished";
     case SimSession::Phase::kFailed:
       return "failed";
   }
@@ -72,7 +74,7 @@ void SimSession::fail(std::string why) {
 }
 
 void SimSession::on_connected() {
-  if (phase_ == Phase::kFailed || phase_ == Phase::kListed)
+  if (ended())
     return;
   parser_ = sim::FrameParser(sim::Sender::kServer);
   phase_ = Phase::kGreeting;
@@ -80,7 +82,7 @@ void SimSession::on_connected() {
 }
 
 void SimSession::on_disconnected() {
-  if (phase_ == Phase::kFailed || phase_ == Phase::kListed)
+  if (ended())
     return;
   phase_ = Phase::kDisconnected;
   for (auto& [i, d] : driven_) {
@@ -140,6 +142,9 @@ bool SimSession::handle(const sim::ServerMessage& m) {
   const auto& c = std::get<sim::Closing>(m);
   last_error_ =
       fmt::format("the server closed the connection ({}): {}", to_string(c.reason), c.text);
+  // The vehicles stay as they were: the view keeps showing the last picture of the own car.
+  if (c.reason == sim::CloseReason::kScenarioFinished && !options_.reconnect)
+    phase_ = Phase::kFinished;
   return false;
 }
 

@@ -213,6 +213,35 @@ TEST_F(SessionTest, ProtocolErrorsAndClosingEndTheConnection) {
   EXPECT_EQ(s.phase(), SimSession::Phase::kDisconnected);
 }
 
+TEST_F(SessionTest, TheEndOfTheScenarioEndsTheSessionUnlessItReconnects) {
+  SimSession s = make({});
+  s.on_connected();
+  ASSERT_TRUE(feed(s, testing::welcome()));
+  EXPECT_FALSE(feed(s, sim::Closing{sim::CloseReason::kScenarioFinished, "scenario finished"}));
+  EXPECT_EQ(s.phase(), SimSession::Phase::kFinished);
+  EXPECT_TRUE(s.ended());
+  // The link's close and a later connection change nothing: nothing more will come.
+  s.on_disconnected();
+  s.on_connected();
+  EXPECT_EQ(s.phase(), SimSession::Phase::kFinished);
+
+  SessionOptions again;
+  again.reconnect = true;
+  SimSession r = make(again);
+  r.on_connected();
+  ASSERT_TRUE(feed(r, testing::welcome()));
+  EXPECT_FALSE(feed(r, sim::Closing{sim::CloseReason::kScenarioFinished, "scenario finished"}));
+  EXPECT_FALSE(r.ended());
+  r.on_disconnected();
+  EXPECT_EQ(r.phase(), SimSession::Phase::kDisconnected);
+  // A server that stops (kShutdown) never ends a session.
+  SimSession t = make({});
+  t.on_connected();
+  ASSERT_TRUE(feed(t, testing::welcome()));
+  EXPECT_FALSE(feed(t, sim::Closing{sim::CloseReason::kShutdown, "SIGTERM"}));
+  EXPECT_FALSE(t.ended());
+}
+
 TEST_F(SessionTest, StateBeforeWelcomeIsAnError) {
   SimSession s = make({});
   s.on_connected();
