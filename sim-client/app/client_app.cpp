@@ -25,13 +25,16 @@ std::optional<ViewKind> parse_view(std::string_view text) {
   return std::nullopt;
 }
 
+// ASCII only: SDL 2.26 converts a title to the locale's multibyte text for WM_NAME before it
+// sets _NET_WM_NAME, and in the C locale (a launcher's environment) a dash beyond ASCII fails
+// that conversion, which leaves the title the window was made with.
 std::string window_title(const wire::sim::Welcome* welcome, int own) {
   if (welcome == nullptr)
     return "sim-client";
   if (own < 0 || static_cast<std::size_t>(own) >= welcome->vehicles.size())
-    return fmt::format("sim-client — watching {}", welcome->server_name);
+    return fmt::format("sim-client - watching {}", welcome->server_name);
   const auto& v = welcome->vehicles[static_cast<std::size_t>(own)];
-  return fmt::format("{} — station {}", v.id, v.station_id);
+  return fmt::format("{} - station {}", v.id, v.station_id);
 }
 
 bool display_available() {
@@ -332,7 +335,7 @@ void ClientApp::update_title() {
     return;
   std::string t = window_title(session_->welcome(), own_vehicle());
   if (finished_)
-    t += " — scenario finished";
+    t += " - scenario finished";
   if (t != title_) {
     title_ = t;
     SDL_SetWindowTitle(w, title_.c_str());

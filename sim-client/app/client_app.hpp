@@ -127,7 +127,7 @@ class ClientApp {
   bool finished_ = false;
 };
 
-/// The window's title for the vehicles it drives: "red — station 101" (the first human-driven
+/// The window's title for the vehicles it drives: "red - station 101" (the first human-driven
 /// one, else the first driven), "watching" when it drives none, before a Welcome "sim-client".
 std::string window_title(const wire::sim::Welcome* welcome, int own);
 

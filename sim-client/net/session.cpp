@@ -277,6 +277,13 @@ void SimSession::on_state(const sim::StateFrame& f) {
     for (const auto& [i, d] : driven_)
       if (d.attached && i < f.vehicles.size())
         tick_states_.push_back(f.vehicles[i]);
+    if (options_.forward_undriven) {
+      for (std::size_t i = 0; i < welcome_->vehicles.size() && i < f.vehicles.size(); ++i) {
+        const auto it = driven_.find(static_cast<std::uint16_t>(i));
+        if (welcome_->vehicles[i].driver.empty() && (it == driven_.end() || !it->second.attached))
+          tick_states_.push_back(f.vehicles[i]);
+      }
+    }
     if (!tick_states_.empty())
       forwarder_->forward_tick(tick_states_);
   }

@@ -32,6 +32,10 @@ struct SessionOptions {
   /// Reconnect even after the server said the scenario finished (--reconnect: the server may
   /// be restarted with the next run); otherwise the session ends there (Phase::kFinished).
   bool reconnect = false;
+  /// Also forward the states of the vehicles nobody drives (--forward-undriven): a human car
+  /// before its driver connects or after they left (braking to a stop) keeps feeding its
+  /// station, which would otherwise keep its last fix. Until a DriverChanged names a driver.
+  bool forward_undriven = false;
 };
 
 /// One line per vehicle: index, id, station id, scenario driver, who drives it now.
