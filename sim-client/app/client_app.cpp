@@ -155,17 +155,19 @@ void ClientApp::start_3d(bool window) {
   ro.continuous = window;
   ro.vsync = options_.vsync;
   render_ = std::make_unique<view3d::RenderLoop>(gl_window_, *feed_, ro);
-  // Whether a driver saw the warning: the banner's appearance and disappearance are traced
-  // (client.banner) and logged, from the frames the render thread actually drew.
+  // Whether a driver saw the warning: the banner's appearance, its severity or case changing,
+  // and its disappearance are traced (client.banner) and logged, from the frames the render
+  // thread actually drew; not its TTC and distance, which change every frame.
   render_->set_frame_observer([next = options_.frame_observer,
                                shown = std::string()](const view3d::FrameStats& st) mutable {
-    if (st.banner != shown) {
-      shown = st.banner;
-      trace::global().record("client.banner", {{"text", shown}, {"frame", st.frame}});
+    const std::string headline = st.banner.substr(0, st.banner.find(" · TTC"));
+    if (headline != shown) {
+      shown = headline;
+      trace::global().record("client.banner", {{"text", st.banner}, {"frame", st.frame}});
       if (shown.empty())
         spdlog::info("warning banner gone");
       else
-        spdlog::info("warning banner: {}", shown);
+        spdlog::info("warning banner: {}", st.banner);
     }
     if (next)
       next(st);
