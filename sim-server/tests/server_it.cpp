@@ -500,7 +500,6 @@ TEST(SimServerIT, FastRunStopsAfterItsDurationAndSaysTheScenarioFinished) {
     ASSERT_TRUE(eventually([&] { return w.eof(); }, 2s));
     ASSERT_TRUE(w.find<sim::Closing>());
     EXPECT_EQ(w.find<sim::Closing>()->reason, sim::CloseReason::kScenarioFinished);
-    EXPECT_GT(w.states(), 0u) << "the stream reached the watcher before the Closing";
     w.close();
   }
   work.reset();
