@@ -85,6 +85,20 @@ ClientApp::ClientApp(boost::asio::io_context& io, AppOptions options)
   if (SDL_Init(flags) != 0)
     throw std::runtime_error(std::string("cannot initialise SDL: ") + SDL_GetError());
   sdl_ = true;
+  if (window) {
+    // SDL falls back to its off-screen driver when the display cannot be opened: a window
+    // nobody sees, with a car that follows no one's keys.
+    const std::string driver =
+        SDL_GetCurrentVideoDriver() != nullptr ? SDL_GetCurrentVideoDriver() : "";
+    if (driver == "offscreen" || driver == "dummy") {
+      const char* d = std::getenv("DISPLAY");
+      const char* wl = std::getenv("WAYLAND_DISPLAY");
+      throw std::runtime_error(fmt::format(
+          "cannot open a window: the display (DISPLAY={}, WAYLAND_DISPLAY={}) does not answer "
+          "(SDL fell back to its {} driver); check it, or use --headless",
+          d != nullptr ? d : "", wl != nullptr ? wl : "", driver));
+    }
+  }
   input_ = std::make_unique<SdlInput>(std::move(mapping));
   if (view_ == ViewKind::kTopdown) {
     if (window)
