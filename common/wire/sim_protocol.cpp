@@ -177,6 +177,8 @@ std::string_view to_string(CloseReason r) {
       return "too slow";
     case CloseReason::kShutdown:
       return "shutdown";
+    case CloseReason::kScenarioFinished:
+      return "scenario finished";
   }
   return "unknown";
 }
@@ -458,7 +460,7 @@ Expected<ServerMessage, ProtocolError> decode_server(const Frame& f) {
       if (auto e = finished(r))
         return Unexpected{*e};
       if (reason < static_cast<std::uint8_t>(CloseReason::kProtocolError) ||
-          reason > static_cast<std::uint8_t>(CloseReason::kShutdown)) {
+          reason > static_cast<std::uint8_t>(CloseReason::kScenarioFinished)) {
         return Unexpected{ProtocolError::kBadValue};
       }
       m.reason = static_cast<CloseReason>(reason);

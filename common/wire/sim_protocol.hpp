@@ -1,5 +1,5 @@
 #pragma once
-/// @file The sim-server ⇄ sim-client protocol over TCP (sim-server/PROTOCOL.md), version 3.
+/// @file The sim-server ⇄ sim-client protocol over TCP (sim-server/PROTOCOL.md), version 5.
 ///
 /// Every message is one frame: an 8-byte header (magic "SP", protocol version, message type,
 /// payload length, little-endian) and a payload whose size is bounded per type. FrameParser is a
@@ -24,7 +24,9 @@ namespace tb::wire::sim {
 /// 2: Controls carries the time its input was sampled (input_ns), for the latency trace's t1.
 /// 3: Welcome carries the OpenDRIVE map's text, so that a client needs no map file.
 /// 4: Welcome carries the world's start time (docs/time.md: one clock for the whole world).
-inline constexpr std::uint8_t kProtocolVersion = 4;
+/// 5: Closing's reason "scenario finished", so that a client can tell the end of the scenario
+///    (it exits) from a server that stops (it reconnects).
+inline constexpr std::uint8_t kProtocolVersion = 5;
 inline constexpr std::uint8_t kMagic0 = 'S';
 inline constexpr std::uint8_t kMagic1 = 'P';
 inline constexpr std::size_t kHeaderSize = 8;
@@ -182,9 +184,10 @@ struct DriverChanged {
 };
 
 enum class CloseReason : std::uint8_t {
-  kProtocolError = 1,  ///< the client sent something malformed or out of order
-  kTooSlow = 2,        ///< the client did not read the state stream fast enough
-  kShutdown = 3,       ///< the server stops
+  kProtocolError = 1,     ///< the client sent something malformed or out of order
+  kTooSlow = 2,           ///< the client did not read the state stream fast enough
+  kShutdown = 3,          ///< the server stops (a signal): a client reconnects
+  kScenarioFinished = 4,  ///< the scenario's duration is over: nothing more will come
 };
 std::string_view to_string(CloseReason r);
 

@@ -27,6 +27,18 @@ std::optional<ViewKind> parse_view(std::string_view text) {
   return std::nullopt;
 }
 
+// ASCII only: SDL 2.26 converts a title to the locale's multibyte text for WM_NAME before it
+// sets _NET_WM_NAME, and in the C locale (a launcher's environment) a dash beyond ASCII fails
+// that conversion, which leaves the title the window was made with.
+std::string window_title(const wire::sim::Welcome* welcome, int own) {
+  if (welcome == nullptr)
+    return "sim-client";
+  if (own < 0 || static_cast<std::size_t>(own) >= welcome->vehicles.size())
+    return fmt::format("sim-client - watching {}", welcome->server_name);
+  const auto& v = welcome->vehicles[static_cast<std::size_t>(own)];
+  return fmt::format("{} - station {}", v.id, v.station_id);
+}
+
 bool display_available() {
   for (const char* var : {"DISPLAY", "WAYLAND_DISPLAY"}) {
     const char* v = std::getenv(var);
@@ -75,6 +87,20 @@ ClientApp::ClientApp(boost::asio::io_context& io, AppOptions options)
   if (SDL_Init(flags) != 0)
     throw std::runtime_error(std::string("cannot initialise SDL: ") + SDL_GetError());
   sdl_ = true;
+  if (window) {
+    // SDL falls back to its off-screen driver when the display cannot be opened: a window
+    // nobody sees, with a car that follows no one's keys.
+    const std::string driver =
+        SDL_GetCurrentVideoDriver() != nullptr ? SDL_GetCurrentVideoDriver() : "";
+    if (driver == "offscreen" || driver == "dummy") {
+      const char* d = std::getenv("DISPLAY");
+      const char* wl = std::getenv("WAYLAND_DISPLAY");
+      throw std::runtime_error(fmt::format(
+          "cannot open a window: the display (DISPLAY={}, WAYLAND_DISPLAY={}) does not answer "
+          "(SDL fell back to its {} driver); check it, or use --headless",
+          d != nullptr ? d : "", wl != nullptr ? wl : "", driver));
+    }
+  }
   input_ = std::make_unique<SdlInput>(std::move(mapping));
   if (view_ == ViewKind::kTopdown) {
     if (window)
@@ -145,8 +171,23 @@ void ClientApp::start_3d(bool window) {
   ro.continuous = window;
   ro.vsync = options_.vsync;
   render_ = std::make_unique<view3d::RenderLoop>(gl_window_, *feed_, ro);
-  if (options_.frame_observer)
-    render_->set_frame_observer(options_.frame_observer);
+  // Whether a driver saw the warning: the banner's appearance, its severity or case changing,
+  // and its disappearance are traced (client.banner) and logged, from the frames the render
+  // thread actually drew; not its TTC and distance, which change every frame.
+  render_->set_frame_observer([next = options_.frame_observer,
+                               shown = std::string()](const view3d::FrameStats& st) mutable {
+    const std::string headline = st.banner.substr(0, st.banner.find(" · TTC"));
+    if (headline != shown) {
+      shown = headline;
+      trace::global().record("client.banner", {{"text", st.banner}, {"frame", st.frame}});
+      if (shown.empty())
+        spdlog::info("warning banner gone");
+      else
+        spdlog::info("warning banner: {}", st.banner);
+    }
+    if (next)
+      next(st);
+  });
   render_->start();
 }
 
@@ -212,6 +253,7 @@ void ClientApp::feed_3d() {
   if (subscriber_)
     st.mqtt = subscriber_->status();
   st.watching = own < 0;
+  st.finished = finished_;
   feed_->set_view(own, controls_.choice(), st);
 }
 
@@ -312,6 +354,29 @@ void ClientApp::take_screenshot() {
   spdlog::info("screenshot written to {}", *options_.screenshot);
 }
 
+void ClientApp::update_title() {
+  SDL_Window* w = gl_window_ != nullptr ? gl_window_ : (canvas_ ? canvas_->sdl_window() : nullptr);
+  if (w == nullptr)
+    return;
+  std::string t = window_title(session_->welcome(), own_vehicle());
+  if (finished_)
+    t += " - scenario finished";
+  if (t != title_) {
+    title_ = t;
+    SDL_SetWindowTitle(w, title_.c_str());
+  }
+}
+
+void ClientApp::on_finished() {
+  if (finished_)
+    return;
+  finished_ = true;
+  const bool window = !options_.headless;
+  spdlog::info("the scenario finished{}", window ? "; the window stays until it is closed" : "");
+  if (!window && !screenshot_pending_)
+    stop(0);
+}
+
 void ClientApp::frame() {
   frame_timer_ = 0;
   if (stopped_)
@@ -354,9 +419,15 @@ void ClientApp::frame() {
       spdlog::error("{}", session_->fatal_error());
       stop(kExitCannotDrive);
       return;
+    case SimSession::Phase::kFinished:
+      on_finished();
+      if (stopped_)
+        return;
+      break;
     default:
       break;
   }
+  update_title();
   if (options_.session.list_only && !link_->connected() &&
       link_->status().find("retry") != std::string::npos) {
     spdlog::error("--list: {}", link_->status());
@@ -403,7 +474,12 @@ void ClientApp::frame() {
     renderer_->draw(scene());
     canvas_->present();
   }
-  // --duration waits for a screenshot on its way (software rendering can take a while).
+  // --duration and the end of the scenario wait for a screenshot on its way (software
+  // rendering can take a while).
+  if (finished_ && options_.headless && !screenshot_pending_) {
+    stop(0);
+    return;
+  }
   if (options_.duration_s && elapsed >= *options_.duration_s && !screenshot_pending_) {
     stop(0);
     return;

@@ -91,6 +91,9 @@ class ClientApp {
   void start_3d(bool window);
   void feed_3d();
   void check_screenshot();
+  void update_title();
+  /// The scenario finished: a window says so and waits to be closed; without one, exits 0.
+  void on_finished();
 
   boost::asio::io_context& io_;
   AppOptions options_;
@@ -120,6 +123,12 @@ class ClientApp {
   bool stopped_ = false;
   int exit_code_ = 0;
   bool help_printed_ = false;
+  std::string title_;
+  bool finished_ = false;
 };
+
+/// The window's title for the vehicles it drives: "red - station 101" (the first human-driven
+/// one, else the first driven), "watching" when it drives none, before a Welcome "sim-client".
+std::string window_title(const wire::sim::Welcome* welcome, int own);
 
 }  // namespace tb::client

@@ -25,6 +25,14 @@ int main(int argc, char** argv) {
                  "scenario id of a vehicle to drive (repeatable); scripted vehicles run their "
                  "script, others follow this client's input");
   cli.add_flag("--scripted", o.session.scripted, "drive every scripted vehicle of the scenario");
+  cli.add_flag("--reconnect", o.session.reconnect,
+               "reconnect after the server said the scenario finished (for a server that is "
+               "restarted with the next run); otherwise exit 0 then, or with a window say so "
+               "and wait until it is closed");
+  cli.add_flag("--forward-undriven", o.session.forward_undriven,
+               "also forward the states of the vehicles nobody drives (the launcher's scripted "
+               "client: a human car's station keeps its fixes before its driver comes and "
+               "after they left)");
   cli.add_flag("--list", o.session.list_only,
                "print the scenario's vehicles and who drives them, then exit");
   cli.add_option("--name", o.session.client_name, "client name shown to the server and others")

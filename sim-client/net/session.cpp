@@ -37,6 +37,8 @@ std::string_view to_string(SimSession::Phase p) {
       return "connected";
     case SimSession::Phase::kListed:
       return "listed";
+    case SimSession::Phase::kFinished:
+      return "scenario finished";
     case SimSession::Phase::kFailed:
       return "failed";
   }
@@ -72,7 +74,7 @@ void SimSession::fail(std::string why) {
 }
 
 void SimSession::on_connected() {
-  if (phase_ == Phase::kFailed || phase_ == Phase::kListed)
+  if (ended())
     return;
   parser_ = sim::FrameParser(sim::Sender::kServer);
   phase_ = Phase::kGreeting;
@@ -80,7 +82,7 @@ void SimSession::on_connected() {
 }
 
 void SimSession::on_disconnected() {
-  if (phase_ == Phase::kFailed || phase_ == Phase::kListed)
+  if (ended())
     return;
   phase_ = Phase::kDisconnected;
   for (auto& [i, d] : driven_) {
@@ -140,6 +142,9 @@ bool SimSession::handle(const sim::ServerMessage& m) {
   const auto& c = std::get<sim::Closing>(m);
   last_error_ =
       fmt::format("the server closed the connection ({}): {}", to_string(c.reason), c.text);
+  // The vehicles stay as they were: the view keeps showing the last picture of the own car.
+  if (c.reason == sim::CloseReason::kScenarioFinished && !options_.reconnect)
+    phase_ = Phase::kFinished;
   return false;
 }
 
@@ -272,6 +277,13 @@ void SimSession::on_state(const sim::StateFrame& f) {
     for (const auto& [i, d] : driven_)
       if (d.attached && i < f.vehicles.size())
         tick_states_.push_back(f.vehicles[i]);
+    if (options_.forward_undriven) {
+      for (std::size_t i = 0; i < welcome_->vehicles.size() && i < f.vehicles.size(); ++i) {
+        const auto it = driven_.find(static_cast<std::uint16_t>(i));
+        if (welcome_->vehicles[i].driver.empty() && (it == driven_.end() || !it->second.attached))
+          tick_states_.push_back(f.vehicles[i]);
+      }
+    }
     if (!tick_states_.empty())
       forwarder_->forward_tick(tick_states_);
   }

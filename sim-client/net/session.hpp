@@ -29,6 +29,13 @@ struct SessionOptions {
   std::vector<std::string> vehicles;  ///< scenario ids to drive (--vehicle)
   bool scripted = false;              ///< also drive every vehicle with a scripted driver
   bool list_only = false;             ///< stop after Welcome (--list)
+  /// Reconnect even after the server said the scenario finished (--reconnect: the server may
+  /// be restarted with the next run); otherwise the session ends there (Phase::kFinished).
+  bool reconnect = false;
+  /// Also forward the states of the vehicles nobody drives (--forward-undriven): a human car
+  /// before its driver connects or after they left (braking to a stop) keeps feeding its
+  /// station, which would otherwise keep its last fix. Until a DriverChanged names a driver.
+  bool forward_undriven = false;
 };
 
 /// One line per vehicle: index, id, station id, scenario driver, who drives it now.
@@ -43,6 +50,7 @@ class SimSession {
     kGreeting,  ///< Hello sent, waiting for Welcome
     kRunning,   ///< attached (or watching), state stream flowing
     kListed,    ///< --list: Welcome received, nothing more to do
+    kFinished,  ///< the server said the scenario finished (Closing): nothing more will come
     kFailed,    ///< cannot go on (see fatal_error()); the program exits non-zero
   };
 
@@ -54,6 +62,7 @@ class SimSession {
   void on_connected();
   /// Feeds bytes from the server. Returns false when the connection must be closed: a
   /// protocol error (last_error() names it), Closing from the server, or a fatal error.
+  /// Closing(scenario finished) ends the session (kFinished) unless options.reconnect.
   bool on_bytes(std::span<const std::uint8_t> bytes);
   void on_disconnected();
 
@@ -68,6 +77,11 @@ class SimSession {
   Phase phase() const { return phase_; }
   /// True once a Welcome arrived on this connection (the link resets its backoff then).
   bool welcomed() const { return phase_ == Phase::kRunning || phase_ == Phase::kListed; }
+  /// Whether the session is over for good (listed, finished, failed): the link stops rather
+  /// than reconnects.
+  bool ended() const {
+    return phase_ == Phase::kListed || phase_ == Phase::kFinished || phase_ == Phase::kFailed;
+  }
   const std::string& fatal_error() const { return fatal_; }
   const std::string& last_error() const { return last_error_; }
 

@@ -108,8 +108,11 @@ void TcpLink::read() {
         if (session_.welcomed())
           backoff_.reset();
         if (!keep) {
-          if (session_.phase() == SimSession::Phase::kListed ||
-              session_.phase() == SimSession::Phase::kFailed) {
+          if (session_.ended()) {
+            if (session_.phase() == SimSession::Phase::kFinished) {
+              spdlog::info("sim-server: the scenario finished");
+              status_ = "scenario finished";
+            }
             stop();
             return;
           }

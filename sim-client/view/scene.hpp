@@ -92,6 +92,8 @@ class Canvas {
   int width() const { return width_; }
   int height() const { return height_; }
   bool has_window() const { return window_ != nullptr; }
+  /// The window (null off-screen), e.g. for its title.
+  SDL_Window* sdl_window() const { return window_; }
   void present();
   /// The last drawn frame, RGBA, row by row (call before present()).
   std::vector<std::uint8_t> read_rgba() const;

@@ -64,6 +64,7 @@ struct HudStatus {
   std::string input;       ///< "keyboard", "controller …"
   std::string mqtt;        ///< empty without --mqtt
   bool watching = false;   ///< no vehicle driven by this client's input
+  bool finished = false;   ///< the server said the scenario finished: the window waits to close
 };
 
 struct FrameInput {

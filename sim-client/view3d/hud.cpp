@@ -375,6 +375,16 @@ void Hud::update(const FrameInput& in, int subject, int width, int height, const
     line += " · " + in.status.mqtt;
   text("input", line, width - 14 * k, sy, 13 * k, kDim, Align::RIGHT_BASE_LINE);
 
+  if (in.status.finished) {
+    // The end of the scenario: said over the last picture, which stays until the window closes.
+    const float pw = std::min(620 * k, width - 40 * k), ph = 92 * k;
+    const float x = (width - pw) / 2, y = (height - ph) / 2;
+    over_.rect(x, y, pw, ph, osg::Vec4(0.05f, 0.06f, 0.08f, 0.88f));
+    text("finished", "scenario finished", width / 2.0f, y + ph * 0.62f, 30 * k, kWhite,
+         Align::CENTER_CENTER, Font::kBold, true);
+    text("finished_sub", "close the window (or Esc) to quit", width / 2.0f, y + ph * 0.24f, 15 * k,
+         kDim, Align::CENTER_CENTER, Font::kRegular, true);
+  }
   if (in.choice.help)
     help(k, width, height);
 

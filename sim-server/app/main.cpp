@@ -176,13 +176,13 @@ int main(int argc, char** argv) {
     });
   };
   boost::asio::signal_set signals(io, SIGINT, SIGTERM);
-  auto shutdown = [&](const std::string& why) {
+  auto shutdown = [&](const std::string& why, tb::wire::sim::CloseReason reason) {
     if (stopping)
       return;
     stopping = true;
     spdlog::info("shutting down: {}", why);
     server->stop();
-    hub.shutdown(why);
+    hub.shutdown(why, reason);
     signals.cancel();
     // Give the clients' last bytes a moment to leave, but never let a client that does not read
     // them keep the process alive.
@@ -193,11 +193,11 @@ int main(int argc, char** argv) {
       runtime, *world, &hub,
       {fast, duration, std::chrono::milliseconds(std::llround(start_timeout_s * 1000.0))},
       [&io](std::function<void()> fn) { boost::asio::post(io, std::move(fn)); },
-      [&] { shutdown("scenario finished"); });
+      [&] { shutdown("scenario finished", tb::wire::sim::CloseReason::kScenarioFinished); });
   signals.async_wait([&](boost::system::error_code ec, int sig) {
     if (!ec) {
       loop.stop();
-      shutdown(sig == SIGINT ? "SIGINT" : "SIGTERM");
+      shutdown(sig == SIGINT ? "SIGINT" : "SIGTERM", tb::wire::sim::CloseReason::kShutdown);
     }
   });
 

@@ -261,7 +261,7 @@ void Hub::close_client(ClientId id, sim::CloseReason reason, const std::string& 
   Client& c = it->second;
   if (reason == sim::CloseReason::kProtocolError)
     ++stats_.protocol_errors;
-  if (reason != sim::CloseReason::kShutdown) {
+  if (reason != sim::CloseReason::kShutdown && reason != sim::CloseReason::kScenarioFinished) {
     spdlog::warn("client {} ({}): closing: {}", id, label(c), text);
   } else {
     spdlog::info("client {} ({}): closing: {}", id, label(c), text);
@@ -295,9 +295,9 @@ std::vector<std::string> Hub::scripted_without_driver() const {
   return out;
 }
 
-void Hub::shutdown(std::string_view why) {
+void Hub::shutdown(std::string_view why, sim::CloseReason reason) {
   while (!clients_.empty())
-    close_client(clients_.begin()->first, sim::CloseReason::kShutdown, std::string(why));
+    close_client(clients_.begin()->first, reason, std::string(why));
 }
 
 sim::Welcome Hub::welcome() const {

@@ -83,8 +83,10 @@ class Hub {
   bool drivers_answered() const;
   /// Called when a driver attaches, or answers the latest State frame as the last one to.
   void on_drivers_changed(std::function<void()> f) { changed_ = std::move(f); }
-  /// Sends Closing(shutdown) to everyone and closes every link.
-  void shutdown(std::string_view why);
+  /// Sends Closing(@p reason) to everyone and closes every link: kScenarioFinished when the
+  /// scenario's duration is over (clients stop), kShutdown otherwise (clients reconnect).
+  void shutdown(std::string_view why,
+                wire::sim::CloseReason reason = wire::sim::CloseReason::kShutdown);
 
   const HubStats& stats() const { return stats_; }
   std::size_t clients() const { return clients_.size(); }

@@ -258,6 +258,14 @@ TEST_F(HubTest, ShutdownSendsClosingToEveryone) {
   EXPECT_EQ(hub.clients(), 0u);
 }
 
+TEST_F(HubTest, TheEndOfTheScenarioIsItsOwnReason) {
+  FakeLink a;
+  join(a, "alice");
+  hub.shutdown("scenario finished", sim::CloseReason::kScenarioFinished);
+  EXPECT_TRUE(a.closed);
+  EXPECT_EQ(a.all<sim::Closing>().at(0).reason, sim::CloseReason::kScenarioFinished);
+}
+
 TEST_F(HubTest, FastLoopWaitsForEveryDriversControls) {
   // Lockstep: in fast mode a step follows a State frame only once every driver has answered it,
   // so that a scripted driver sees every state; a driver that falls silent is waited for at

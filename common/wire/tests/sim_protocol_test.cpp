@@ -118,7 +118,7 @@ TEST(SimProtocol, ControlsLayout) {
   const auto b = encode(
       ControlsMsg{0x0102, Controls{1.0f, 0.0f, 0.0f, true, false}, 0x0304, 0x1122334455667788});
   ASSERT_EQ(b.size(), kHeaderSize + 25);
-  EXPECT_EQ(b[2], 4);          // version
+  EXPECT_EQ(b[2], 5);          // version
   EXPECT_EQ(b[4], 25);         // payload length
   EXPECT_EQ(b[8], 0x02);       // vehicle, little-endian
   EXPECT_EQ(b[8 + 14], 0x01);  // flags: reverse
@@ -139,6 +139,7 @@ TEST(SimProtocol, ServerMessagesRoundTrip) {
       s,
       DriverChanged{1, "carol"},
       Closing{CloseReason::kTooSlow, "send queue full"},
+      Closing{CloseReason::kScenarioFinished, "scenario finished"},
   };
   for (const auto& m : msgs)
     EXPECT_EQ(server_roundtrip(m), m);
@@ -217,6 +218,28 @@ Bytes header(std::uint8_t type, std::uint32_t size, std::uint8_t version = kProt
   return b;
 }
 
+TEST(SimProtocol, ClosingReasonsOutsideTheKnownOnesAreBadValues) {
+  // Reason 4 (scenario finished, version 5) is the last known one: 0 and 5 are malformed.
+  for (const std::uint8_t reason : {0, 1, 4, 5, 255}) {
+    SCOPED_TRACE(static_cast<int>(reason));
+    Bytes b = header(0x85, 2);
+    b.push_back(reason);
+    b.push_back(0);  // empty text
+    FrameParser p(Sender::kServer);
+    auto f = feed(p, b, b.size());
+    ASSERT_EQ(f.frames.size(), 1u);
+    const auto d = decode_server(f.frames[0]);
+    if (reason == 1 || reason == 4) {
+      ASSERT_TRUE(d);
+      EXPECT_EQ(static_cast<int>(std::get<Closing>(*d).reason), reason);
+    } else {
+      ASSERT_FALSE(d);
+      EXPECT_EQ(d.error(), ProtocolError::kBadValue);
+    }
+  }
+  EXPECT_EQ(to_string(CloseReason::kScenarioFinished), "scenario finished");
+}
+
 TEST(SimProtocol, FuzzSeedsAreOfTheCurrentVersion) {
   // The seed corpus (tests/fuzz/sim_protocol; first byte: sender, second: where the stream is
   // cut) must hold whole frames that decode, or the fuzzer starts from rejected headers only.
@@ -266,7 +289,10 @@ TEST(SimProtocol, RejectsUnknownTypeBadMagicAndVersion) {
   EXPECT_EQ(*feed(d, Bytes{'G', 'E', 'T', ' ', '/', ' ', 'H', 'T'}, 64).error,
             ProtocolError::kBadMagic);
   FrameParser e(Sender::kClient);
-  EXPECT_EQ(*feed(e, header(0x01, 1, 5), 64).error, ProtocolError::kUnsupportedVersion);
+  EXPECT_EQ(*feed(e, header(0x01, 1, 6), 64).error, ProtocolError::kUnsupportedVersion);
+  // Version 4 (no "scenario finished" reason) is refused too.
+  FrameParser e4(Sender::kServer);
+  EXPECT_EQ(*feed(e4, header(0x85, 2, 4), 64).error, ProtocolError::kUnsupportedVersion);
   // Version 1 (Controls without the input time) is refused, not misread.
   FrameParser g(Sender::kClient);
   EXPECT_EQ(*feed(g, header(0x03, 17, 1), 64).error, ProtocolError::kUnsupportedVersion);

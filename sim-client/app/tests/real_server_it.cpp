@@ -15,6 +15,7 @@
 #include "common/map/builtin_network.hpp"
 #include "common/map/opendrive/queries.hpp"
 #include "sim-client/app/client_app.hpp"
+#include "sim-client/app/tests/run_program.hpp"
 #include "sim-client/app/tests/sim_server_process.hpp"
 
 namespace tb::client {
@@ -35,6 +36,25 @@ constexpr const char* kScenario = R"({
       "driver": { "type": "lane_follow", "speed_profile": [ { "t": 0, "speed": 12 } ] } }
   ]
 })";
+
+// Two seconds of sim time, no warm-up: the server says "scenario finished" soon after the
+// scripted car has its driver.
+constexpr const char* kShortScenario = R"({
+  "name": "short",
+  "duration_s": 2,
+  "warmup_s": 0,
+  "map": { "type": "straight", "lanes": 1, "lane_width": 3.5, "length": 500 },
+  "origin": { "lat": 41.1, "lon": 29.0, "alt": 60 },
+  "vehicles": [
+    { "id": "lf", "station_id": 2101, "spawn": { "lane": 0, "s": 20, "speed": 5 },
+      "driver": { "type": "lane_follow", "speed_profile": [ { "t": 0, "speed": 8 } ] } }
+  ]
+})";
+
+std::string bin_dir() {
+  const char* b = std::getenv("TESTBED_BIN");
+  return b != nullptr ? b : "build/bin";
+}
 
 void pump(asio::io_context& io, std::chrono::milliseconds d) {
   io.restart();
@@ -118,6 +138,59 @@ TEST(RealSimServer, LaneFollowerHoldsTargetSpeedInLaneAndKeysDriveTheCar) {
   // W held for seconds: the server applies full throttle and the car moves.
   EXPECT_FLOAT_EQ(me_throttle, 1.0f);
   EXPECT_GT(me_speed, 5.0f);
+  app.stop(0);
+}
+
+TEST(RealSimServer, ScriptedHeadlessClientExitsZeroWhenTheScenarioFinishes) {
+  auto server = testing::SimServerProcess::with_text(kShortScenario);
+  if (!server.available())
+    GTEST_SKIP() << "no sim-server in $TESTBED_BIN";
+  ASSERT_NE(server.port(), 0) << server.log();
+  const auto started = std::chrono::steady_clock::now();
+  // The program, as the launcher runs it; 30 s is far beyond 2 s of sim time: a client that
+  // reconnected for ever would be killed at the limit and report -1.
+  const auto r = testing::run(
+      {bin_dir() + "/sim-client", "--server", "127.0.0.1:" + std::to_string(server.port()),
+       "--scripted", "--headless", "--no-forward", "--name", "finish-test"},
+      30s);
+  const double took =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  EXPECT_EQ(r.code, 0) << r.err << server.log();
+  EXPECT_NE(r.err.find("the scenario finished"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("reconnecting"), std::string::npos) << r.err;
+  // It ran the scenario (2 s of sim time in real time) rather than leaving at once.
+  EXPECT_GE(took, 1.9);
+  EXPECT_NE(server.log().find("scenario finished"), std::string::npos) << server.log();
+}
+
+TEST(RealSimServer, WithReconnectTheClientOutlivesTheFinishedScenario) {
+  auto server = testing::SimServerProcess::with_text(kShortScenario);
+  if (!server.available())
+    GTEST_SKIP() << "no sim-server in $TESTBED_BIN";
+  ASSERT_NE(server.port(), 0) << server.log();
+  asio::io_context io;
+  AppOptions o;
+  o.server = "127.0.0.1:" + std::to_string(server.port());
+  o.forward = false;
+  o.session.scripted = true;
+  o.session.reconnect = true;
+  o.headless = true;
+  ClientApp app(io, o);
+  app.start();
+  // Until the server has finished (its log says so and the connection is gone), then 3 s more.
+  const auto deadline = std::chrono::steady_clock::now() + 30s;
+  bool finished = false;
+  while (!finished && std::chrono::steady_clock::now() < deadline && !app.stopped()) {
+    pump(io, 50ms);
+    finished = app.session().frames() > 0 &&
+               server.log().find("scenario finished") != std::string::npos &&
+               app.session().phase() == SimSession::Phase::kDisconnected;
+  }
+  ASSERT_TRUE(finished) << server.log();
+  for (int i = 0; i < 60 && !app.stopped(); ++i)
+    pump(io, 50ms);
+  EXPECT_FALSE(app.stopped()) << "exited with " << app.exit_code();
+  EXPECT_NE(app.session().phase(), SimSession::Phase::kFinished);
   app.stop(0);
 }
 

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "sim-client/net/session.hpp"
 #include "sim-client/net/tests/fake_server.hpp"
 
@@ -131,6 +133,40 @@ TEST_F(SessionTest, WatcherWhenNothingToDriveAndDriverChangesShow) {
   EXPECT_TRUE(sink.sent.empty());
 }
 
+TEST_F(SessionTest, ForwardsTheVehiclesNobodyDrivesWhenAsked) {
+  SessionOptions o;
+  o.scripted = true;
+  o.forward_undriven = true;
+  SimSession s = make(o);
+  s.on_connected();
+  ASSERT_TRUE(feed(s, testing::welcome()));
+  for (std::uint16_t i = 1; i < 3; ++i)
+    ASSERT_TRUE(feed(s, sim::AttachResult{sim::Role::kDriver, i, sim::AttachStatus::kOk, ""}));
+  // "me" (human) has no driver: its state goes with the scripted ones, once each.
+  auto forwarded = [&] {
+    std::vector<std::uint32_t> ids;
+    for (const auto& d : sink.sent) {
+      std::vector<wire::VehicleState> states;
+      EXPECT_TRUE(wire::decode_batch(d, states).has_value());
+      for (const auto& st : states)
+        ids.push_back(st.station_id);
+    }
+    sink.sent.clear();
+    std::sort(ids.begin(), ids.end());
+    return ids;
+  };
+  ASSERT_TRUE(feed(s, testing::frame(1)));
+  EXPECT_EQ(forwarded(), (std::vector<std::uint32_t>{1001, 1002, 1003}));
+  // Its driver comes: their client forwards it now, this one no longer.
+  ASSERT_TRUE(feed(s, sim::DriverChanged{0, "driver-me"}));
+  ASSERT_TRUE(feed(s, testing::frame(2)));
+  EXPECT_EQ(forwarded(), (std::vector<std::uint32_t>{1002, 1003}));
+  // They leave (the window closed): the server brakes the car, and its station hears of it.
+  ASSERT_TRUE(feed(s, sim::DriverChanged{0, ""}));
+  ASSERT_TRUE(feed(s, testing::frame(3)));
+  EXPECT_EQ(forwarded(), (std::vector<std::uint32_t>{1001, 1002, 1003}));
+}
+
 TEST_F(SessionTest, UnknownVehicleIsFatalAndNamesTheKnownOnes) {
   SessionOptions o;
   o.vehicles = {"nope"};
@@ -211,6 +247,35 @@ TEST_F(SessionTest, ProtocolErrorsAndClosingEndTheConnection) {
   EXPECT_EQ(s.phase(), SimSession::Phase::kRunning);  // until the link reports the close
   s.on_disconnected();
   EXPECT_EQ(s.phase(), SimSession::Phase::kDisconnected);
+}
+
+TEST_F(SessionTest, TheEndOfTheScenarioEndsTheSessionUnlessItReconnects) {
+  SimSession s = make({});
+  s.on_connected();
+  ASSERT_TRUE(feed(s, testing::welcome()));
+  EXPECT_FALSE(feed(s, sim::Closing{sim::CloseReason::kScenarioFinished, "scenario finished"}));
+  EXPECT_EQ(s.phase(), SimSession::Phase::kFinished);
+  EXPECT_TRUE(s.ended());
+  // The link's close and a later connection change nothing: nothing more will come.
+  s.on_disconnected();
+  s.on_connected();
+  EXPECT_EQ(s.phase(), SimSession::Phase::kFinished);
+
+  SessionOptions again;
+  again.reconnect = true;
+  SimSession r = make(again);
+  r.on_connected();
+  ASSERT_TRUE(feed(r, testing::welcome()));
+  EXPECT_FALSE(feed(r, sim::Closing{sim::CloseReason::kScenarioFinished, "scenario finished"}));
+  EXPECT_FALSE(r.ended());
+  r.on_disconnected();
+  EXPECT_EQ(r.phase(), SimSession::Phase::kDisconnected);
+  // A server that stops (kShutdown) never ends a session.
+  SimSession t = make({});
+  t.on_connected();
+  ASSERT_TRUE(feed(t, testing::welcome()));
+  EXPECT_FALSE(feed(t, sim::Closing{sim::CloseReason::kShutdown, "SIGTERM"}));
+  EXPECT_FALSE(t.ended());
 }
 
 TEST_F(SessionTest, StateBeforeWelcomeIsAnError) {
