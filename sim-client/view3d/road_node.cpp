@@ -13,6 +13,7 @@
 #include <osg/PolygonOffset>
 
 #include "common/map/opendrive/mesh.hpp"
+#include "common/map/opendrive/terrain.hpp"
 #include "sim-client/view3d/shapes.hpp"
 
 namespace tb::client::view3d {
@@ -201,52 +202,100 @@ osg::ref_ptr<osg::Geode> marks_geode(const odr::RoadNetwork& net, RoadNodeStats*
   return geode;
 }
 
-osg::ref_ptr<osg::Geode> ground_geode(const odr::RoadNetwork& net) {
-  double x0 = std::numeric_limits<double>::max(), y0 = x0, z0 = x0;
-  double x1 = std::numeric_limits<double>::lowest(), y1 = x1;
-  for (const odr::Road& r : net.roads) {
-    for (double s = 0.0;; s = std::min(r.length, s + 10.0)) {
-      const odr::SurfacePose p = r.surface(s, 0.0);
-      x0 = std::min(x0, p.x);
-      y0 = std::min(y0, p.y);
-      z0 = std::min(z0, p.z);
-      x1 = std::max(x1, p.x);
-      y1 = std::max(y1, p.y);
-      if (s >= r.length)
-        break;
+/// Grass, darker where the ground is steep, with patches of ~100 m so that motion over level
+/// ground shows.
+osg::Vec4 grass(double x, double y, double nz) {
+  const double slope = std::sqrt(std::max(0.0, 1.0 / (nz * nz) - 1.0));
+  const double shade = (1.0 - 0.35 * std::min(1.0, slope / 0.6)) *
+                       (1.0 + 0.04 * std::sin(x / 37.0) * std::sin(y / 53.0));
+  return {static_cast<float>(0.33 * shade), static_cast<float>(0.45 * shade),
+          static_cast<float>(0.24 * shade), 1.0f};
+}
+
+/// Rings around the terrain's border, out to beyond the fog's end, each at the height of the
+/// border node it continues (the ground goes on level, as Terrain::height_at() does): the
+/// horizon. Every border node is a vertex of the first ring, so no crack opens between the
+/// terrain and the skirt.
+void add_skirt(const odr::Terrain& t, osg::Vec3Array& v, osg::Vec3Array& n, osg::Vec4Array& c,
+               osg::DrawElementsUInt& tris) {
+  struct Edge {
+    std::size_t i, j;
+    double dx, dy;  ///< outwards (corners: diagonally)
+  };
+  const std::size_t nx = t.columns(), ny = t.rows();
+  std::vector<Edge> loop;
+  // Counter-clockwise round the border seen from above: south row, east column, north row,
+  // west column.
+  for (std::size_t i = 0; i + 1 < nx; ++i)
+    loop.push_back({i, 0, i == 0 ? -1.0 : 0.0, -1.0});
+  for (std::size_t j = 0; j + 1 < ny; ++j)
+    loop.push_back({nx - 1, j, 1.0, j == 0 ? -1.0 : 0.0});
+  for (std::size_t i = nx - 1; i > 0; --i)
+    loop.push_back({i, ny - 1, i == nx - 1 ? 1.0 : 0.0, 1.0});
+  for (std::size_t j = ny - 1; j > 0; --j)
+    loop.push_back({0, j, -1.0, j == ny - 1 ? 1.0 : 0.0});
+  // The fog (250 m to 2 km from the eye) interpolates well over these steps.
+  constexpr double kRings[] = {0.0, 25.0, 80.0, 200.0, 500.0, 1000.0, 2000.0, 3500.0};
+  const auto ring0 = static_cast<std::uint32_t>(v.size());
+  const auto m = static_cast<std::uint32_t>(loop.size());
+  for (double d : kRings) {
+    for (const Edge& e : loop) {
+      const double x = t.min_x() + t.cell() * static_cast<double>(e.i) + e.dx * d;
+      const double y = t.min_y() + t.cell() * static_cast<double>(e.j) + e.dy * d;
+      v.push_back(osg::Vec3(static_cast<float>(x), static_cast<float>(y),
+                            static_cast<float>(t.node(e.i, e.j))));
+      n.push_back(osg::Vec3(0, 0, 1));
+      c.push_back(grass(x, y, 1.0));
     }
   }
-  if (x0 > x1) {
-    x0 = y0 = -100.0;
-    x1 = y1 = 100.0;
-    z0 = 0.0;
-  }
-  // A grid, not one big quad: the fixed-function pipeline fogs per vertex, and a quad whose
-  // corners are all far away would be fogged all over. Cells alternate in shade a little.
-  constexpr double kMargin = 3000.0;  // beyond the fog's end
-  constexpr double kCell = 250.0;     // the fog (250 m to 2 km) interpolates well over it
-  const float z = static_cast<float>(z0 - 0.3);
-  const double gx0 = std::floor((x0 - kMargin) / kCell) * kCell;
-  const double gy0 = std::floor((y0 - kMargin) / kCell) * kCell;
-  const int nx = static_cast<int>(std::ceil((x1 + kMargin - gx0) / kCell));
-  const int ny = static_cast<int>(std::ceil((y1 + kMargin - gy0) / kCell));
-  MeshBuilder grid;
-  for (int i = 0; i < nx; ++i) {
-    for (int j = 0; j < ny; ++j) {
-      const auto ax = static_cast<float>(gx0 + i * kCell), ay = static_cast<float>(gy0 + j * kCell);
-      const auto bx = static_cast<float>(ax + kCell), by = static_cast<float>(ay + kCell);
-      const float shade = (i + j) % 2 == 0 ? 1.0f : 0.96f;
-      grid.quad({ax, ay, z}, {bx, ay, z}, {bx, by, z}, {ax, by, z},
-                osg::Vec4(0.33f * shade, 0.45f * shade, 0.24f * shade, 1.0f));
+  for (std::uint32_t r = 0; r + 1 < std::size(kRings); ++r) {
+    for (std::uint32_t k = 0; k < m; ++k) {
+      const std::uint32_t a = ring0 + r * m + k, b = ring0 + r * m + (k + 1) % m;
+      const std::uint32_t a1 = a + m, b1 = b + m;
+      // The loop runs counter-clockwise, outwards is to its right: a, a1, b1 and a, b1, b are
+      // counter-clockwise seen from above.
+      for (auto idx : {a, a1, b1, a, b1, b})
+        tris.push_back(idx);
     }
   }
-  osg::ref_ptr<osg::Geometry> g = grid.build();
+}
+
+osg::ref_ptr<osg::Geode> terrain_geode(const odr::RoadNetwork& net, RoadNodeStats* stats) {
+  const odr::Terrain terrain(net);
+  const odr::TerrainMesh mesh = terrain.mesh();
+  osg::ref_ptr<osg::Vec3Array> v = new osg::Vec3Array;
+  osg::ref_ptr<osg::Vec3Array> n = new osg::Vec3Array;
+  osg::ref_ptr<osg::Vec4Array> c = new osg::Vec4Array;
+  v->reserve(mesh.vertices.size());
+  n->reserve(mesh.vertices.size());
+  c->reserve(mesh.vertices.size());
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    const auto& p = mesh.vertices[i];
+    const auto& q = mesh.normals[i];
+    v->push_back(
+        osg::Vec3(static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)));
+    n->push_back(
+        osg::Vec3(static_cast<float>(q.x), static_cast<float>(q.y), static_cast<float>(q.z)));
+    c->push_back(grass(p.x, p.y, q.z));
+  }
+  osg::ref_ptr<osg::DrawElementsUInt> tris =
+      new osg::DrawElementsUInt(GL_TRIANGLES, mesh.indices.begin(), mesh.indices.end());
+  add_skirt(terrain, *v, *n, *c, *tris);
+  osg::ref_ptr<osg::Geometry> g = new_geometry();
+  g->setVertexArray(v);
+  g->setNormalArray(n, osg::Array::BIND_PER_VERTEX);
+  g->setColorArray(c, osg::Array::BIND_PER_VERTEX);
+  g->addPrimitiveSet(tris);
+  if (stats != nullptr)
+    stats->terrain_triangles = tris->size() / 3;
   osg::ref_ptr<osg::Geode> geode = new osg::Geode;
+  geode->setName("terrain");
   geode->addDrawable(g);
+  // The ground writes depth (on hills a near slope must hide what lies behind it) and lies the
+  // kerb drop below the road; pushed back a little more, so that where that drop is below the
+  // depth buffer's resolution (far away, at grazing angles) the road still wins.
   osg::StateSet* ss = geode->getOrCreateStateSet();
-  ss->setAttributeAndModes(new osg::Depth(osg::Depth::LESS, 0.0, 1.0, false),
-                           osg::StateAttribute::ON);
-  ss->setRenderBinDetails(-1, "RenderBin");
+  ss->setAttributeAndModes(new osg::PolygonOffset(1.0f, 2.0f), osg::StateAttribute::ON);
   return geode;
 }
 
@@ -299,8 +348,8 @@ std::vector<MarkStrip> lane_mark_strips(const map::odr::RoadNetwork& net, double
 osg::ref_ptr<osg::Node> make_road_node(const map::odr::RoadNetwork& net, RoadNodeStats* stats) {
   osg::ref_ptr<osg::Group> g = new osg::Group;
   g->setName("roads");
-  g->addChild(ground_geode(net));
   g->addChild(surface_geode(net, stats));
+  g->addChild(terrain_geode(net, stats));
   g->addChild(marks_geode(net, stats));
   return g;
 }

@@ -43,6 +43,7 @@ std::array<float, 3> mark_colour(const std::string& colour);
 struct RoadNodeStats {
   std::size_t surface_triangles = 0;
   std::size_t mark_triangles = 0;
+  std::size_t terrain_triangles = 0;  ///< the ground and the skirt round it
 };
 
 /// Surface, marks and ground as one node.
