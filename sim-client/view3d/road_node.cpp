@@ -108,6 +108,15 @@ osg::ref_ptr<osg::Geometry> new_geometry() {
   return g;
 }
 
+/// The road surface, coloured by lane type. The connecting roads of a junction overlap at the
+/// same height (several cover the same asphalt, a turning road's sidewalk or border lies over
+/// another's lanes) and would fight for the depth buffer, striping. Overlapping carriageway
+/// lanes have the same colour, so any of them may win; the other lanes of junction roads lie
+/// kJunctionVergeDrop lower (all but their end rows, so that they still meet the roads they
+/// continue without a crack), so that the carriageway wins over them: the junction surface
+/// is drawn once, as asphalt. A polygon offset would not do: its unit is the depth buffer's
+/// resolution, which differs by a factor of 256 between 24-bit and llvmpipe's 32-bit buffers,
+/// and on the latter is far below the depth error of two coplanar surfaces.
 osg::ref_ptr<osg::Geode> surface_geode(const odr::RoadNetwork& net, RoadNodeStats* stats) {
   const odr::RoadMesh mesh = odr::road_mesh(net, kRoadTolerance);
   osg::ref_ptr<osg::Vec3Array> v = new osg::Vec3Array(mesh.vertices.size());
@@ -117,6 +126,34 @@ osg::ref_ptr<osg::Geode> surface_geode(const odr::RoadNetwork& net, RoadNodeStat
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
     const auto& p = mesh.vertices[i];
     (*v)[i].set(static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z));
+  }
+  const auto carriageway = lane_colour("driving");
+  const auto colour_of = [&](std::size_t t) {
+    const odr::LaneRef ref = mesh.lanes[t];
+    const odr::Lane* lane =
+        net.roads[static_cast<std::size_t>(ref.road)].sections[mesh.sections[t]].lane(ref.lane);
+    return lane_colour(lane != nullptr ? lane->type : std::string("none"));
+  };
+  // Each lane strip's triangles come one after the other over vertices of their own (inner and
+  // outer border per s sample): lower the inner rows of the junction roads' other lanes.
+  for (std::size_t t = 0; t < mesh.triangles();) {
+    std::size_t end = t;
+    std::uint32_t lo = mesh.indices[3 * t], hi = lo;
+    while (end < mesh.triangles() && mesh.lanes[end] == mesh.lanes[t] &&
+           mesh.sections[end] == mesh.sections[t]) {
+      for (int k = 0; k < 3; ++k) {
+        lo = std::min(lo, mesh.indices[3 * end + k]);
+        hi = std::max(hi, mesh.indices[3 * end + k]);
+      }
+      ++end;
+    }
+    const bool in_junction =
+        net.roads[static_cast<std::size_t>(mesh.lanes[t].road)].junction_index >= 0;
+    if (in_junction && colour_of(t) != carriageway) {
+      for (std::uint32_t i = lo + 2; i + 2 <= hi; ++i)
+        (*v)[i].z() -= static_cast<float>(kJunctionVergeDrop);
+    }
+    t = end;
   }
   osg::ref_ptr<osg::DrawElementsUInt> tris = new osg::DrawElementsUInt(GL_TRIANGLES);
   tris->reserve(mesh.indices.size());
@@ -130,10 +167,7 @@ osg::ref_ptr<osg::Geode> surface_geode(const odr::RoadNetwork& net, RoadNodeStat
     const osg::Vec3 face = ((*v)[b] - (*v)[a]) ^ ((*v)[cc] - (*v)[a]);
     for (auto idx : {a, b, cc})
       (*n)[idx] += face;
-    const odr::LaneRef ref = mesh.lanes[t];
-    const odr::Lane* lane =
-        net.roads[static_cast<std::size_t>(ref.road)].sections[mesh.sections[t]].lane(ref.lane);
-    const auto rgb = lane_colour(lane != nullptr ? lane->type : std::string("none"));
+    const auto rgb = colour_of(t);
     for (auto idx : {a, b, cc})
       (*c)[idx].set(rgb[0], rgb[1], rgb[2], 1.0f);
   }
@@ -291,9 +325,12 @@ osg::ref_ptr<osg::Geode> terrain_geode(const odr::RoadNetwork& net, RoadNodeStat
   osg::ref_ptr<osg::Geode> geode = new osg::Geode;
   geode->setName("terrain");
   geode->addDrawable(g);
-  // The ground writes depth (on hills a near slope must hide what lies behind it) and lies the
-  // kerb drop below the road; pushed back a little more, so that where that drop is below the
-  // depth buffer's resolution (far away, at grazing angles) the road still wins.
+  // The ground writes depth: on hills a near slope must hide what lies behind it (drawn without
+  // depth writes, as the flat ground was, a far hill would paint over a near one and roads
+  // behind a crest would show through it). The road wins over it by the kerb drop, 5 cm, which
+  // the depth buffer resolves to a few hundred metres (beyond, the fog has most of it); the
+  // polygon offset adds a little on 24-bit depth buffers (on llvmpipe's 32-bit one its unit
+  // is too small to count).
   osg::StateSet* ss = geode->getOrCreateStateSet();
   ss->setAttributeAndModes(new osg::PolygonOffset(1.0f, 2.0f), osg::StateAttribute::ON);
   return geode;

@@ -1,6 +1,7 @@
-// The ground and the junction of the shipped hilly map (scenarios/maps/four_way_junction.xodr)
-// rendered for real (Mesa's llvmpipe in an Xvfb the test starts), checked by colours at pixels
-// worked out from the camera pose and the map's geometry. The frames are left in
+// The ground and the junctions (road_node.hpp) rendered for real (Mesa's llvmpipe in an Xvfb
+// the test starts): the shipped hilly map (scenarios/maps/four_way_junction.xodr) and a
+// hand-made junction, checked by colours at pixels worked out from the camera pose and the
+// map's geometry. The frames are left in
 // build/…/Testing/Temporary/view3d/ for a person to look at.
 #include <gtest/gtest.h>
 
@@ -66,6 +67,10 @@ bool sky(Rgb c) {
 bool paved(Rgb c) {
   return std::abs(c.r - c.g) < 25 && c.r >= c.b && c.r - c.b < 40;
 }
+/// The sidewalks' paving (lane_colour("sidewalk"), lit).
+bool sidewalk(Rgb c) {
+  return c.r > 150 && c.r - c.b > 15 && c.r >= c.g;
+}
 bool asphalt(Rgb c) {
   return c.r < 120 && c.g < 120 && c.b < 120 && std::abs(c.r - c.b) < 20 &&
          std::abs(c.r - c.g) < 20;
@@ -79,7 +84,7 @@ VehicleLook look(const std::string& id, std::uint32_t station) {
   return l;
 }
 
-class TerrainRender : public ::testing::Test {
+class RoadNodeRender : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     xvfb_ = std::make_unique<testing::Xvfb>();
@@ -114,9 +119,10 @@ class TerrainRender : public ::testing::Test {
   void TearDown() override { view_.reset(); }
 
   /// A world with one car standing on the ground at (x, y), watched (no own car).
-  FrameInput watching(double x, double y, double yaw) {
+  FrameInput watching(double x, double y, double yaw) { return watching(net_, x, y, yaw); }
+  FrameInput watching(std::shared_ptr<const odr::RoadNetwork> net, double x, double y, double yaw) {
     auto w = std::make_shared<World>();
-    w->network = net_;
+    w->network = std::move(net);
     w->vehicles = {look("car", 1001)};
     w->version = 1;
     FrameInput in;
@@ -156,7 +162,7 @@ class TerrainRender : public ::testing::Test {
   std::unique_ptr<odr::Terrain> terrain_;
 };
 
-TEST_F(TerrainRender, NoGapUnderARaisedRoadSeenFromBelowIt) {
+TEST_F(RoadNodeRender, NoGapUnderARaisedRoadSeenFromBelowIt) {
   // From the driver's seat of a car in the middle of the junction (z = 0), looking north-east
   // at the loop that joins the east and north arms: it runs 3 to 6 m up, well above the
   // driver's eyes, so a gap under it would show the sky.
@@ -199,7 +205,7 @@ TEST_F(TerrainRender, NoGapUnderARaisedRoadSeenFromBelowIt) {
   EXPECT_GE(ground, checked * 8 / 10);
 }
 
-TEST_F(TerrainRender, TheJunctionFromAboveIsOneSurfaceWithoutStripes) {
+TEST_F(RoadNodeRender, TheJunctionFromAboveIsOneSurfaceWithoutStripes) {
   // Straight down on the junction box (24 m square, twelve connecting roads overlapping in
   // it): inside the box every pixel is the one asphalt grey.
   FrameInput in = watching(0.0, -16.0, std::numbers::pi / 2);
@@ -248,6 +254,58 @@ TEST_F(TerrainRender, TheJunctionFromAboveIsOneSurfaceWithoutStripes) {
     }
   }
   EXPECT_LE(hi - lo, 3);
+}
+
+TEST_F(RoadNodeRender, AJunctionsCarriagewayIsDrawnOverAnotherConnectingRoadsSidewalk) {
+  // Two connecting roads of one junction crossing at the same height: J1 along x with a 2 m
+  // sidewalk right of its lanes (y from -5.5 to -3.5), J2 along y, its lanes over J1's
+  // sidewalk where |x| < 3.5. Seen from above: J2's asphalt across the sidewalk, one grey,
+  // and the sidewalk only where no carriageway covers it.
+  const auto lane = [](int id, const char* type, double width) {
+    return "<lane id=\"" + std::to_string(id) + "\" type=\"" + type +
+           "\"><width sOffset=\"0\" a=\"" + std::to_string(width) +
+           "\" b=\"0\" c=\"0\" d=\"0\"/></lane>";
+  };
+  const auto road = [&](const char* id, double x, double y, double hdg, const std::string& right) {
+    return std::string("<road id=\"") + id +
+           "\" length=\"40\" junction=\"J\"><planView><geometry s=\"0\" x=\"" + std::to_string(x) +
+           "\" y=\"" + std::to_string(y) + "\" hdg=\"" + std::to_string(hdg) +
+           "\" length=\"40\"><line/></geometry></planView><lanes><laneSection s=\"0\"><left>" +
+           lane(1, "driving", 3.5) +
+           "</left><center><lane id=\"0\" type=\"none\"/></center><right>" + right +
+           "</right></laneSection></lanes></road>";
+  };
+  const auto net = std::make_shared<const odr::RoadNetwork>(odr::parse_opendrive(
+      "<OpenDRIVE><header revMajor=\"1\" revMinor=\"6\"/>" +
+          road("J1", -20, 0, 0, lane(-1, "driving", 3.5) + lane(-2, "sidewalk", 2.0)) +
+          road("J2", 0, -20, std::numbers::pi / 2, lane(-1, "driving", 3.5)) +
+          "<junction id=\"J\" name=\"crossing\"/></OpenDRIVE>",
+      "crossing.xodr"));
+  FrameInput in = watching(net, 14.0, -14.0, std::numbers::pi / 2);
+  in.choice.camera = CameraMode::kTop;
+  in.choice.top_zoom = 2.0;
+  const Image im = shoot(in, "junction_sidewalk_under_carriageway");
+  const CameraPose& pose = view_->pose();
+  int under = 0, grey_lo = 255, grey_hi = 0, alone = 0;
+  for (double x = -3.2; x <= 3.2; x += 0.2) {
+    for (double y = -5.3; y <= -3.7; y += 0.2) {
+      const osg::Vec2d p = project(pose, {x, y, 0.0});
+      const Rgb c = pixel(im, static_cast<int>(p.x()), static_cast<int>(p.y()));
+      EXPECT_TRUE(asphalt(c)) << "(" << x << ", " << y << "): " << c.r << " " << c.g << " " << c.b;
+      grey_lo = std::min(grey_lo, c.g);
+      grey_hi = std::max(grey_hi, c.g);
+      ++under;
+    }
+  }
+  EXPECT_GT(under, 200);
+  EXPECT_LE(grey_hi - grey_lo, 3);
+  for (double x : {-15.0, -10.0, -6.0, 6.0, 10.0}) {
+    const osg::Vec2d p = project(pose, {x, -4.5, 0.0});
+    const Rgb c = pixel(im, static_cast<int>(p.x()), static_cast<int>(p.y()));
+    alone += sidewalk(c);
+    EXPECT_TRUE(sidewalk(c)) << x << ": " << c.r << " " << c.g << " " << c.b;
+  }
+  EXPECT_EQ(alone, 5);
 }
 
 }  // namespace
