@@ -10,6 +10,7 @@
 #include <osg/Geode>
 #include <osg/Geometry>
 #include <osg/Group>
+#include <osg/LOD>
 #include <osg/PolygonOffset>
 
 #include "common/map/opendrive/mesh.hpp"
@@ -246,12 +247,34 @@ osg::Vec4 grass(double x, double y, double nz) {
           static_cast<float>(0.24 * shade), 1.0f};
 }
 
+/// Vertices, normals and colours of one drawable of the ground.
+struct GroundPiece {
+  osg::ref_ptr<osg::Vec3Array> v = new osg::Vec3Array;
+  osg::ref_ptr<osg::Vec3Array> n = new osg::Vec3Array;
+  osg::ref_ptr<osg::Vec4Array> c = new osg::Vec4Array;
+  osg::ref_ptr<osg::DrawElementsUInt> tris = new osg::DrawElementsUInt(GL_TRIANGLES);
+  void add(double x, double y, double z, const odr::Vertex& normal) {
+    v->push_back(osg::Vec3(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z)));
+    n->push_back(osg::Vec3(static_cast<float>(normal.x), static_cast<float>(normal.y),
+                           static_cast<float>(normal.z)));
+    c->push_back(grass(x, y, normal.z));
+  }
+  osg::ref_ptr<osg::Geometry> build() const {
+    osg::ref_ptr<osg::Geometry> g = new_geometry();
+    g->setVertexArray(v);
+    g->setNormalArray(n, osg::Array::BIND_PER_VERTEX);
+    g->setColorArray(c, osg::Array::BIND_PER_VERTEX);
+    g->addPrimitiveSet(tris);
+    return g;
+  }
+};
+
 /// Rings around the terrain's border, out to beyond the fog's end, each at the height of the
 /// border node it continues (the ground goes on level, as Terrain::height_at() does): the
 /// horizon. Every border node is a vertex of the first ring, so no crack opens between the
-/// terrain and the skirt.
-void add_skirt(const odr::Terrain& t, osg::Vec3Array& v, osg::Vec3Array& n, osg::Vec4Array& c,
-               osg::DrawElementsUInt& tris) {
+/// terrain and the skirt. In pieces of kSkirtRun border nodes, so that those behind the camera
+/// are culled.
+void add_skirt(const odr::Terrain& t, osg::Geode& geode, std::size_t& triangles) {
   struct Edge {
     std::size_t i, j;
     double dx, dy;  ///< outwards (corners: diagonally)
@@ -270,70 +293,134 @@ void add_skirt(const odr::Terrain& t, osg::Vec3Array& v, osg::Vec3Array& n, osg:
     loop.push_back({0, j, -1.0, j == ny - 1 ? 1.0 : 0.0});
   // The fog (250 m to 2 km from the eye) interpolates well over these steps.
   constexpr double kRings[] = {0.0, 25.0, 80.0, 200.0, 500.0, 1000.0, 2000.0, 3500.0};
-  const auto ring0 = static_cast<std::uint32_t>(v.size());
-  const auto m = static_cast<std::uint32_t>(loop.size());
-  for (double d : kRings) {
-    for (const Edge& e : loop) {
-      const double x = t.min_x() + t.cell() * static_cast<double>(e.i) + e.dx * d;
-      const double y = t.min_y() + t.cell() * static_cast<double>(e.j) + e.dy * d;
-      v.push_back(osg::Vec3(static_cast<float>(x), static_cast<float>(y),
-                            static_cast<float>(t.node(e.i, e.j))));
-      n.push_back(osg::Vec3(0, 0, 1));
-      c.push_back(grass(x, y, 1.0));
+  constexpr std::size_t kSkirtRun = 32;
+  const odr::Vertex up{0, 0, 1};
+  for (std::size_t first = 0; first < loop.size(); first += kSkirtRun) {
+    GroundPiece piece;
+    const std::size_t m = std::min(kSkirtRun, loop.size() - first) + 1;  // closing the loop
+    for (double d : kRings) {
+      for (std::size_t k = 0; k < m; ++k) {
+        const Edge& e = loop[(first + k) % loop.size()];
+        piece.add(t.min_x() + t.cell() * static_cast<double>(e.i) + e.dx * d,
+                  t.min_y() + t.cell() * static_cast<double>(e.j) + e.dy * d, t.node(e.i, e.j), up);
+      }
     }
-  }
-  for (std::uint32_t r = 0; r + 1 < std::size(kRings); ++r) {
-    for (std::uint32_t k = 0; k < m; ++k) {
-      const std::uint32_t a = ring0 + r * m + k, b = ring0 + r * m + (k + 1) % m;
-      const std::uint32_t a1 = a + m, b1 = b + m;
-      // The loop runs counter-clockwise, outwards is to its right: a, a1, b1 and a, b1, b are
-      // counter-clockwise seen from above.
-      for (auto idx : {a, a1, b1, a, b1, b})
-        tris.push_back(idx);
+    for (std::size_t r = 0; r + 1 < std::size(kRings); ++r) {
+      for (std::size_t k = 0; k + 1 < m; ++k) {
+        const auto a = static_cast<std::uint32_t>(r * m + k);
+        const auto b = a + 1;
+        const auto a1 = static_cast<std::uint32_t>(a + m), b1 = a1 + 1;
+        // The loop runs counter-clockwise, outwards is to its right: a, a1, b1 and a, b1, b are
+        // counter-clockwise seen from above.
+        for (auto idx : {a, a1, b1, a, b1, b})
+          piece.tris->push_back(idx);
+      }
     }
+    triangles += piece.tris->size() / 3;
+    geode.addDrawable(piece.build());
   }
 }
 
-osg::ref_ptr<osg::Geode> terrain_geode(const odr::RoadNetwork& net, RoadNodeStats* stats) {
+/// One tile of the terrain: nodes [i0, i1] x [j0, j1] every @p step nodes (step divides the
+/// tile's cells, the last row and column always included), split along the (i, j)-(i + 1,
+/// j + 1) diagonal as Terrain::height_at() interpolates. A coarse tile (step > 1) also gets a
+/// curtain 1 m deep along its border: where it meets a finer neighbour, whose border has the
+/// nodes in between, the two edges differ a little, and the curtain fills the slit.
+osg::ref_ptr<osg::Geode> terrain_tile(const odr::Terrain& terrain, const odr::TerrainMesh& mesh,
+                                      std::size_t i0, std::size_t i1, std::size_t j0,
+                                      std::size_t j1, std::size_t step, std::size_t& triangles) {
+  const std::size_t nx = terrain.columns();
+  std::vector<std::size_t> is, js;
+  for (std::size_t i = i0; i < i1; i += step)
+    is.push_back(i);
+  is.push_back(i1);
+  for (std::size_t j = j0; j < j1; j += step)
+    js.push_back(j);
+  js.push_back(j1);
+  const auto w = static_cast<std::uint32_t>(is.size());
+  GroundPiece piece;
+  for (std::size_t j : js) {
+    for (std::size_t i : is) {
+      const odr::Vertex& p = mesh.vertices[j * nx + i];
+      piece.add(p.x, p.y, p.z, mesh.normals[j * nx + i]);
+    }
+  }
+  for (std::uint32_t j = 0; j + 1 < js.size(); ++j) {
+    for (std::uint32_t i = 0; i + 1 < w; ++i) {
+      const std::uint32_t v00 = j * w + i, v10 = v00 + 1, v01 = v00 + w, v11 = v01 + 1;
+      for (auto idx : {v00, v10, v11, v00, v11, v01})
+        piece.tris->push_back(idx);
+    }
+  }
+  if (step > 1) {
+    // The border counter-clockwise; each edge gets a quad hanging below it.
+    std::vector<std::uint32_t> ring;
+    const auto h = static_cast<std::uint32_t>(js.size());
+    for (std::uint32_t i = 0; i + 1 < w; ++i)
+      ring.push_back(i);
+    for (std::uint32_t j = 0; j + 1 < h; ++j)
+      ring.push_back(j * w + w - 1);
+    for (std::uint32_t i = w - 1; i > 0; --i)
+      ring.push_back((h - 1) * w + i);
+    for (std::uint32_t j = h - 1; j > 0; --j)
+      ring.push_back(j * w);
+    const auto base = static_cast<std::uint32_t>(piece.v->size());
+    for (std::uint32_t k : ring) {
+      const osg::Vec3 p = (*piece.v)[k] - osg::Vec3(0, 0, 1.0f);
+      piece.v->push_back(p);
+      piece.n->push_back((*piece.n)[k]);
+      piece.c->push_back((*piece.c)[k]);
+    }
+    const auto m = static_cast<std::uint32_t>(ring.size());
+    for (std::uint32_t k = 0; k < m; ++k) {
+      const std::uint32_t a = ring[k], b = ring[(k + 1) % m];
+      const std::uint32_t a1 = base + k, b1 = base + (k + 1) % m;
+      for (auto idx : {a, a1, b1, a, b1, b})
+        piece.tris->push_back(idx);
+    }
+  }
+  triangles += piece.tris->size() / 3;
+  osg::ref_ptr<osg::Geode> geode = new osg::Geode;
+  geode->addDrawable(piece.build());
+  return geode;
+}
+
+/// The terrain in tiles of kTile x kTile cells, each a node of its own, so that the cull
+/// traversal drops those outside the view (the chase camera sees about a third of them); a
+/// tile further than kFineRange from the eye is drawn with every fourth node, which the fog
+/// and the distance hide.
+osg::ref_ptr<osg::Group> terrain_node(const odr::RoadNetwork& net, RoadNodeStats* stats) {
+  constexpr std::size_t kTile = 16;
+  constexpr float kFineRange = 150.0f;
   const odr::Terrain terrain(net);
   const odr::TerrainMesh mesh = terrain.mesh();
-  osg::ref_ptr<osg::Vec3Array> v = new osg::Vec3Array;
-  osg::ref_ptr<osg::Vec3Array> n = new osg::Vec3Array;
-  osg::ref_ptr<osg::Vec4Array> c = new osg::Vec4Array;
-  v->reserve(mesh.vertices.size());
-  n->reserve(mesh.vertices.size());
-  c->reserve(mesh.vertices.size());
-  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
-    const auto& p = mesh.vertices[i];
-    const auto& q = mesh.normals[i];
-    v->push_back(
-        osg::Vec3(static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)));
-    n->push_back(
-        osg::Vec3(static_cast<float>(q.x), static_cast<float>(q.y), static_cast<float>(q.z)));
-    c->push_back(grass(p.x, p.y, q.z));
+  osg::ref_ptr<osg::Group> group = new osg::Group;
+  group->setName("terrain");
+  std::size_t triangles = 0, coarse = 0;
+  const std::size_t nx = terrain.columns(), ny = terrain.rows();
+  for (std::size_t j0 = 0; j0 + 1 < ny; j0 += kTile) {
+    for (std::size_t i0 = 0; i0 + 1 < nx; i0 += kTile) {
+      const std::size_t i1 = std::min(i0 + kTile, nx - 1), j1 = std::min(j0 + kTile, ny - 1);
+      osg::ref_ptr<osg::LOD> lod = new osg::LOD;
+      lod->addChild(terrain_tile(terrain, mesh, i0, i1, j0, j1, 1, triangles), 0.0f, kFineRange);
+      lod->addChild(terrain_tile(terrain, mesh, i0, i1, j0, j1, 4, coarse), kFineRange, 1e7f);
+      group->addChild(lod);
+    }
   }
-  osg::ref_ptr<osg::DrawElementsUInt> tris =
-      new osg::DrawElementsUInt(GL_TRIANGLES, mesh.indices.begin(), mesh.indices.end());
-  add_skirt(terrain, *v, *n, *c, *tris);
-  osg::ref_ptr<osg::Geometry> g = new_geometry();
-  g->setVertexArray(v);
-  g->setNormalArray(n, osg::Array::BIND_PER_VERTEX);
-  g->setColorArray(c, osg::Array::BIND_PER_VERTEX);
-  g->addPrimitiveSet(tris);
+  osg::ref_ptr<osg::Geode> skirt = new osg::Geode;
+  add_skirt(terrain, *skirt, triangles);
+  group->addChild(skirt);
   if (stats != nullptr)
-    stats->terrain_triangles = tris->size() / 3;
-  osg::ref_ptr<osg::Geode> geode = new osg::Geode;
-  geode->setName("terrain");
-  geode->addDrawable(g);
+    stats->terrain_triangles = triangles;
   // The ground writes depth: on hills a near slope must hide what lies behind it (drawn without
   // depth writes, as the flat ground was, a far hill would paint over a near one and roads
   // behind a crest would show through it). The road wins over it by the kerb drop, 5 cm, which
   // the depth buffer resolves to a few hundred metres (beyond, the fog has most of it); the
   // polygon offset adds a little on 24-bit depth buffers (on llvmpipe's 32-bit one its unit
   // is too small to count).
-  osg::StateSet* ss = geode->getOrCreateStateSet();
+  osg::StateSet* ss = group->getOrCreateStateSet();
   ss->setAttributeAndModes(new osg::PolygonOffset(1.0f, 2.0f), osg::StateAttribute::ON);
-  return geode;
+  return group;
 }
 
 }  // namespace
@@ -386,7 +473,7 @@ osg::ref_ptr<osg::Node> make_road_node(const map::odr::RoadNetwork& net, RoadNod
   osg::ref_ptr<osg::Group> g = new osg::Group;
   g->setName("roads");
   g->addChild(surface_geode(net, stats));
-  g->addChild(terrain_geode(net, stats));
+  g->addChild(terrain_node(net, stats));
   g->addChild(marks_geode(net, stats));
   return g;
 }
