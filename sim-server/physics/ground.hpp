@@ -10,7 +10,7 @@
 ///   a seam between sections or between a road and the junction road it continues into);
 /// - the terrain (common/map/opendrive/terrain.hpp) fitted to those very triangles over the
 ///   roads' extent plus the margin: the kerb drop (5 cm) below every road at its edge, blended
-///   smoothly between the roads and never above a lane, in 2 m cells. The 3D view draws the
+///   smoothly between the roads and never above a lane, in 4 m cells. The 3D view draws the
 ///   same terrain (built from the same map with the same options when the margin is the
 ///   default 200 m), so a car that leaves the road drives on the ground its driver sees.
 ///   Its cells are ray-tested directly (the two triangles of each cell the ray crosses), not

@@ -16,7 +16,8 @@ constexpr double kSliver = 0.01;
 /// Gauss–Seidel sweeps per level of the coarse-to-fine solve, and on the coarsest grid.
 constexpr int kSweeps = 40;
 /// Over-relaxation: the sweeps carry the coarse grid's error away faster (on the four-way
-/// junction within 13 cm of the exact interpolation, mean 5 cm, against 35 cm unrelaxed).
+/// junction at 2 m cells within 13 cm of the converged interpolation, mean 5 cm, against 35 cm
+/// unrelaxed; at 4 m within 11 cm, mean 3 cm).
 constexpr double kOmega = 1.8;
 constexpr int kSmoothingSweeps = 10;
 constexpr int kCoarsestSweeps = 400;

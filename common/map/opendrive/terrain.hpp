@@ -86,7 +86,7 @@ class Terrain {
   void pin(const RoadMesh& roads);
   void solve();
 
-  double x0_ = 0, y0_ = 0, cell_ = 2.0, drop_ = 0.05;
+  double x0_ = 0, y0_ = 0, cell_ = 4.0, drop_ = 0.05;
   std::size_t nx_ = 2, ny_ = 2;
   std::vector<double> h_;
   std::vector<std::uint8_t> pinned_;
