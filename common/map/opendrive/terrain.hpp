@@ -60,7 +60,8 @@ class Terrain {
   explicit Terrain(const RoadNetwork& net, const TerrainOptions& options = {});
 
   /// Height of the ground at (x, y) on the triangles; outside the grid, the height at the
-  /// nearest point of its border (the ground goes on level).
+  /// nearest point of its border (the ground goes on level); for a non-finite x or y, the
+  /// height of node (0, 0).
   double height_at(double x, double y) const;
   /// Whether (x, y) lies on the grid.
   bool covers(double x, double y) const;
