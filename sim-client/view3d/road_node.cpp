@@ -10,7 +10,6 @@
 #include <osg/Geode>
 #include <osg/Geometry>
 #include <osg/Group>
-#include <osg/LOD>
 #include <osg/PolygonOffset>
 
 #include "common/map/opendrive/mesh.hpp"
@@ -321,61 +320,25 @@ void add_skirt(const odr::Terrain& t, osg::Geode& geode, std::size_t& triangles)
   }
 }
 
-/// One tile of the terrain: nodes [i0, i1] x [j0, j1] every @p step nodes (step divides the
-/// tile's cells, the last row and column always included), split along the (i, j)-(i + 1,
-/// j + 1) diagonal as Terrain::height_at() interpolates. A coarse tile (step > 1) also gets a
-/// curtain 1 m deep along its border: where it meets a finer neighbour, whose border has the
-/// nodes in between, the two edges differ a little, and the curtain fills the slit.
+/// One tile of the terrain: nodes [i0, i1] x [j0, j1], split along the (i, j)-(i + 1, j + 1)
+/// diagonal as Terrain::height_at() interpolates. Neighbouring tiles repeat their common
+/// border's vertices exactly, so no crack opens between them.
 osg::ref_ptr<osg::Geode> terrain_tile(const odr::Terrain& terrain, const odr::TerrainMesh& mesh,
                                       std::size_t i0, std::size_t i1, std::size_t j0,
-                                      std::size_t j1, std::size_t step, std::size_t& triangles) {
+                                      std::size_t j1, std::size_t& triangles) {
   const std::size_t nx = terrain.columns();
-  std::vector<std::size_t> is, js;
-  for (std::size_t i = i0; i < i1; i += step)
-    is.push_back(i);
-  is.push_back(i1);
-  for (std::size_t j = j0; j < j1; j += step)
-    js.push_back(j);
-  js.push_back(j1);
-  const auto w = static_cast<std::uint32_t>(is.size());
+  const auto w = static_cast<std::uint32_t>(i1 - i0 + 1);
   GroundPiece piece;
-  for (std::size_t j : js) {
-    for (std::size_t i : is) {
+  for (std::size_t j = j0; j <= j1; ++j) {
+    for (std::size_t i = i0; i <= i1; ++i) {
       const odr::Vertex& p = mesh.vertices[j * nx + i];
       piece.add(p.x, p.y, p.z, mesh.normals[j * nx + i]);
     }
   }
-  for (std::uint32_t j = 0; j + 1 < js.size(); ++j) {
+  for (std::uint32_t j = 0; j + j0 < j1; ++j) {
     for (std::uint32_t i = 0; i + 1 < w; ++i) {
       const std::uint32_t v00 = j * w + i, v10 = v00 + 1, v01 = v00 + w, v11 = v01 + 1;
       for (auto idx : {v00, v10, v11, v00, v11, v01})
-        piece.tris->push_back(idx);
-    }
-  }
-  if (step > 1) {
-    // The border counter-clockwise; each edge gets a quad hanging below it.
-    std::vector<std::uint32_t> ring;
-    const auto h = static_cast<std::uint32_t>(js.size());
-    for (std::uint32_t i = 0; i + 1 < w; ++i)
-      ring.push_back(i);
-    for (std::uint32_t j = 0; j + 1 < h; ++j)
-      ring.push_back(j * w + w - 1);
-    for (std::uint32_t i = w - 1; i > 0; --i)
-      ring.push_back((h - 1) * w + i);
-    for (std::uint32_t j = h - 1; j > 0; --j)
-      ring.push_back(j * w);
-    const auto base = static_cast<std::uint32_t>(piece.v->size());
-    for (std::uint32_t k : ring) {
-      const osg::Vec3 p = (*piece.v)[k] - osg::Vec3(0, 0, 1.0f);
-      piece.v->push_back(p);
-      piece.n->push_back((*piece.n)[k]);
-      piece.c->push_back((*piece.c)[k]);
-    }
-    const auto m = static_cast<std::uint32_t>(ring.size());
-    for (std::uint32_t k = 0; k < m; ++k) {
-      const std::uint32_t a = ring[k], b = ring[(k + 1) % m];
-      const std::uint32_t a1 = base + k, b1 = base + (k + 1) % m;
-      for (auto idx : {a, a1, b1, a, b1, b})
         piece.tris->push_back(idx);
     }
   }
@@ -386,25 +349,21 @@ osg::ref_ptr<osg::Geode> terrain_tile(const odr::Terrain& terrain, const odr::Te
 }
 
 /// The terrain in tiles of kTile x kTile cells, each a node of its own, so that the cull
-/// traversal drops those outside the view (the chase camera sees about a third of them); a
-/// tile further than kFineRange from the eye is drawn with every fourth node, which the fog
-/// and the distance hide.
+/// traversal drops those outside the view (the chase camera sees about a third of them). (A
+/// coarser grid for distant tiles saved nothing measurable on llvmpipe and opened pixel cracks
+/// where a coarse tile met a fine one: not done.)
 osg::ref_ptr<osg::Group> terrain_node(const odr::RoadNetwork& net, RoadNodeStats* stats) {
   constexpr std::size_t kTile = 16;
-  constexpr float kFineRange = 150.0f;
   const odr::Terrain terrain(net);
   const odr::TerrainMesh mesh = terrain.mesh();
   osg::ref_ptr<osg::Group> group = new osg::Group;
   group->setName("terrain");
-  std::size_t triangles = 0, coarse = 0;
+  std::size_t triangles = 0;
   const std::size_t nx = terrain.columns(), ny = terrain.rows();
   for (std::size_t j0 = 0; j0 + 1 < ny; j0 += kTile) {
     for (std::size_t i0 = 0; i0 + 1 < nx; i0 += kTile) {
       const std::size_t i1 = std::min(i0 + kTile, nx - 1), j1 = std::min(j0 + kTile, ny - 1);
-      osg::ref_ptr<osg::LOD> lod = new osg::LOD;
-      lod->addChild(terrain_tile(terrain, mesh, i0, i1, j0, j1, 1, triangles), 0.0f, kFineRange);
-      lod->addChild(terrain_tile(terrain, mesh, i0, i1, j0, j1, 4, coarse), kFineRange, 1e7f);
-      group->addChild(lod);
+      group->addChild(terrain_tile(terrain, mesh, i0, i1, j0, j1, triangles));
     }
   }
   osg::ref_ptr<osg::Geode> skirt = new osg::Geode;

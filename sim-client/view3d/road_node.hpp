@@ -51,7 +51,7 @@ std::array<float, 3> mark_colour(const std::string& colour);
 struct RoadNodeStats {
   std::size_t surface_triangles = 0;
   std::size_t mark_triangles = 0;
-  std::size_t terrain_triangles = 0;  ///< the ground at full resolution and its skirt
+  std::size_t terrain_triangles = 0;  ///< the ground and the skirt round it
 };
 
 /// Surface, marks and ground as one node (building the ground takes ~0.1 s on the shipped
