@@ -13,6 +13,7 @@
 #include <osg/PolygonOffset>
 
 #include "common/map/opendrive/mesh.hpp"
+#include "common/map/opendrive/terrain.hpp"
 #include "sim-client/view3d/shapes.hpp"
 
 namespace tb::client::view3d {
@@ -107,6 +108,15 @@ osg::ref_ptr<osg::Geometry> new_geometry() {
   return g;
 }
 
+/// The road surface, coloured by lane type. The connecting roads of a junction overlap at the
+/// same height (several cover the same asphalt, a turning road's sidewalk or border lies over
+/// another's lanes) and would fight for the depth buffer, striping. Overlapping carriageway
+/// lanes have the same colour, so any of them may win; the other lanes of junction roads lie
+/// kJunctionVergeDrop lower (all but their end rows, so that they still meet the roads they
+/// continue without a crack), so that the carriageway wins over them: the junction surface
+/// is drawn once, as asphalt. A polygon offset would not do: its unit is the depth buffer's
+/// resolution, which differs by a factor of 256 between 24-bit and llvmpipe's 32-bit buffers,
+/// and on the latter is far below the depth error of two coplanar surfaces.
 osg::ref_ptr<osg::Geode> surface_geode(const odr::RoadNetwork& net, RoadNodeStats* stats) {
   const odr::RoadMesh mesh = odr::road_mesh(net, kRoadTolerance);
   osg::ref_ptr<osg::Vec3Array> v = new osg::Vec3Array(mesh.vertices.size());
@@ -116,6 +126,34 @@ osg::ref_ptr<osg::Geode> surface_geode(const odr::RoadNetwork& net, RoadNodeStat
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
     const auto& p = mesh.vertices[i];
     (*v)[i].set(static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z));
+  }
+  const auto carriageway = lane_colour("driving");
+  const auto colour_of = [&](std::size_t t) {
+    const odr::LaneRef ref = mesh.lanes[t];
+    const odr::Lane* lane =
+        net.roads[static_cast<std::size_t>(ref.road)].sections[mesh.sections[t]].lane(ref.lane);
+    return lane_colour(lane != nullptr ? lane->type : std::string("none"));
+  };
+  // Each lane strip's triangles come one after the other over vertices of their own (inner and
+  // outer border per s sample): lower the inner rows of the junction roads' other lanes.
+  for (std::size_t t = 0; t < mesh.triangles();) {
+    std::size_t end = t;
+    std::uint32_t lo = mesh.indices[3 * t], hi = lo;
+    while (end < mesh.triangles() && mesh.lanes[end] == mesh.lanes[t] &&
+           mesh.sections[end] == mesh.sections[t]) {
+      for (int k = 0; k < 3; ++k) {
+        lo = std::min(lo, mesh.indices[3 * end + k]);
+        hi = std::max(hi, mesh.indices[3 * end + k]);
+      }
+      ++end;
+    }
+    const bool in_junction =
+        net.roads[static_cast<std::size_t>(mesh.lanes[t].road)].junction_index >= 0;
+    if (in_junction && colour_of(t) != carriageway) {
+      for (std::uint32_t i = lo + 2; i + 2 <= hi; ++i)
+        (*v)[i].z() -= static_cast<float>(kJunctionVergeDrop);
+    }
+    t = end;
   }
   osg::ref_ptr<osg::DrawElementsUInt> tris = new osg::DrawElementsUInt(GL_TRIANGLES);
   tris->reserve(mesh.indices.size());
@@ -129,10 +167,7 @@ osg::ref_ptr<osg::Geode> surface_geode(const odr::RoadNetwork& net, RoadNodeStat
     const osg::Vec3 face = ((*v)[b] - (*v)[a]) ^ ((*v)[cc] - (*v)[a]);
     for (auto idx : {a, b, cc})
       (*n)[idx] += face;
-    const odr::LaneRef ref = mesh.lanes[t];
-    const odr::Lane* lane =
-        net.roads[static_cast<std::size_t>(ref.road)].sections[mesh.sections[t]].lane(ref.lane);
-    const auto rgb = lane_colour(lane != nullptr ? lane->type : std::string("none"));
+    const auto rgb = colour_of(t);
     for (auto idx : {a, b, cc})
       (*c)[idx].set(rgb[0], rgb[1], rgb[2], 1.0f);
   }
@@ -201,53 +236,150 @@ osg::ref_ptr<osg::Geode> marks_geode(const odr::RoadNetwork& net, RoadNodeStats*
   return geode;
 }
 
-osg::ref_ptr<osg::Geode> ground_geode(const odr::RoadNetwork& net) {
-  double x0 = std::numeric_limits<double>::max(), y0 = x0, z0 = x0;
-  double x1 = std::numeric_limits<double>::lowest(), y1 = x1;
-  for (const odr::Road& r : net.roads) {
-    for (double s = 0.0;; s = std::min(r.length, s + 10.0)) {
-      const odr::SurfacePose p = r.surface(s, 0.0);
-      x0 = std::min(x0, p.x);
-      y0 = std::min(y0, p.y);
-      z0 = std::min(z0, p.z);
-      x1 = std::max(x1, p.x);
-      y1 = std::max(y1, p.y);
-      if (s >= r.length)
-        break;
+/// Grass, darker where the ground is steep, with patches of ~100 m so that motion over level
+/// ground shows.
+osg::Vec4 grass(double x, double y, double nz) {
+  const double slope = std::sqrt(std::max(0.0, 1.0 / (nz * nz) - 1.0));
+  const double shade = (1.0 - 0.35 * std::min(1.0, slope / 0.6)) *
+                       (1.0 + 0.04 * std::sin(x / 37.0) * std::sin(y / 53.0));
+  return {static_cast<float>(0.33 * shade), static_cast<float>(0.45 * shade),
+          static_cast<float>(0.24 * shade), 1.0f};
+}
+
+/// Vertices, normals and colours of one drawable of the ground.
+struct GroundPiece {
+  osg::ref_ptr<osg::Vec3Array> v = new osg::Vec3Array;
+  osg::ref_ptr<osg::Vec3Array> n = new osg::Vec3Array;
+  osg::ref_ptr<osg::Vec4Array> c = new osg::Vec4Array;
+  osg::ref_ptr<osg::DrawElementsUInt> tris = new osg::DrawElementsUInt(GL_TRIANGLES);
+  void add(double x, double y, double z, const odr::Vertex& normal) {
+    v->push_back(osg::Vec3(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z)));
+    n->push_back(osg::Vec3(static_cast<float>(normal.x), static_cast<float>(normal.y),
+                           static_cast<float>(normal.z)));
+    c->push_back(grass(x, y, normal.z));
+  }
+  osg::ref_ptr<osg::Geometry> build() const {
+    osg::ref_ptr<osg::Geometry> g = new_geometry();
+    g->setVertexArray(v);
+    g->setNormalArray(n, osg::Array::BIND_PER_VERTEX);
+    g->setColorArray(c, osg::Array::BIND_PER_VERTEX);
+    g->addPrimitiveSet(tris);
+    return g;
+  }
+};
+
+/// Rings around the terrain's border, out to beyond the fog's end, each at the height of the
+/// border node it continues (the ground goes on level, as Terrain::height_at() does): the
+/// horizon. Every border node is a vertex of the first ring, so no crack opens between the
+/// terrain and the skirt. In pieces of kSkirtRun border nodes, so that those behind the camera
+/// are culled.
+void add_skirt(const odr::Terrain& t, osg::Geode& geode, std::size_t& triangles) {
+  struct Edge {
+    std::size_t i, j;
+    double dx, dy;  ///< outwards (corners: diagonally)
+  };
+  const std::size_t nx = t.columns(), ny = t.rows();
+  std::vector<Edge> loop;
+  // Counter-clockwise round the border seen from above: south row, east column, north row,
+  // west column.
+  for (std::size_t i = 0; i + 1 < nx; ++i)
+    loop.push_back({i, 0, i == 0 ? -1.0 : 0.0, -1.0});
+  for (std::size_t j = 0; j + 1 < ny; ++j)
+    loop.push_back({nx - 1, j, 1.0, j == 0 ? -1.0 : 0.0});
+  for (std::size_t i = nx - 1; i > 0; --i)
+    loop.push_back({i, ny - 1, i == nx - 1 ? 1.0 : 0.0, 1.0});
+  for (std::size_t j = ny - 1; j > 0; --j)
+    loop.push_back({0, j, -1.0, j == ny - 1 ? 1.0 : 0.0});
+  // The fog (250 m to 2 km from the eye) interpolates well over these steps.
+  constexpr double kRings[] = {0.0, 25.0, 80.0, 200.0, 500.0, 1000.0, 2000.0, 3500.0};
+  constexpr std::size_t kSkirtRun = 32;
+  const odr::Vertex up{0, 0, 1};
+  for (std::size_t first = 0; first < loop.size(); first += kSkirtRun) {
+    GroundPiece piece;
+    const std::size_t m = std::min(kSkirtRun, loop.size() - first) + 1;  // closing the loop
+    for (double d : kRings) {
+      for (std::size_t k = 0; k < m; ++k) {
+        const Edge& e = loop[(first + k) % loop.size()];
+        piece.add(t.min_x() + t.cell() * static_cast<double>(e.i) + e.dx * d,
+                  t.min_y() + t.cell() * static_cast<double>(e.j) + e.dy * d, t.node(e.i, e.j), up);
+      }
+    }
+    for (std::size_t r = 0; r + 1 < std::size(kRings); ++r) {
+      for (std::size_t k = 0; k + 1 < m; ++k) {
+        const auto a = static_cast<std::uint32_t>(r * m + k);
+        const auto b = a + 1;
+        const auto a1 = static_cast<std::uint32_t>(a + m), b1 = a1 + 1;
+        // The loop runs counter-clockwise, outwards is to its right: a, a1, b1 and a, b1, b are
+        // counter-clockwise seen from above.
+        for (auto idx : {a, a1, b1, a, b1, b})
+          piece.tris->push_back(idx);
+      }
+    }
+    triangles += piece.tris->size() / 3;
+    geode.addDrawable(piece.build());
+  }
+}
+
+/// One tile of the terrain: nodes [i0, i1] x [j0, j1], split along the (i, j)-(i + 1, j + 1)
+/// diagonal as Terrain::height_at() interpolates. Neighbouring tiles repeat their common
+/// border's vertices exactly, so no crack opens between them.
+osg::ref_ptr<osg::Geode> terrain_tile(const odr::Terrain& terrain, const odr::TerrainMesh& mesh,
+                                      std::size_t i0, std::size_t i1, std::size_t j0,
+                                      std::size_t j1, std::size_t& triangles) {
+  const std::size_t nx = terrain.columns();
+  const auto w = static_cast<std::uint32_t>(i1 - i0 + 1);
+  GroundPiece piece;
+  for (std::size_t j = j0; j <= j1; ++j) {
+    for (std::size_t i = i0; i <= i1; ++i) {
+      const odr::Vertex& p = mesh.vertices[j * nx + i];
+      piece.add(p.x, p.y, p.z, mesh.normals[j * nx + i]);
     }
   }
-  if (x0 > x1) {
-    x0 = y0 = -100.0;
-    x1 = y1 = 100.0;
-    z0 = 0.0;
-  }
-  // A grid, not one big quad: the fixed-function pipeline fogs per vertex, and a quad whose
-  // corners are all far away would be fogged all over. Cells alternate in shade a little.
-  constexpr double kMargin = 3000.0;  // beyond the fog's end
-  constexpr double kCell = 250.0;     // the fog (250 m to 2 km) interpolates well over it
-  const float z = static_cast<float>(z0 - 0.3);
-  const double gx0 = std::floor((x0 - kMargin) / kCell) * kCell;
-  const double gy0 = std::floor((y0 - kMargin) / kCell) * kCell;
-  const int nx = static_cast<int>(std::ceil((x1 + kMargin - gx0) / kCell));
-  const int ny = static_cast<int>(std::ceil((y1 + kMargin - gy0) / kCell));
-  MeshBuilder grid;
-  for (int i = 0; i < nx; ++i) {
-    for (int j = 0; j < ny; ++j) {
-      const auto ax = static_cast<float>(gx0 + i * kCell), ay = static_cast<float>(gy0 + j * kCell);
-      const auto bx = static_cast<float>(ax + kCell), by = static_cast<float>(ay + kCell);
-      const float shade = (i + j) % 2 == 0 ? 1.0f : 0.96f;
-      grid.quad({ax, ay, z}, {bx, ay, z}, {bx, by, z}, {ax, by, z},
-                osg::Vec4(0.33f * shade, 0.45f * shade, 0.24f * shade, 1.0f));
+  for (std::uint32_t j = 0; j + j0 < j1; ++j) {
+    for (std::uint32_t i = 0; i + 1 < w; ++i) {
+      const std::uint32_t v00 = j * w + i, v10 = v00 + 1, v01 = v00 + w, v11 = v01 + 1;
+      for (auto idx : {v00, v10, v11, v00, v11, v01})
+        piece.tris->push_back(idx);
     }
   }
-  osg::ref_ptr<osg::Geometry> g = grid.build();
+  triangles += piece.tris->size() / 3;
   osg::ref_ptr<osg::Geode> geode = new osg::Geode;
-  geode->addDrawable(g);
-  osg::StateSet* ss = geode->getOrCreateStateSet();
-  ss->setAttributeAndModes(new osg::Depth(osg::Depth::LESS, 0.0, 1.0, false),
-                           osg::StateAttribute::ON);
-  ss->setRenderBinDetails(-1, "RenderBin");
+  geode->addDrawable(piece.build());
   return geode;
+}
+
+/// The terrain in tiles of kTile x kTile cells, each a node of its own, so that the cull
+/// traversal drops those outside the view (the chase camera sees about a third of them). (A
+/// coarser grid for distant tiles saved nothing measurable on llvmpipe and opened pixel cracks
+/// where a coarse tile met a fine one: not done.)
+osg::ref_ptr<osg::Group> terrain_node(const odr::RoadNetwork& net, RoadNodeStats* stats) {
+  constexpr std::size_t kTile = 16;
+  const odr::Terrain terrain(net);
+  const odr::TerrainMesh mesh = terrain.mesh();
+  osg::ref_ptr<osg::Group> group = new osg::Group;
+  group->setName("terrain");
+  std::size_t triangles = 0;
+  const std::size_t nx = terrain.columns(), ny = terrain.rows();
+  for (std::size_t j0 = 0; j0 + 1 < ny; j0 += kTile) {
+    for (std::size_t i0 = 0; i0 + 1 < nx; i0 += kTile) {
+      const std::size_t i1 = std::min(i0 + kTile, nx - 1), j1 = std::min(j0 + kTile, ny - 1);
+      group->addChild(terrain_tile(terrain, mesh, i0, i1, j0, j1, triangles));
+    }
+  }
+  osg::ref_ptr<osg::Geode> skirt = new osg::Geode;
+  add_skirt(terrain, *skirt, triangles);
+  group->addChild(skirt);
+  if (stats != nullptr)
+    stats->terrain_triangles = triangles;
+  // The ground writes depth: on hills a near slope must hide what lies behind it (drawn without
+  // depth writes, as the flat ground was, a far hill would paint over a near one and roads
+  // behind a crest would show through it). The road wins over it by the kerb drop, 5 cm, which
+  // the depth buffer resolves to a few hundred metres (beyond, the fog has most of it); the
+  // polygon offset adds a little on 24-bit depth buffers (on llvmpipe's 32-bit one its unit
+  // is too small to count).
+  osg::StateSet* ss = group->getOrCreateStateSet();
+  ss->setAttributeAndModes(new osg::PolygonOffset(1.0f, 2.0f), osg::StateAttribute::ON);
+  return group;
 }
 
 }  // namespace
@@ -299,8 +431,8 @@ std::vector<MarkStrip> lane_mark_strips(const map::odr::RoadNetwork& net, double
 osg::ref_ptr<osg::Node> make_road_node(const map::odr::RoadNetwork& net, RoadNodeStats* stats) {
   osg::ref_ptr<osg::Group> g = new osg::Group;
   g->setName("roads");
-  g->addChild(ground_geode(net));
   g->addChild(surface_geode(net, stats));
+  g->addChild(terrain_node(net, stats));
   g->addChild(marks_geode(net, stats));
   return g;
 }

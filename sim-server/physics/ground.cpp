@@ -12,14 +12,7 @@ namespace {
 
 /// Chord tolerance of the road surface, m.
 constexpr double kRoadEps = 0.02;
-/// The verge: drop at the road's edge, width and fall, and its mesh's spacing (rows outwards,
-/// samples along the road), fine enough that no lane slips between two clipped vertices.
-constexpr double kVergeDrop = 0.05;
-constexpr double kVergeWidth = 20.0;
-constexpr double kVergeFall = 0.04;
-constexpr double kVergeStep = 2.0;
-/// The plane under everything, below the lowest triangle.
-constexpr double kPlaneBelow = 1.0;
+/// The flat maps' plane, in cells of this size for Bullet.
 constexpr double kPlaneCell = 50.0;
 /// Maps within this distance of their frame's origin are computed unshifted (float keeps
 /// better than a millimetre there), so the built-in layouts compute exactly as before.
@@ -28,39 +21,30 @@ constexpr double kUnshiftedExtent = 10000.0;
 /// lane sections and between roads leave no crack a ray falls through.
 constexpr double kSeamTolerance = 1e-4;
 
-double outer_left(const map::odr::LaneBorders& b) {
-  return b.left.empty() ? b.center : b.left.back();
-}
-double outer_right(const map::odr::LaneBorders& b) {
-  return b.right.empty() ? b.center : b.right.back();
-}
-
 }  // namespace
 
 Ground::Ground(const map::ScenarioMap& map, double margin_m, bool mesh) : flat_(!mesh) {
   const auto& net = map.network();
   // The roads' extent, from their surface (coarse where it only gives the bounds).
   const map::odr::RoadMesh roads = map::odr::road_mesh(net, flat_ ? 0.5 : kRoadEps);
-  double x0 = std::numeric_limits<double>::max(), y0 = x0, z0 = x0;
+  double x0 = std::numeric_limits<double>::max(), y0 = x0;
   double x1 = std::numeric_limits<double>::lowest(), y1 = x1;
   for (const auto& v : roads.vertices) {
     x0 = std::min(x0, v.x);
     y0 = std::min(y0, v.y);
-    z0 = std::min(z0, v.z);
     x1 = std::max(x1, v.x);
     y1 = std::max(y1, v.y);
   }
   if (roads.vertices.empty())
-    x0 = y0 = z0 = x1 = y1 = 0.0;
+    x0 = y0 = x1 = y1 = 0.0;
   if (std::max({std::fabs(x0), std::fabs(x1), std::fabs(y0), std::fabs(y1)}) > kUnshiftedExtent) {
     origin_ = {std::round((x0 + x1) / 2000.0) * 1000.0, std::round((y0 + y1) / 2000.0) * 1000.0,
                0.0};
   }
-  const double reach = flat_ ? 0.0 : kVergeWidth;
-  min_x_ = x0 - origin_.x - reach - margin_m;
-  min_y_ = y0 - origin_.y - reach - margin_m;
-  max_x_ = x1 - origin_.x + reach + margin_m;
-  max_y_ = y1 - origin_.y + reach + margin_m;
+  min_x_ = x0 - origin_.x - margin_m;
+  min_y_ = y0 - origin_.y - margin_m;
+  max_x_ = x1 - origin_.x + margin_m;
+  max_y_ = y1 - origin_.y + margin_m;
   if (!flat_) {
     for (std::size_t t = 0; t < roads.triangles(); ++t) {
       const auto& a = roads.vertices[roads.indices[3 * t]];
@@ -68,12 +52,18 @@ Ground::Ground(const map::ScenarioMap& map, double margin_m, bool mesh) : flat_(
       const auto& c = roads.vertices[roads.indices[3 * t + 2]];
       add_triangle({a.x, a.y, a.z}, {b.x, b.y, b.z}, {c.x, c.y, c.z});
     }
-    add_verges(map);
-    plane_z_ = z0 - kVergeDrop - kVergeFall * kVergeWidth - kPlaneBelow;
+    terrain_.emplace(roads, map::odr::TerrainOptions{.margin_m = margin_m});
+    min_x_ = terrain_->min_x() - origin_.x;
+    min_y_ = terrain_->min_y() - origin_.y;
+    max_x_ = terrain_->max_x() - origin_.x;
+    max_y_ = terrain_->max_y() - origin_.y;
   }
   indexed_ = triangles();
   build_index();
-  add_plane();
+  if (terrain_)
+    add_terrain();
+  else
+    add_plane();
 }
 
 void Ground::add_triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
@@ -85,60 +75,17 @@ void Ground::add_triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
   indices_.insert(indices_.end(), {base, base + 1, base + 2});
 }
 
-void Ground::add_verges(const map::ScenarioMap& map) {
-  const auto& net = map.network();
-  // The lowest lane surface under a point: a verge never rises above a lane (a neighbour
-  // road's verge would otherwise float over a road that climbs or falls faster than it).
-  const auto under_lanes = [&](Vec3 v) {
-    for (const auto& at : map.locator().locate_all(v.x, v.y))
-      v.z = std::min(v.z, at.z - kVergeDrop);
-    return v;
-  };
-  constexpr int kRows = static_cast<int>(kVergeWidth / kVergeStep);
-  for (const auto& road : net.roads) {
-    for (std::size_t k = 0; k < road.sections.size(); ++k) {
-      const auto& ls = road.sections[k];
-      double reach = 0.0;
-      for (double s : {ls.s, ls.s_end}) {
-        const auto b = road.borders(k, s);
-        reach = std::max({reach, std::fabs(outer_left(b)), std::fabs(outer_right(b))});
-      }
-      const std::vector<double> ss =
-          map::odr::sample_s(road, ls.s, ls.s_end, kRoadEps, reach + kVergeWidth, kVergeStep);
-      // Per side, per sample: the road's edge (dropped) and the verge's rows outwards.
-      std::vector<std::array<Vec3, kRows + 1>> rows[2];
-      for (double s : ss) {
-        const auto b = road.borders(k, s);
-        const double hdg = road.reference(s).hdg;
-        for (int side = 0; side < 2; ++side) {
-          const double sign = side == 0 ? 1.0 : -1.0;
-          const auto p = road.surface(s, side == 0 ? outer_left(b) : outer_right(b));
-          std::array<Vec3, kRows + 1> row;
-          for (int j = 0; j <= kRows; ++j) {
-            const double w = j * kVergeStep;
-            const Vec3 v{p.x - sign * w * std::sin(hdg), p.y + sign * w * std::cos(hdg),
-                         p.z - kVergeDrop - kVergeFall * w};
-            row[static_cast<std::size_t>(j)] = j == 0 ? v : under_lanes(v);
-          }
-          rows[side].push_back(row);
-        }
-      }
-      for (std::size_t i = 0; i + 1 < ss.size(); ++i) {
-        for (std::size_t j = 0; j < static_cast<std::size_t>(kRows); ++j) {
-          // Counter-clockwise seen from above: outwards is left of s on the left side, right of
-          // it on the right side.
-          const auto& l0 = rows[0][i];
-          const auto& l1 = rows[0][i + 1];
-          add_triangle(l0[j], l1[j], l0[j + 1]);
-          add_triangle(l0[j + 1], l1[j], l1[j + 1]);
-          const auto& r0 = rows[1][i];
-          const auto& r1 = rows[1][i + 1];
-          add_triangle(r0[j], r0[j + 1], r1[j]);
-          add_triangle(r0[j + 1], r1[j + 1], r1[j]);
-        }
-      }
-    }
+void Ground::add_terrain() {
+  const map::odr::Terrain& t = *terrain_;
+  terrain_base_ = vertices_.size();
+  const map::odr::TerrainMesh m = t.mesh();
+  for (const auto& v : m.vertices) {
+    vertices_.push_back({static_cast<float>(v.x - origin_.x), static_cast<float>(v.y - origin_.y),
+                         static_cast<float>(v.z - origin_.z)});
   }
+  const auto base = static_cast<std::uint32_t>(terrain_base_);
+  for (std::uint32_t i : m.indices)
+    indices_.push_back(base + i);
 }
 
 void Ground::add_plane() {
@@ -149,8 +96,8 @@ void Ground::add_plane() {
   for (int i = 0; i < nx; ++i) {
     for (int j = 0; j < ny; ++j) {
       const double xa = min_x_ + i * dx + origin_.x, ya = min_y_ + j * dy + origin_.y;
-      const Vec3 p00{xa, ya, plane_z_}, p10{xa + dx, ya, plane_z_}, p01{xa, ya + dy, plane_z_},
-          p11{xa + dx, ya + dy, plane_z_};
+      const Vec3 p00{xa, ya, 0.0}, p10{xa + dx, ya, 0.0}, p01{xa, ya + dy, 0.0},
+          p11{xa + dx, ya + dy, 0.0};
       add_triangle(p00, p10, p11);
       add_triangle(p00, p11, p01);
     }
@@ -197,6 +144,39 @@ void Ground::build_index() {
     cells(t, [&](std::size_t c) { items_[fill[c]++] = static_cast<std::uint32_t>(t); });
 }
 
+void Ground::hit_triangle(std::size_t t, const Vec3& from, const Vec3& d,
+                          std::optional<GroundHit>& best) const {
+  const auto& A = vertices_[indices_[3 * t]];
+  const auto& B = vertices_[indices_[3 * t + 1]];
+  const auto& C = vertices_[indices_[3 * t + 2]];
+  const double e1[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]};
+  const double e2[3] = {C[0] - A[0], C[1] - A[1], C[2] - A[2]};
+  const double p[3] = {d.y * e2[2] - d.z * e2[1], d.z * e2[0] - d.x * e2[2],
+                       d.x * e2[1] - d.y * e2[0]};
+  const double det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2];
+  if (std::fabs(det) < 1e-12)
+    return;
+  const double inv = 1.0 / det;
+  const double s[3] = {from.x - A[0], from.y - A[1], from.z - A[2]};
+  const double u = (s[0] * p[0] + s[1] * p[1] + s[2] * p[2]) * inv;
+  if (u < -kSeamTolerance || u > 1.0 + kSeamTolerance)
+    return;
+  const double q[3] = {s[1] * e1[2] - s[2] * e1[1], s[2] * e1[0] - s[0] * e1[2],
+                       s[0] * e1[1] - s[1] * e1[0]};
+  const double v = (d.x * q[0] + d.y * q[1] + d.z * q[2]) * inv;
+  if (v < -kSeamTolerance || u + v > 1.0 + kSeamTolerance)
+    return;
+  const double f = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) * inv;
+  if (f < 0.0 || f > 1.0 || (best && f >= best->fraction))
+    return;
+  Vec3 n{e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+         e1[0] * e2[1] - e1[1] * e2[0]};
+  const double len = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+  const double flip = n.x * d.x + n.y * d.y + n.z * d.z > 0 ? -1.0 : 1.0;
+  n = {flip * n.x / len, flip * n.y / len, flip * n.z / len};
+  best = GroundHit{{from.x + f * d.x, from.y + f * d.y, from.z + f * d.z}, n, f};
+}
+
 std::optional<GroundHit> Ground::cast(const Vec3& from, const Vec3& to) const {
   // A car whose state blew up (NaN, infinity) finds no ground rather than an index out of range.
   for (double v : {from.x, from.y, from.z, to.x, to.y, to.z}) {
@@ -217,49 +197,42 @@ std::optional<GroundHit> Ground::cast(const Vec3& from, const Vec3& to) const {
     for (std::size_t cy = cy0; cy <= cy1; ++cy) {
       for (std::size_t cx = cx0; cx <= cx1; ++cx) {
         const std::size_t c = cy * nx_ + cx;
-        for (std::uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
-          const std::uint32_t t = items_[k];
-          const auto& A = vertices_[indices_[3 * t]];
-          const auto& B = vertices_[indices_[3 * t + 1]];
-          const auto& C = vertices_[indices_[3 * t + 2]];
-          // Möller–Trumbore.
-          const double e1[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]};
-          const double e2[3] = {C[0] - A[0], C[1] - A[1], C[2] - A[2]};
-          const double p[3] = {d.y * e2[2] - d.z * e2[1], d.z * e2[0] - d.x * e2[2],
-                               d.x * e2[1] - d.y * e2[0]};
-          const double det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2];
-          if (std::fabs(det) < 1e-12)
-            continue;
-          const double inv = 1.0 / det;
-          const double s[3] = {from.x - A[0], from.y - A[1], from.z - A[2]};
-          const double u = (s[0] * p[0] + s[1] * p[1] + s[2] * p[2]) * inv;
-          if (u < -kSeamTolerance || u > 1.0 + kSeamTolerance)
-            continue;
-          const double q[3] = {s[1] * e1[2] - s[2] * e1[1], s[2] * e1[0] - s[0] * e1[2],
-                               s[0] * e1[1] - s[1] * e1[0]};
-          const double v = (d.x * q[0] + d.y * q[1] + d.z * q[2]) * inv;
-          if (v < -kSeamTolerance || u + v > 1.0 + kSeamTolerance)
-            continue;
-          const double f = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) * inv;
-          if (f < 0.0 || f > 1.0 || (best && f >= best->fraction))
-            continue;
-          Vec3 n{e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                 e1[0] * e2[1] - e1[1] * e2[0]};
-          const double len = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
-          const double flip = n.x * d.x + n.y * d.y + n.z * d.z > 0 ? -1.0 : 1.0;
-          n = {flip * n.x / len, flip * n.y / len, flip * n.z / len};
-          best = GroundHit{{from.x + f * d.x, from.y + f * d.y, from.z + f * d.z}, n, f};
-        }
+        for (std::uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k)
+          hit_triangle(items_[k], from, d, best);
       }
     }
   }
+  if (terrain_) {
+    // The terrain's cells under the ray (its grid starts at the ground's min corner); a ray
+    // that leaves the grid finds nothing there.
+    const map::odr::Terrain& t = *terrain_;
+    const double lo_x = std::min(from.x, to.x), hi_x = std::max(from.x, to.x);
+    const double lo_y = std::min(from.y, to.y), hi_y = std::max(from.y, to.y);
+    if (hi_x < min_x_ || lo_x > max_x_ || hi_y < min_y_ || lo_y > max_y_)
+      return best;
+    const auto cell = [&](double v, double lo, std::size_t n) {
+      return static_cast<std::size_t>(
+          std::clamp(std::floor((v - lo) / t.cell()), 0.0, static_cast<double>(n - 2)));
+    };
+    const std::size_t i0 = cell(lo_x, min_x_, t.columns()), i1 = cell(hi_x, min_x_, t.columns());
+    const std::size_t j0 = cell(lo_y, min_y_, t.rows()), j1 = cell(hi_y, min_y_, t.rows());
+    const std::size_t first = indexed_;
+    for (std::size_t j = j0; j <= j1; ++j) {
+      for (std::size_t i = i0; i <= i1; ++i) {
+        const std::size_t tri = first + 2 * (j * (t.columns() - 1) + i);
+        hit_triangle(tri, from, d, best);
+        hit_triangle(tri + 1, from, d, best);
+      }
+    }
+    return best;
+  }
   if (best)
     return best;
-  // The plane, exactly, within the ground's extent.
-  if (from.z < plane_z_ || to.z > plane_z_ || from.z == to.z)
+  // The flat maps' plane z = 0, exactly, within the ground's extent.
+  if (from.z < 0.0 || to.z > 0.0 || from.z == to.z)
     return std::nullopt;
-  const double f = (from.z - plane_z_) / (from.z - to.z);
-  const Vec3 hit{from.x + f * d.x, from.y + f * d.y, plane_z_};
+  const double f = from.z / (from.z - to.z);
+  const Vec3 hit{from.x + f * d.x, from.y + f * d.y, 0.0};
   if (hit.x < min_x_ || hit.x > max_x_ || hit.y < min_y_ || hit.y > max_y_)
     return std::nullopt;
   return GroundHit{hit, {0, 0, 1}, f};

@@ -36,7 +36,7 @@ enum class GroundCast {
   /// Flat maps (every built-in layout; z = 0 inside the ground's bounds): an exact ray–plane
   /// test. Refused on a map that is not flat.
   kFlat,
-  /// A ray test against the road surface's triangles (and the verges beside it), through a
+  /// A ray test against the road surface's triangles (and the terrain beside it), through a
   /// grid of their own: what maps with elevation or superelevation get.
   kMesh,
 };

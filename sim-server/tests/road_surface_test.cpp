@@ -1,14 +1,19 @@
 // Cars on OpenDRIVE maps with elevation and superelevation (issue 17): at rest on crest-curve's
 // hill their wheels stand on the road surface within 2 cm; on a superelevated curve their roll
 // is the road's within 0.5 degrees; a car that leaves the drivable lanes is reported and keeps
-// driving on the ground beside the road; the ground's ray test has no cracks at the seams.
+// driving on the ground beside the road, which is the terrain the 3D view draws (issue 32),
+// also across the hilly junction's fields; the ground's ray test has no cracks at the seams.
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <numbers>
+#include <optional>
 
 #include "common/map/opendrive/reader.hpp"
+#include "common/map/opendrive/terrain.hpp"
 #include "common/map/opendrive/tests/shared_maps.hpp"
 #include "sim-server/physics/ground.hpp"
 #include "sim-server/physics/world.hpp"
@@ -106,6 +111,7 @@ std::shared_ptr<const map::ScenarioMap> climbing_road() {
 
 TEST(RoadSurface, ACarThatLeavesTheLanesIsReportedAndDrivesOnBesideTheRoad) {
   World world(climbing_road(), WorldOptions{});
+  const map::odr::Terrain terrain(world.map().network());
   // On the right lane at s = 40, heading 20 degrees right of the road: in 6 s at 6 m/s it
   // crosses the road's right edge (y = -3.5) and goes some 10 m beyond it.
   scenario::Spawn spawn;
@@ -120,6 +126,7 @@ TEST(RoadSurface, ACarThatLeavesTheLanesIsReportedAndDrivesOnBesideTheRoad) {
   world.set_controls(car, {0.1f, 0.0f, 0.0f, false, false}, 0);
   bool reported = false;
   double min_clearance = 1e9, max_clearance = -1e9;
+  std::optional<std::array<double, 2>> first_off;  // x, z
   for (int i = 0; i < 600; ++i) {
     world.step();
     for (const auto& e : world.off_road().take_events()) {
@@ -132,11 +139,13 @@ TEST(RoadSurface, ACarThatLeavesTheLanesIsReportedAndDrivesOnBesideTheRoad) {
     }
     const auto& s = world.states()[car];
     if (s.position[1] < -6.0) {
-      // Beside the road the verge starts 5 cm below its edge and falls at 4 %.
-      const double edge = 10.0 + slope * s.position[0];
-      const double verge = edge - 0.05 - 0.04 * (-s.position[1] - 3.5);
-      min_clearance = std::min(min_clearance, s.position[2] - verge);
-      max_clearance = std::max(max_clearance, s.position[2] - verge);
+      // Beside the road the ground is the terrain the view draws (the same map, the same
+      // options).
+      const double ground = terrain.height_at(s.position[0], s.position[1]);
+      if (!first_off)
+        first_off = std::array<double, 2>{s.position[0], s.position[2]};
+      min_clearance = std::min(min_clearance, s.position[2] - ground);
+      max_clearance = std::max(max_clearance, s.position[2] - ground);
       const auto contact = world.wheels_in_contact(car);
       EXPECT_GE(contact[0] + contact[1] + contact[2] + contact[3], 3) << "step " << i;
     }
@@ -145,10 +154,61 @@ TEST(RoadSurface, ACarThatLeavesTheLanesIsReportedAndDrivesOnBesideTheRoad) {
   EXPECT_EQ(world.off_road().off_now(), 1u);
   EXPECT_EQ(world.off_road().departures(), 1u);
   EXPECT_TRUE(world.off_road().off(car));
-  // It went well beside the road, and stood on the verge all the way (never fell through it).
+  // It went well beside the road, and stood on the ground all the way (never fell through it).
   EXPECT_LT(world.states()[car].position[1], -8.0);
-  EXPECT_GT(min_clearance, -0.1);
-  EXPECT_LT(max_clearance, 0.1);
+  EXPECT_GT(min_clearance, -0.05);
+  EXPECT_LT(max_clearance, 0.05);
+  // And that ground climbs beside the climbing road: by at least half the road's 5 % over the
+  // distance the car went along it (a level verge or plane would not).
+  ASSERT_TRUE(first_off);
+  const auto& last = world.states()[car];
+  EXPECT_GT(last.position[0] - (*first_off)[0], 10.0);
+  EXPECT_GT(last.position[2] - (*first_off)[1], 0.5 * slope * (last.position[0] - (*first_off)[0]));
+}
+
+TEST(RoadSurface, ACarDrivenOffTheHillyJunctionsArmDrivesOnTheTerrainTheViewDraws) {
+  // The shipped hilly junction: its east arm climbs 3 m from the junction. A car on the arm's
+  // outbound lane at s = 15, turned 25 degrees to the right, at 6 m/s: it crosses the sidewalk
+  // and rolls on across the open south-east field for 10 s.
+  const char* root = std::getenv("TESTBED_ROOT");
+  const auto path = std::filesystem::path(root != nullptr ? root : ".") / "scenarios" / "maps" /
+                    "four_way_junction.xodr";
+  const auto m = std::make_shared<const map::ScenarioMap>(
+      std::make_shared<const map::odr::RoadNetwork>(map::odr::load_opendrive(path.string())),
+      geodesy::Geodetic{48.0, 11.0, 500.0});
+  World world(m, WorldOptions{});
+  const map::odr::Terrain terrain(m->network());  // what sim-client's 3D view draws
+  scenario::Spawn spawn;
+  spawn.where = scenario::RoadSpawn{"1", -1, 15.0, 0.0, false};
+  SpawnPose pose = spawn_pose(world.map(), spawn);
+  pose.yaw -= 25.0 / kDeg;
+  pose.speed = 6.0;
+  const std::size_t car = world.add_vehicle(scenario::VehicleModel{}, 5, pose);
+  world.set_controls(car, {0.15f, 0.0f, 0.0f, false, false}, 0);
+  double worst = 0.0, z_min = 1e9, z_max = -1e9;
+  int on_terrain = 0;
+  for (int i = 0; i < 1000; ++i) {
+    world.step();
+    const auto& s = world.states()[car];
+    // Off the sidewalk (its outer edge at y = -5.5) by more than the car's half length.
+    if (s.position[1] > -8.0)
+      continue;
+    ++on_terrain;
+    const double ground = terrain.height_at(s.position[0], s.position[1]);
+    worst = std::max(worst, std::abs(s.position[2] - ground));
+    z_min = std::min(z_min, static_cast<double>(s.position[2]));
+    z_max = std::max(z_max, static_cast<double>(s.position[2]));
+    const auto contact = world.wheels_in_contact(car);
+    EXPECT_GE(contact[0] + contact[1] + contact[2] + contact[3], 3) << "step " << i;
+  }
+  EXPECT_GT(on_terrain, 500);
+  EXPECT_TRUE(world.off_road().off(car));
+  EXPECT_LT(world.states()[car].position[1], -25.0);  // well out into the field
+  // It followed the terrain to a few centimetres, over ground that is not level (it climbed
+  // or fell with the field between the arms by more than half a metre).
+  EXPECT_LT(worst, 0.05);
+  EXPECT_GT(z_max - z_min, 0.5);
+  RecordProperty("terrain_deviation_mm", std::to_string(std::lround(worst * 1000)));
 }
 
 TEST(Ground, RaysFindTheRoadAcrossEverySeamOfAJunctionMap) {

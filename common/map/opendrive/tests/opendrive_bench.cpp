@@ -14,6 +14,7 @@
 
 #include "common/map/opendrive/mesh.hpp"
 #include "common/map/opendrive/reader.hpp"
+#include "common/map/opendrive/terrain.hpp"
 #include "common/map/opendrive/tests/shared_maps.hpp"
 #include "common/map/opendrive/tests/stitch.hpp"
 
@@ -114,6 +115,41 @@ void BM_LocateLane(benchmark::State& state) {
   state.counters["hit_rate"] = static_cast<double>(hits) / static_cast<double>(state.iterations());
 }
 BENCHMARK(BM_LocateLane)->Unit(benchmark::kNanosecond)->Repetitions(10)->ReportAggregatesOnly(true);
+
+/// The terrain (terrain.hpp) from a road mesh at the physics' 2 cm: grid, pinning, solve.
+/// Arguments: 0 the shipped four-way junction, 1 the shipped motorway merge, 2 the shared map
+/// with the largest extent (e6mini-lht, 0.6 x 1.9 km with the margin), 3 the stitched map
+/// (its copies 5 km apart: the cell grows to keep within max_nodes).
+void BM_Terrain(benchmark::State& state) {
+  static const std::vector<RoadMesh> meshes = [] {
+    const fs::path shipped = TB_SHIPPED_MAPS_DIR;
+    std::vector<RoadMesh> out;
+    for (const fs::path& p : {shipped / "four_way_junction.xodr", shipped / "motorway_merge.xodr",
+                              tb::map::odr::test::shared_maps() / "e6mini-lht.xodr"})
+      out.push_back(road_mesh(load_opendrive(p.string()), 0.02));
+    out.push_back(road_mesh(parse_opendrive(stitched_map(), "stitched"), 0.02));
+    return out;
+  }();
+  const RoadMesh& mesh = meshes[static_cast<std::size_t>(state.range(0))];
+  std::size_t nodes = 0;
+  double cell = 0.0;
+  for (auto _ : state) {
+    const Terrain t(mesh);
+    nodes = t.columns() * t.rows();
+    cell = t.cell();
+    benchmark::DoNotOptimize(t.node(0, 0));
+  }
+  state.counters["road_triangles"] = static_cast<double>(mesh.triangles());
+  state.counters["nodes"] = static_cast<double>(nodes);
+  state.counters["cell_m"] = cell;
+  // Heights (8 B) and the pinned flags (1 B) per node; the build's peak adds a copy of each.
+  state.counters["MB"] = static_cast<double>(nodes) * 9.0 / 1e6;
+}
+BENCHMARK(BM_Terrain)
+    ->DenseRange(0, 3)
+    ->Unit(benchmark::kMillisecond)
+    ->Repetitions(5)
+    ->ReportAggregatesOnly(true);
 
 }  // namespace
 
