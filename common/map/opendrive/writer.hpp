@@ -1,6 +1,6 @@
 #pragma once
 /// @file Writes a RoadNetwork as OpenDRIVE 1.7 text that other tools open (esmini, CARLA,
-/// RoadRunner): everything the model holds, nothing it dropped (signals and objects).
+/// RoadRunner): everything the model holds, nothing it dropped; objects and signals are not written (yet).
 
 #include <string>
 
