@@ -116,14 +116,8 @@ const osg::Vec4 kTrunk = rgba(0.36f, 0.25f, 0.15f);
 const osg::Vec4 kLeaves = rgba(0.16f, 0.40f, 0.15f);
 const osg::Vec4 kHedge = rgba(0.20f, 0.42f, 0.17f);
 
-/// Facade colours (plaster, brick, sandstone, grey), picked by the object's id so that a
-/// street is not all one colour and a frame is the same every time.
-osg::Vec4 facade(const std::string& id, std::size_t copy) {
-  static const osg::Vec4 kFacades[] = {rgba(0.80f, 0.76f, 0.66f), rgba(0.62f, 0.36f, 0.28f),
-                                       rgba(0.74f, 0.66f, 0.50f), rgba(0.66f, 0.67f, 0.68f),
-                                       rgba(0.86f, 0.84f, 0.80f)};
-  const std::size_t h = std::hash<std::string>{}(id) + copy * 7919u;
-  return kFacades[h % std::size(kFacades)];
+osg::Vec4 rgba(const std::array<float, 3>& c) {
+  return {c[0], c[1], c[2], 1.0f};
 }
 
 double or_default(double v, double fallback) {
@@ -137,10 +131,9 @@ void add_object(const odr::PlacedObject& p, const std::string& shape, std::size_
                        static_cast<float>(p.pose.z));
   const double hdg = p.pose.heading;
   if (shape == "building") {
-    const osg::Vec4 wall = facade(o.id, copy);
-    const osg::Vec4 roof = rgba(wall.r() * 0.55f, wall.g() * 0.5f, wall.b() * 0.5f);
     tile.big.box(base, hdg, or_default(p.length, 10), or_default(p.width, 10),
-                 or_default(p.height, 8), wall, roof);
+                 or_default(p.height, 8), rgba(wall_colour(o.id, copy)),
+                 rgba(roof_colour(o.id, copy)));
   } else if (shape == "tree") {
     const double h = or_default(p.height, 6.0);
     const double r = or_default(p.radius, or_default(std::max(p.length, p.width) / 2, 1.8));
@@ -210,6 +203,22 @@ std::string shape_of(const map::odr::RoadObject& o) {
       t == "patch" || t == "roadsurface" || t == "trafficisland")
     return "mark";
   return "box";
+}
+
+std::array<float, 3> wall_colour(const std::string& id, std::size_t copy) {
+  // Plaster, brick, sandstone, grey, white.
+  static const std::array<float, 3> kFacades[] = {{0.80f, 0.76f, 0.66f},
+                                                  {0.62f, 0.36f, 0.28f},
+                                                  {0.74f, 0.66f, 0.50f},
+                                                  {0.66f, 0.67f, 0.68f},
+                                                  {0.86f, 0.84f, 0.80f}};
+  const std::size_t h = std::hash<std::string>{}(id) + copy * 7919u;
+  return kFacades[h % std::size(kFacades)];
+}
+
+std::array<float, 3> roof_colour(const std::string& id, std::size_t copy) {
+  const auto w = wall_colour(id, copy);
+  return {w[0] * 0.55f, w[1] * 0.5f, w[2] * 0.5f};
 }
 
 std::array<float, 3> plate_colour(const map::odr::RoadSignal& g) {

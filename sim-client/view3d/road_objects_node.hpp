@@ -40,6 +40,11 @@ std::string shape_of(const map::odr::RoadObject& o);
 /// white; others white).
 std::array<float, 3> plate_colour(const map::odr::RoadSignal& g);
 
+/// RGB of a building's walls and of its roof (the walls' colour darkened), picked by the
+/// object's id and copy (a repeat's n-th) so that a street is not all one colour.
+std::array<float, 3> wall_colour(const std::string& id, std::size_t copy);
+std::array<float, 3> roof_colour(const std::string& id, std::size_t copy);
+
 /// Every object and signal of @p net as shapes, tiled with level of detail.
 osg::ref_ptr<osg::Node> make_road_objects_node(const map::odr::RoadNetwork& net,
                                                ObjectsNodeStats* stats = nullptr);
