@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -79,6 +80,9 @@ int main(int argc, char** argv) {
   cli.add_option("--height", height)->capture_default_str();
   cli.add_option("--camera", camera, "chase, cockpit, top, orbit")->capture_default_str();
   cli.add_option("--follow", follow, "the car the camera follows")->capture_default_str();
+  bool spread = false;
+  cli.add_flag("--spread", spread,
+               "cars spread over their lanes (default: 9 m apart from the start)");
   cli.add_option("--screenshot", screenshot, "write the last frame to this PNG");
   CLI11_PARSE(cli, argc, argv);
   if (vehicles < 1 || follow < 0 || follow >= vehicles) {
@@ -123,7 +127,11 @@ int main(int argc, char** argv) {
       const auto& b = (*d.line)[j];
       d.at.push_back(d.at.back() + std::hypot(b.x - a.x, b.y - a.y));
     }
-    d.s = 9.0 * static_cast<double>(i / static_cast<int>(lines.size()));
+    // Either 9 m apart from each lane's start, or spread over the lanes' whole way there and
+    // back (golden-ratio steps: no two cars of a lane together), so that on a town map some
+    // drive towards junctions and some away.
+    d.s = spread ? 2.0 * d.at.back() * std::fmod(0.6180339887 * i, 1.0)
+                 : 9.0 * static_cast<double>(i / static_cast<int>(lines.size()));
     d.speed = 8.0 + (i % 5);
     drivers.push_back(std::move(d));
     VehicleLook l;
@@ -151,6 +159,14 @@ int main(int argc, char** argv) {
   const std::string renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
   const std::string load_before = loadavg();
   std::vector<double> frame_ms, draw_ms;
+  // The process's CPU time over the measured frames (every thread: llvmpipe's rasterisers
+  // too): the frames' cost whatever else the machine runs, where wall time is the machine's.
+  auto cpu_ms = [] {
+    timespec ts{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) / 1e6;
+  };
+  double cpu_start = 0.0, cpu_end = 0.0;
   {
     DriverView view(width, height);
     FrameInput in;
@@ -160,6 +176,8 @@ int main(int argc, char** argv) {
     in.choice.target = follow;
     const double dt = 1.0 / 60.0;
     for (int f = 0; f < warmup + frames; ++f) {
+      if (f == warmup)
+        cpu_start = cpu_ms();
       const auto t0 = std::chrono::steady_clock::now();
       in.sim_time_ns = static_cast<std::int64_t>(f * dt * 1e9);
       in.vehicles.clear();
@@ -179,6 +197,8 @@ int main(int argc, char** argv) {
         frame_ms.push_back(std::chrono::duration<double, std::milli>(t2 - t0).count());
         draw_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
       }
+      if (last)
+        cpu_end = cpu_ms();
       if (last && !screenshot.empty()) {
         if (auto im = view.take_capture()) {
           const std::string err =
@@ -212,6 +232,7 @@ int main(int argc, char** argv) {
       p10, med, p90, percentile(frame_ms, 0.99),
       *std::max_element(frame_ms.begin(), frame_ms.end()), 1000.0 / med, 1000.0 / p90,
       1000.0 / p10);
+  fmt::print("CPU per frame (all threads) ms: {:.2f}\n", (cpu_end - cpu_start) / frames);
   fmt::print("draw only ms: median {:.2f} p90 {:.2f}\n", percentile(draw_ms, 0.5),
              percentile(draw_ms, 0.9));
   fmt::print("load average before: {}; after: {}\n", load_before, loadavg());
