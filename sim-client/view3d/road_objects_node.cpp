@@ -262,6 +262,9 @@ osg::ref_ptr<osg::Node> make_road_objects_node(const map::odr::RoadNetwork& net,
   }
   osg::ref_ptr<osg::Group> group = new osg::Group;
   group->setName("road objects");
+  // Every shape is closed and wound counter-clockwise from outside: back faces need no
+  // rasterising (on llvmpipe the pixels are the cost).
+  group->getOrCreateStateSet()->setMode(GL_CULL_FACE, osg::StateAttribute::ON);
   std::size_t triangles = 0;
   for (auto& [key, tile] : tiles) {
     osg::ref_ptr<osg::LOD> lod = new osg::LOD;
