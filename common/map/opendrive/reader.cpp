@@ -17,8 +17,9 @@ namespace tb::map::odr {
 
 namespace {
 
-/// How far past a road's end an item's s may lie (files round s to a few decimals).
-constexpr double kSTolerance = 0.01;
+/// How far past a road's end an item's s may lie, taken as the end: files round s, and some
+/// exporters place an item a little past the end of the road it belongs to.
+constexpr double kSTolerance = 1.0;
 /// The largest object or signal dimension (m): big buildings, long walls are in range.
 constexpr double kMaxObjectSize = 5000.0;
 /// The most copies one <repeat> may make.
