@@ -19,7 +19,9 @@ import random
 import sys
 from pathlib import Path
 
-from generate import (LANE, Lane, PlanView, Road, Section, document, object_xml, signal_xml)
+sys.dont_write_bytecode = True  # no __pycache__ beside the maps when a test runs this
+from generate import (LANE, Lane, PlanView, Road, Section, document, object_xml,  # noqa: E402
+                      signal_xml)
 
 GRID = 5             # junctions per side
 BLOCK = 120.0        # m between junction centres
