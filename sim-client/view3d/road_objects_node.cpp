@@ -110,15 +110,15 @@ osg::Vec4 rgba(float r, float g, float b) {
   return {r, g, b, 1.0f};
 }
 
+osg::Vec4 rgba(const std::array<float, 3>& c) {
+  return {c[0], c[1], c[2], 1.0f};
+}
+
 const osg::Vec4 kGrey = rgba(0.55f, 0.55f, 0.53f);
 const osg::Vec4 kPole = rgba(0.42f, 0.43f, 0.45f);
 const osg::Vec4 kTrunk = rgba(0.36f, 0.25f, 0.15f);
 const osg::Vec4 kLeaves = rgba(0.16f, 0.40f, 0.15f);
 const osg::Vec4 kHedge = rgba(0.20f, 0.42f, 0.17f);
-
-osg::Vec4 rgba(const std::array<float, 3>& c) {
-  return {c[0], c[1], c[2], 1.0f};
-}
 
 double or_default(double v, double fallback) {
   return v > 0.0 ? v : fallback;
@@ -150,8 +150,8 @@ void add_object(const odr::PlacedObject& p, const std::string& shape, std::size_
     const double d = std::max(0.08, 2 * p.radius);
     tile.small.box(base, hdg, d, d, h, kPole, kPole);
     if (lower(o.name).find("lamp") != std::string::npos || lower(o.type) == "streetlamp") {
-      // A lamp head over the road: towards -t of a pole on the left is unknowable in general;
-      // a short head on top reads as a lamp from any side.
+      // Which way the road lies from a pole is not in the object, so no arm over it: a short
+      // head on top reads as a lamp from any side.
       tile.small.box(base + osg::Vec3(0, 0, static_cast<float>(h)), hdg, 0.6, 0.3, 0.15,
                      rgba(0.9f, 0.9f, 0.8f), kPole);
     }
