@@ -12,12 +12,14 @@ namespace tb::map {
 nlohmann::json describe(const odr::RoadNetwork& net, const OriginSource& origin) {
   using nlohmann::json;
   std::map<std::string, double> metres;  // lane length along the reference line, by type
-  std::size_t connecting = 0;
+  std::size_t connecting = 0, signals = 0, objects = 0;
   double x0 = std::numeric_limits<double>::max(), y0 = x0, z0 = x0;
   double x1 = std::numeric_limits<double>::lowest(), y1 = x1, z1 = x1;
   for (const odr::Road& r : net.roads) {
     if (r.junction != "-1")
       ++connecting;
+    signals += r.signals.size();
+    objects += r.objects.size();
     for (std::size_t k = 0; k < r.sections.size(); ++k) {
       const odr::LaneSection& ls = r.sections[k];
       for (const auto* side : {&ls.left, &ls.right}) {
@@ -88,8 +90,8 @@ nlohmann::json describe(const odr::RoadNetwork& net, const OriginSource& origin)
       {"geo_reference",
        net.header.geo_reference.empty() ? json(nullptr) : json(net.header.geo_reference)},
       {"origin", {{"source", origin.source}}},
-      {"signals_skipped", net.signals},
-      {"objects_skipped", net.objects},
+      {"signals", signals},
+      {"objects", objects},
       {"warnings", net.warnings},
       {"road_list", roads},
   };

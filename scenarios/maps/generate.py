@@ -3,7 +3,9 @@
 
   four_way_junction.xodr  a four-way junction with every turn (12 connecting roads), its arms
                           joined in pairs by loop roads so that every lane leads on (random
-                          routes never end); arms and loops climb and fall (up to 6 m).
+                          routes never end); arms and loops climb and fall (up to 6 m);
+                          each arm has a stop line (DE 294 signal) and a zebra crossing
+                          (crosswalk object) where it meets the junction.
   motorway_merge.xodr     a two-lane dual carriageway round an oval (so that it never ends), an
                           exit ramp that leaves the eastbound lanes at a junction and comes
                           back at a second one into an acceleration lane, which tapers away.
@@ -123,13 +125,41 @@ class Section:
         return out
 
 
+def object_xml(oid, kind, s, t, length=0.0, width=0.0, height=0.0, hdg=0.0, radius=None,
+               name="", z_offset=0.0, repeat=None):
+    """An <object> (OpenDRIVE 1.7, 13); @p repeat: (s, length, distance, t_start, t_end)."""
+    size = f'radius="{fmt(radius)}"' if radius is not None else \
+        f'length="{fmt(length)}" width="{fmt(width)}"'
+    head = (f'      <object id="{oid}" type="{kind}" name="{name}" s="{fmt(s)}" t="{fmt(t)}" '
+            f'zOffset="{fmt(z_offset)}" hdg="{fmt(hdg)}" orientation="none" {size} '
+            f'height="{fmt(height)}"')
+    if repeat is None:
+        return [head + "/>"]
+    rs, rl, rd, t0, t1 = repeat
+    return [head + ">",
+            f'        <repeat s="{fmt(rs)}" length="{fmt(rl)}" distance="{fmt(rd)}" '
+            f'tStart="{fmt(t0)}" tEnd="{fmt(t1)}" zOffsetStart="0" zOffsetEnd="0"/>',
+            "      </object>"]
+
+
+def signal_xml(sid, s, t, orientation, kind, width=0.0, height=0.0, z_offset=0.0, name="",
+               subtype="-1", value=None):
+    """A <signal> of the German catalogue (OpenDRIVE 1.7, 14): 294 stop line, 206 stop sign."""
+    val = f' value="{fmt(value)}" unit="km/h"' if value is not None else ""
+    return [f'      <signal id="{sid}" name="{name}" s="{fmt(s)}" t="{fmt(t)}" '
+            f'zOffset="{fmt(z_offset)}" hOffset="0" orientation="{orientation}" dynamic="no" '
+            f'country="DE" type="{kind}" subtype="{subtype}"{val} height="{fmt(height)}" '
+            f'width="{fmt(width)}"/>']
+
+
 class Road:
     def __init__(self, rid, plan, sections, junction="-1", pred=None, succ=None, elevation=None,
-                 speed=None, name=""):
+                 speed=None, name="", objects=None, signals=None):
         self.id, self.plan, self.sections = rid, plan, sections
         self.junction, self.pred, self.succ = junction, pred, succ
         self.elevation = elevation or [(0.0, 0.0, 0.0, 0.0, 0.0)]
         self.speed, self.name = speed, name
+        self.objects, self.signals = objects or [], signals or []
 
     def xml(self):
         length = self.plan.s
@@ -158,6 +188,11 @@ class Road:
         for sec in self.sections:
             out += sec.xml()
         out.append("    </lanes>")
+        for tag, items in (("objects", self.objects), ("signals", self.signals)):
+            if items:
+                out.append(f"    <{tag}>")
+                out += items
+                out.append(f"    </{tag}>")
         out.append("  </road>")
         return out
 
@@ -191,6 +226,8 @@ ARM_END = 80.0        # m from the centre to where each arm ends
 LOOP_RADIUS = 25.0    # m, the loops' corners
 ARM_RISE = 3.0        # m, each arm climbs from the junction to its end
 LOOP_CREST = 3.0      # m, each loop climbs further to its middle and back
+STOP_LINE_S = 4.5     # m into each arm from the junction: the stop line (DE 294) across lane 1
+CROSSWALK_S = 2.0     # m into each arm: the middle of a 3 m zebra crossing over both lanes
 
 
 def four_way():
@@ -211,10 +248,17 @@ def four_way():
                               Lane(2, "sidewalk", 2.0, mark="none")],
                         right=[Lane(-1, succ=-1 if first else 1),
                                Lane(-2, "sidewalk", 2.0, mark="none")])
+        # Junction marks: a stop line across the lane towards the junction (lane 1, against
+        # s: orientation "-"), and a zebra crossing between it and the junction over both
+        # lanes, from sidewalk to sidewalk.
+        marks = signal_xml(f"{arm}94", STOP_LINE_S, LANE / 2, "-", "294", width=LANE,
+                           name="stop line")
+        crossing = object_xml(f"{arm}90", "crosswalk", CROSSWALK_S, 0.0, length=3.0,
+                              width=2 * LANE, name="zebra crossing")
         roads.append(Road(arm, plan, [lanes], pred=("junction", "100", None),
                           succ=("road", loop_of[arm], loop_contact),
                           elevation=[smooth_rise(0.0, arm_length, 0.0, ARM_RISE)],
-                          speed=50, name=f"arm {arm}"))
+                          speed=50, name=f"arm {arm}", objects=crossing, signals=marks))
     # Loops: from the end of the first arm of a pair round to the end of the second.
     side = ARM_END - LOOP_RADIUS
     for loop, (a, b), phi in (("10", ("1", "2"), 0.0), ("11", ("3", "4"), math.pi)):

@@ -15,6 +15,9 @@
 #include <osg/Transform>
 #include <osgUtil/CullVisitor>
 
+#include "sim-client/view3d/junction_marks.hpp"
+#include "sim-client/view3d/road_objects_node.hpp"
+
 namespace tb::client::view3d {
 namespace {
 
@@ -285,8 +288,11 @@ void DriverView::resize(int width, int height) {
 
 void DriverView::build_world(const World& w) {
   roads_->removeChildren(0, roads_->getNumChildren());
-  if (w.network)
+  if (w.network) {
     roads_->addChild(make_road_node(*w.network, &road_stats_));
+    roads_->addChild(make_junction_marks_node(*w.network));
+    roads_->addChild(make_road_objects_node(*w.network));
+  }
   cars_->removeChildren(0, cars_->getNumChildren());
   vehicles_.clear();
   for (const auto& look : w.vehicles) {

@@ -17,6 +17,14 @@ namespace tb::map::odr {
 
 namespace {
 
+/// How far past a road's end an item's s may lie, taken as the end: files round s, and some
+/// exporters place an item a little past the end of the road it belongs to.
+constexpr double kSTolerance = 1.0;
+/// The largest object or signal dimension (m): big buildings, long walls are in range.
+constexpr double kMaxObjectSize = 5000.0;
+/// The most copies one <repeat> may make.
+constexpr double kMaxRepeatCopies = 10000.0;
+
 /// Reads one document into a RoadNetwork, carrying the file name and element paths for errors.
 class Reader {
  public:
@@ -41,6 +49,9 @@ class Reader {
     if (net_.roads.empty())
       fail("", "no <road>");
     resolve_links();
+    if (skipped_structures_ > 0) {
+      net_.warnings.push_back(std::to_string(skipped_structures_) + " <tunnel>/<bridge> skipped");
+    }
     if (controllers_ > 0) {
       net_.warnings.push_back(std::to_string(controllers_) + " <controller> skipped");
     }
@@ -228,7 +239,7 @@ class Reader {
     read_lanes(r.child("lanes"), road, path);
     has_superelevation_ = false;
     check_extent(road, path);
-    count_skipped(r);
+    read_objects_and_signals(r, road, path);
     net_.roads.push_back(std::move(road));
   }
 
@@ -285,21 +296,196 @@ class Reader {
     }
   }
 
-  void count_skipped(pugi::xml_node r) {
-    if (pugi::xml_node s = r.child("signals")) {
-      for (pugi::xml_node c : s.children()) {
-        const std::string n = c.name();
-        if (n == "signal" || n == "signalReference")
-          ++net_.signals;
-      }
-    }
+  /// <objects> and <signals> (OpenDRIVE 1.7, 13 and 14); tunnels and bridges are counted.
+  void read_objects_and_signals(pugi::xml_node r, Road& road, const std::string& path) {
     if (pugi::xml_node o = r.child("objects")) {
+      int i = 0, ri = 0;
       for (pugi::xml_node c : o.children()) {
         const std::string n = c.name();
-        if (n == "object" || n == "objectReference" || n == "tunnel" || n == "bridge") {
-          ++net_.objects;
+        if (n == "object") {
+          road.objects.push_back(object(c, road, indexed(path + "/objects", "object", ++i)));
+        } else if (n == "objectReference") {
+          road.object_references.push_back(
+              reference(c, road, indexed(path + "/objects", "objectReference", ++ri)));
+        } else if (n == "tunnel" || n == "bridge") {
+          ++skipped_structures_;
         }
       }
+    }
+    if (pugi::xml_node sg = r.child("signals")) {
+      int i = 0, ri = 0;
+      for (pugi::xml_node c : sg.children()) {
+        const std::string n = c.name();
+        if (n == "signal") {
+          road.signals.push_back(signal(c, road, indexed(path + "/signals", "signal", ++i)));
+        } else if (n == "signalReference") {
+          road.signal_references.push_back(
+              reference(c, road, indexed(path + "/signals", "signalReference", ++ri)));
+        }
+      }
+    }
+  }
+
+  /// s on the road (a little past either end is rounding, not an error).
+  double road_s(pugi::xml_node n, const Road& road, const std::string& path) const {
+    const double s = number(n, "s", path);
+    if (s < -kSTolerance || s > road.length + kSTolerance) {
+      fail(path, "attribute 's' is " + std::string(n.attribute("s").value()) +
+                     ", outside the road (0 to " + std::to_string(road.length) + ")");
+    }
+    return std::clamp(s, 0.0, road.length);
+  }
+
+  /// A size: >= 0 and at most kMaxSize (a 100 km wide building would only blow the meshes up).
+  double size_or(pugi::xml_node n, const char* name, double fallback,
+                 const std::string& path) const {
+    const double v = number_or(n, name, fallback, path);
+    if (v < 0.0 || v > kMaxObjectSize) {
+      fail(path, std::string("attribute '") + name + "' is " + n.attribute(name).value() +
+                     ", not a size between 0 and " + std::to_string(int(kMaxObjectSize)) + " m");
+    }
+    return v;
+  }
+
+  std::string orientation(pugi::xml_node n, const char* fallback, const std::string& path) const {
+    const pugi::xml_attribute a = n.attribute("orientation");
+    if (!a)
+      return fallback;
+    const std::string v = a.value();
+    if (v != "+" && v != "-" && v != "none")
+      fail(path, "attribute 'orientation' must be '+', '-' or 'none', got '" + v + "'");
+    return v;
+  }
+
+  RoadObject object(pugi::xml_node n, const Road& road, const std::string& at) {
+    RoadObject o;
+    o.id = text(n, "id", at);
+    const std::string path = at.substr(0, at.rfind('[')) + "[@id='" + o.id + "']";
+    o.type = n.attribute("type") ? n.attribute("type").value() : "none";
+    o.subtype = n.attribute("subtype").value();
+    o.name = n.attribute("name").value();
+    o.s = road_s(n, road, path);
+    o.t = number(n, "t", path);
+    check_lateral(o.t, "t", n, path);
+    o.z_offset = number_or(n, "zOffset", 0.0, path);
+    o.hdg = number_or(n, "hdg", 0.0, path);
+    o.pitch = number_or(n, "pitch", 0.0, path);
+    o.roll = number_or(n, "roll", 0.0, path);
+    o.length = size_or(n, "length", 0.0, path);
+    o.width = size_or(n, "width", 0.0, path);
+    o.height = size_or(n, "height", 0.0, path);
+    o.radius = size_or(n, "radius", 0.0, path);
+    o.orientation = orientation(n, "none", path);
+    int i = 0;
+    for (pugi::xml_node rp : n.children("repeat"))
+      o.repeats.push_back(repeat(rp, road, indexed(path, "repeat", ++i)));
+    pugi::xml_node outline = n.child("outlines").child("outline");
+    if (!outline)
+      outline = n.child("outline");  // OpenDRIVE 1.4 has one <outline> without <outlines>
+    int k = 0;
+    for (pugi::xml_node c : outline.children("cornerLocal")) {
+      const std::string cp = indexed(path + "/outline", "cornerLocal", ++k);
+      OutlineCorner oc;
+      oc.u = number(c, "u", cp);
+      oc.v = number(c, "v", cp);
+      check_lateral(oc.u, "u", c, cp);
+      check_lateral(oc.v, "v", c, cp);
+      oc.z = number_or(c, "z", 0.0, cp);
+      oc.height = size_or(c, "height", 0.0, cp);
+      o.outline.push_back(oc);
+    }
+    if (outline && outline.child("cornerRoad"))
+      ignore_once("object outline <cornerRoad>");
+    return o;
+  }
+
+  ObjectRepeat repeat(pugi::xml_node n, const Road& road, const std::string& path) const {
+    ObjectRepeat r;
+    r.s = road_s(n, road, path);
+    r.length = number(n, "length", path);
+    if (r.length < 0.0 || r.s + r.length > road.length + kSTolerance) {
+      fail(path, "attribute 'length' is " + std::string(n.attribute("length").value()) +
+                     ": the repeat must lie on the road (s " + std::to_string(r.s) + " to " +
+                     std::to_string(road.length) + ")");
+    }
+    r.length = std::min(r.length, road.length - r.s);
+    r.distance = number(n, "distance", path);
+    if (r.distance < 0.0)
+      fail(path, "attribute 'distance' is negative: '" +
+                     std::string(n.attribute("distance").value()) + "'");
+    if (r.distance > 0.0 && r.length / r.distance > kMaxRepeatCopies) {
+      fail(path, "attribute 'distance' " + std::string(n.attribute("distance").value()) +
+                     " makes more than 10000 copies over " + std::to_string(r.length) + " m");
+    }
+    r.t_start = number(n, "tStart", path);
+    r.t_end = number(n, "tEnd", path);
+    check_lateral(r.t_start, "tStart", n, path);
+    check_lateral(r.t_end, "tEnd", n, path);
+    r.z_offset_start = number_or(n, "zOffsetStart", 0.0, path);
+    r.z_offset_end = number_or(n, "zOffsetEnd", 0.0, path);
+    auto opt = [&](const char* name) -> std::optional<double> {
+      if (!n.attribute(name))
+        return std::nullopt;
+      return size_or(n, name, 0.0, path);
+    };
+    r.height_start = opt("heightStart");
+    r.height_end = opt("heightEnd");
+    r.width_start = opt("widthStart");
+    r.width_end = opt("widthEnd");
+    r.length_start = opt("lengthStart");
+    r.length_end = opt("lengthEnd");
+    r.radius_start = opt("radiusStart");
+    r.radius_end = opt("radiusEnd");
+    return r;
+  }
+
+  RoadSignal signal(pugi::xml_node n, const Road& road, const std::string& at) const {
+    RoadSignal g;
+    g.id = text(n, "id", at);
+    const std::string path = at.substr(0, at.rfind('[')) + "[@id='" + g.id + "']";
+    g.name = n.attribute("name").value();
+    g.s = road_s(n, road, path);
+    g.t = number(n, "t", path);
+    check_lateral(g.t, "t", n, path);
+    g.z_offset = number_or(n, "zOffset", 0.0, path);
+    g.h_offset = number_or(n, "hOffset", 0.0, path);
+    g.pitch = number_or(n, "pitch", 0.0, path);
+    g.roll = number_or(n, "roll", 0.0, path);
+    g.orientation = orientation(n, "+", path);
+    const std::string dyn = n.attribute("dynamic").value();
+    if (dyn == "yes" || dyn == "true") {
+      g.dynamic = true;
+    } else if (!dyn.empty() && dyn != "no" && dyn != "false") {
+      fail(path, "attribute 'dynamic' must be 'yes' or 'no', got '" + dyn + "'");
+    }
+    g.country = n.attribute("country").value();
+    g.type = n.attribute("type") ? n.attribute("type").value() : "-1";
+    g.subtype = n.attribute("subtype") ? n.attribute("subtype").value() : "-1";
+    // "value" is optional and some tools write "-1" or "" for none.
+    if (n.attribute("value") && n.attribute("value").value()[0] != '\0')
+      g.value = number(n, "value", path);
+    g.unit = n.attribute("unit").value();
+    g.text = n.attribute("text").value();
+    g.height = size_or(n, "height", 0.0, path);
+    g.width = size_or(n, "width", 0.0, path);
+    return g;
+  }
+
+  ItemReference reference(pugi::xml_node n, const Road& road, const std::string& at) const {
+    ItemReference r;
+    r.id = text(n, "id", at);
+    const std::string path = at.substr(0, at.rfind('[')) + "[@id='" + r.id + "']";
+    r.s = road_s(n, road, path);
+    r.t = number(n, "t", path);
+    check_lateral(r.t, "t", n, path);
+    r.orientation = orientation(n, "none", path);
+    return r;
+  }
+
+  void check_lateral(double v, const char* name, pugi::xml_node n, const std::string& path) const {
+    if (std::fabs(v) > kMaxLateral) {
+      fail(path, std::string("attribute '") + name + "' is " + n.attribute(name).value() +
+                     ", more than a map may have (1000 m)");
     }
   }
 
@@ -694,6 +880,7 @@ class Reader {
   std::vector<std::string> not_applied_;
   bool has_superelevation_ = false;  ///< the road being read banks somewhere
   std::size_t controllers_ = 0;
+  std::size_t skipped_structures_ = 0;
   double total_length_ = 0.0;
 };
 

@@ -1,7 +1,7 @@
 #pragma once
 /// @file OpenDRIVE 1.4-1.7 importer. Every defect the model cannot be built around is a
-/// MapError naming the file, the element path and the reason; things it reads past (signals,
-/// objects, crossfall, surface) are counted or named once in RoadNetwork::warnings.
+/// MapError naming the file, the element path and the reason; things it reads past (tunnels,
+/// bridges, crossfall, surface) are counted or named once in RoadNetwork::warnings.
 
 #include <string>
 #include <string_view>

@@ -121,6 +121,71 @@ struct SurfacePose {
   double roll = 0.0;     ///< rad, superelevation: positive raises the left (+t) side
 };
 
+/// <repeat> of an object (OpenDRIVE 1.7, 13.3): copies every `distance` metres along
+/// [s, s + length], or one continuous object (a wall, a fence, a hedge) where distance is 0;
+/// t, size and height go linearly from their start to their end value.
+struct ObjectRepeat {
+  double s = 0.0;
+  double length = 0.0;
+  double distance = 0.0;
+  double t_start = 0.0, t_end = 0.0;
+  double z_offset_start = 0.0, z_offset_end = 0.0;
+  std::optional<double> height_start, height_end;
+  std::optional<double> width_start, width_end;
+  std::optional<double> length_start, length_end;
+  std::optional<double> radius_start, radius_end;
+};
+
+/// One corner of an object's outline in its local frame (<cornerLocal>, 13.2): u along the
+/// object's heading, v to its left, z up from its base, height of the outline there.
+struct OutlineCorner {
+  double u = 0.0, v = 0.0, z = 0.0, height = 0.0;
+};
+
+/// <object> (OpenDRIVE 1.7, 13): a road-side or road-surface item placed at road
+/// coordinates. Sizes are 0 where the file gives none; `radius` > 0 makes it round.
+struct RoadObject {
+  std::string id;
+  std::string type = "none";  ///< e.g. pole, tree, vegetation, barrier, building, crosswalk
+  std::string subtype;
+  std::string name;
+  double s = 0.0, t = 0.0;
+  double z_offset = 0.0;
+  double hdg = 0.0;  ///< rad, relative to the reference line's direction at s
+  double pitch = 0.0, roll = 0.0;
+  double length = 0.0, width = 0.0, height = 0.0, radius = 0.0;
+  std::string orientation = "none";  ///< "+", "-" or "none"
+  std::vector<ObjectRepeat> repeats;
+  std::vector<OutlineCorner> outline;  ///< the first <outline>'s <cornerLocal>s, if any
+};
+
+/// <signal> (OpenDRIVE 1.7, 14): a sign, a light or a road mark (e.g. DE 294 stop line) of a
+/// national catalogue, placed at road coordinates.
+struct RoadSignal {
+  std::string id;
+  std::string name;
+  double s = 0.0, t = 0.0;
+  double z_offset = 0.0;  ///< the plate's lower edge above the road
+  double h_offset = 0.0;  ///< rad, heading relative to the orientation's direction
+  double pitch = 0.0, roll = 0.0;
+  std::string orientation = "+";  ///< valid for traffic along s ("+"), against ("-"), both
+  bool dynamic = false;
+  std::string country;  ///< e.g. DE, OpenDRIVE
+  std::string type;     ///< catalogue number (DE 206 stop sign, DE 294 stop line), "-1" none
+  std::string subtype;
+  std::optional<double> value;
+  std::string unit;
+  std::string text;
+  double height = 0.0, width = 0.0;  ///< m; 0 where the file gives none
+};
+
+/// <signalReference> / <objectReference>: an item of another road also valid on this one.
+struct ItemReference {
+  std::string id;  ///< the referenced signal's or object's id
+  double s = 0.0, t = 0.0;
+  std::string orientation = "none";
+};
+
 struct Road {
   std::string id;
   std::string name;
@@ -136,6 +201,10 @@ struct Road {
   CubicProfile lane_offset;
   std::vector<LaneSection> sections;
   std::vector<RoadType> types;
+  std::vector<RoadObject> objects;
+  std::vector<RoadSignal> signals;
+  std::vector<ItemReference> object_references;
+  std::vector<ItemReference> signal_references;
 
   RefPoint reference(double s) const;
   double curvature(double s) const;
@@ -188,8 +257,6 @@ struct RoadNetwork {
   Header header;
   std::vector<Road> roads;
   std::vector<Junction> junctions;
-  std::size_t signals = 0;            ///< <signal>/<signalReference> skipped
-  std::size_t objects = 0;            ///< <object>/<objectReference>/<tunnel>/<bridge> skipped
   std::vector<std::string> warnings;  ///< things read but not modelled, each named once
 
   /// Index of the road / junction with that id; -1 when there is none.

@@ -1,6 +1,7 @@
 #pragma once
 /// @file Writes a RoadNetwork as OpenDRIVE 1.7 text that other tools open (esmini, CARLA,
-/// RoadRunner): everything the model holds, nothing it dropped (signals and objects).
+/// RoadRunner): the roads, lanes and junctions the model holds; its objects and signals are not
+/// written (yet).
 
 #include <string>
 

@@ -6,10 +6,14 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
+#include <string>
 
 #include "common/map/opendrive/lane_graph.hpp"
 #include "common/map/opendrive/mesh.hpp"
+#include "common/map/opendrive/queries.hpp"
 #include "common/map/opendrive/reader.hpp"
+#include "common/map/opendrive/road_objects.hpp"
 
 namespace tb::map::odr {
 namespace {
@@ -53,7 +57,88 @@ TEST(ShippedMaps, LoadWithoutWarningsAndJoinWhereTheLanesLink) {
     }
     EXPECT_GT(joins, 10u);
   }
-  EXPECT_EQ(maps, 2);
+  EXPECT_EQ(maps, 3);
+}
+
+/// Each stop line (DE 294) lies across a drivable lane that runs towards the junction at the
+/// road's near end, within 6 m of it, and spans that lane's width; returns how many.
+int check_stop_lines(const RoadNetwork& net) {
+  int lines = 0;
+  for (const Road& r : net.roads) {
+    for (const RoadSignal& g : r.signals) {
+      if (!is_stop_line(g))
+        continue;
+      ++lines;
+      SCOPED_TRACE("road " + r.id + " signal " + g.id);
+      const std::size_t k = r.section_index(g.s);
+      const int lane = lane_of(r, k, g.s, g.t);
+      EXPECT_NE(lane, 0);
+      if (lane == 0)
+        continue;
+      const Lane* l = r.sections[k].lane(lane);
+      EXPECT_TRUE(l->drivable);
+      // "-": for traffic against s, which reaches the start; "+": the end.
+      const bool to_start = g.orientation == "-";
+      EXPECT_EQ(r.forward(lane), !to_start);
+      const auto& link = to_start ? r.predecessor : r.successor;
+      EXPECT_TRUE(link.has_value() && link->to_junction);
+      EXPECT_LT(to_start ? g.s : r.length - g.s, 6.0);
+      const LaneBorders b = r.borders(k, g.s);
+      EXPECT_NEAR(g.width, std::fabs(b.outer(lane) - b.inner(lane)), 0.01);
+      EXPECT_NEAR(g.t, (b.outer(lane) + b.inner(lane)) / 2, 0.01);
+    }
+  }
+  return lines;
+}
+
+TEST(ShippedMaps, FourWayJunctionHasAStopLineAndACrossingOnEveryArm) {
+  const RoadNetwork net = load_opendrive((maps_dir() / "four_way_junction.xodr").string());
+  EXPECT_EQ(check_stop_lines(net), 4);  // one per arm, on the lane towards the junction
+  int crossings = 0;
+  for (const Road& r : net.roads)
+    for (const RoadObject& o : r.objects)
+      crossings += o.type == "crosswalk" ? 1 : 0;
+  EXPECT_EQ(crossings, 4);
+}
+
+TEST(ShippedMaps, TownIsTownSizedWithObjectsAlongItsStreets) {
+  const RoadNetwork net = load_opendrive((maps_dir() / "town.xodr").string());
+  // 5 x 5 junctions: 40 streets; 9 crossroads x 12 + 12 T-junctions x 6 + 4 corners x 2
+  // connecting roads = 188.
+  EXPECT_EQ(net.junctions.size(), 25u);
+  EXPECT_EQ(net.roads.size(), 40u + 188u);
+  const LaneGraph g(net);
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    if (g.node(i).drivable) {
+      EXPECT_FALSE(g.successors(i).empty()) << "road " << net.roads[g.node(i).road].id;
+    }
+  }
+  // Per street (generate_town.py): two lamp rows, two crossings, two stop lines, two speed
+  // limits; one tree row on every street but the park's, which has six trees and a hedge.
+  std::map<std::string, int> objects, signals;
+  for (const Road& r : net.roads) {
+    for (const RoadObject& o : r.objects)
+      ++objects[o.type];
+    for (const RoadSignal& s : r.signals)
+      ++signals[s.type];
+  }
+  EXPECT_EQ(objects["pole"], 80);
+  EXPECT_EQ(objects["crosswalk"], 80);
+  EXPECT_EQ(objects["tree"], 39 + 6);
+  EXPECT_EQ(objects["vegetation"], 1);
+  EXPECT_GT(objects["building"], 200);
+  EXPECT_EQ(signals["274"], 80);
+  EXPECT_EQ(check_stop_lines(net), 80);
+  // No house stands on a lane: its centre is on no road.
+  const LaneLocator where(net);
+  for (const Road& r : net.roads) {
+    for (const RoadObject& o : r.objects) {
+      if (o.type != "building")
+        continue;
+      for (const PlacedObject& p : place_object(r, o))
+        EXPECT_FALSE(where.locate(p.pose.x, p.pose.y).has_value()) << "house " << o.id;
+    }
+  }
 }
 
 TEST(ShippedMaps, FourWayJunctionHasEveryTurnAndNoDeadEnd) {

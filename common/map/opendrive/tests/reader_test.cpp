@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -163,9 +164,31 @@ TEST(SharedMaps, LeftHandTrafficAndParamPoly3) {
   EXPECT_TRUE(param);
 }
 
-TEST(SharedMaps, ObjectsAreSkippedAndCounted) {
+TEST(SharedMaps, ObjectsAreReadByType) {
+  // crest-curve.xodr's <object>s by type, counted in the file by hand (and by
+  // `xmllint --xpath 'count(//object[@type="obstacle"])'`): 2 vegetation, 3 obstacle,
+  // 1 building, 1 none, 2 barrier; two barriers and one hedge repeat.
   const RoadNetwork net = load_opendrive((shared_maps() / "crest-curve.xodr").string());
-  EXPECT_EQ(net.objects, 9u);
+  std::map<std::string, int> by_type;
+  int repeated = 0;
+  for (const RoadObject& o : net.roads[0].objects) {
+    ++by_type[o.type];
+    repeated += o.repeats.empty() ? 0 : 1;
+  }
+  EXPECT_EQ(by_type,
+            (std::map<std::string, int>{
+                {"vegetation", 2}, {"obstacle", 3}, {"building", 1}, {"none", 1}, {"barrier", 2}}));
+  EXPECT_EQ(repeated, 3);
+  const RoadObject& b = net.roads[0].objects[2];
+  EXPECT_EQ(b.name, "Building1");
+  EXPECT_EQ(b.s, 250.0);
+  EXPECT_EQ(b.t, -5.0);
+  EXPECT_EQ(b.length, 25.0);
+  EXPECT_EQ(b.width, 10.0);
+  EXPECT_EQ(b.height, 10.0);
+  EXPECT_EQ(b.hdg, -0.15);
+  ASSERT_EQ(b.outline.size(), 4u);
+  EXPECT_EQ(net.roads[0].signals.size(), 0u);
 }
 
 TEST(SharedMaps, LaneLinksWrittenFromTheConnectingRoadAreReadSwapped) {
@@ -413,16 +436,18 @@ TEST(Reader, StringIdsSpeedUnitsAndSkippedElements) {
       R"(<planView><geometry s="0" x="0" y="0" hdg="0" length="100"><paramPoly3 aU="0" bU="100" cU="0" dU="0" aV="0" bV="0" cV="0" dV="0"/></geometry></planView>)"
       R"(<lateralProfile><superelevation s="0" a="0.05"/><crossfall side="both" s="0" a="0.02"/></lateralProfile>)"
       R"(<lanes><laneOffset s="0" a="1.5"/><laneSection s="0"><left><lane id="1" type="sidewalk"><border sOffset="0" a="2"/></lane></left><right><lane id="-1" type="driving"><width sOffset="0" a="3.5"/><roadMark sOffset="0" type="broken" color="white" width="0.15"/><speed sOffset="0" max="30" unit="mph"/></lane></right></laneSection></lanes>)"
-      R"(<objects><object id="o1"/><object id="o2"/></objects><signals><signal id="s1"/><signalReference id="s2"/></signals></road>)";
+      R"(<objects><object id="o1" s="1" t="5"/><object id="o2" s="2" t="-5"/><tunnel id="tu" s="50" length="10"/></objects><signals><signal id="s1" s="3" t="-4"/><signalReference id="s2" s="4" t="4"/></signals></road>)";
   const RoadNetwork net = parse_opendrive(doc(road) + "", "ok.xodr");
   ASSERT_EQ(net.roads.size(), 1u);
   const Road& r = net.roads[0];
   EXPECT_EQ(r.id, "main street");
   EXPECT_NEAR(*r.speed_limit(10), 50 / 3.6, 1e-12);
-  EXPECT_EQ(net.objects, 2u);
-  EXPECT_EQ(net.signals, 2u);
-  ASSERT_EQ(net.warnings.size(), 1u);
-  EXPECT_NE(net.warnings[0].find("crossfall"), std::string::npos);
+  EXPECT_EQ(r.objects.size(), 2u);
+  EXPECT_EQ(r.signals.size(), 1u);
+  EXPECT_EQ(r.signal_references.size(), 1u);
+  ASSERT_EQ(net.warnings.size(), 2u);
+  EXPECT_EQ(net.warnings[0], "1 <tunnel>/<bridge> skipped");
+  EXPECT_NE(net.warnings[1].find("crossfall"), std::string::npos);
   const Lane& right = r.sections[0].right[0];
   EXPECT_TRUE(right.drivable);
   EXPECT_FALSE(r.sections[0].left[0].drivable);
