@@ -22,38 +22,13 @@
 #include "sim-client/v2x/subscriber.hpp"
 #include "sim-client/view/scene.hpp"
 #include "sim-client/view3d/driver_view.hpp"
-#include "sim-client/view3d/tests/xvfb.hpp"
+#include "sim-client/view3d/tests/render_fixture.hpp"
 
 namespace tb::client::view3d {
 namespace {
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
-
-constexpr int kW = 1280, kH = 720;
-
-fs::path log_dir() {
-  const char* bin = std::getenv("TESTBED_BIN");
-  fs::path d =
-      fs::path(bin != nullptr ? bin : "build/bin") / ".." / "Testing" / "Temporary" / "view3d";
-  fs::create_directories(d);
-  return d;
-}
-
-struct Rgb {
-  int r, g, b;
-};
-
-Rgb pixel(const Image& im, int x, int y) {
-  const auto* p = &im.rgba[(static_cast<std::size_t>(y) * im.width + x) * 4];
-  return {p[0], p[1], p[2]};
-}
-
-/// A world point to window pixels (origin top left) under a camera pose.
-osg::Vec2d project(const CameraPose& pose, const osg::Vec3d& w, int width, int height) {
-  const osg::Vec3d n = w * pose.view * pose.projection;
-  return {(n.x() + 1.0) / 2.0 * width, (1.0 - n.y()) / 2.0 * height};
-}
 
 struct Box {
   int x0 = 1 << 30, y0 = 1 << 30, x1 = -1, y1 = -1, n = 0;
@@ -118,56 +93,7 @@ std::shared_ptr<World> straight_world(std::vector<VehicleLook> cars) {
   return w;
 }
 
-class View3dRender : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    xvfb_ = std::make_unique<testing::Xvfb>();
-    if (!xvfb_->running())
-      return;
-    if (SDL_Init(SDL_INIT_VIDEO | SDL_INIT_EVENTS) != 0)
-      return;
-    SDL_GL_SetAttribute(SDL_GL_DOUBLEBUFFER, 1);
-    SDL_GL_SetAttribute(SDL_GL_DEPTH_SIZE, 24);
-    window_ = SDL_CreateWindow("view3d test", 0, 0, kW, kH, SDL_WINDOW_OPENGL | SDL_WINDOW_HIDDEN);
-    if (window_ != nullptr)
-      context_ = SDL_GL_CreateContext(window_);
-  }
-  static void TearDownTestSuite() {
-    if (context_ != nullptr)
-      SDL_GL_DeleteContext(context_);
-    if (window_ != nullptr)
-      SDL_DestroyWindow(window_);
-    SDL_Quit();
-    xvfb_.reset();
-  }
-  void SetUp() override {
-    if (!xvfb_ || !xvfb_->running())
-      GTEST_SKIP() << "Xvfb did not start (scripts/install-deps installs xvfb)";
-    ASSERT_NE(context_, nullptr) << SDL_GetError();
-    ASSERT_EQ(SDL_GL_MakeCurrent(window_, context_), 0) << SDL_GetError();
-    view_ = std::make_unique<DriverView>(kW, kH);
-  }
-  void TearDown() override { view_.reset(); }
-
-  /// Renders @p in (twice: the second frame is the one read back) and saves it as @p name.
-  Image shoot(const FrameInput& in, const std::string& name) {
-    view_->render(in, 0.0);
-    view_->capture_next_frame();
-    view_->render(in, 1.0 / 60);
-    auto im = view_->take_capture();
-    EXPECT_TRUE(im.has_value());
-    if (!im)
-      return {};
-    EXPECT_EQ(write_png((log_dir() / (name + ".png")).string(), im->width, im->height, im->rgba),
-              "");
-    return *im;
-  }
-
-  static inline std::unique_ptr<testing::Xvfb> xvfb_;
-  static inline SDL_Window* window_ = nullptr;
-  static inline SDL_GLContext context_ = nullptr;
-  std::unique_ptr<DriverView> view_;
-};
+class View3dRender : public RenderTest {};
 
 FrameInput driving(std::shared_ptr<World> w, std::vector<wire::VehicleState> states) {
   FrameInput in;

@@ -18,42 +18,13 @@
 #include "common/map/opendrive/terrain.hpp"
 #include "sim-client/view/scene.hpp"
 #include "sim-client/view3d/driver_view.hpp"
-#include "sim-client/view3d/tests/xvfb.hpp"
+#include "sim-client/view3d/tests/render_fixture.hpp"
 
 namespace tb::client::view3d {
 namespace {
 
 namespace fs = std::filesystem;
 namespace odr = map::odr;
-
-constexpr int kW = 1280, kH = 720;
-
-fs::path log_dir() {
-  const char* bin = std::getenv("TESTBED_BIN");
-  fs::path d =
-      fs::path(bin != nullptr ? bin : "build/bin") / ".." / "Testing" / "Temporary" / "view3d";
-  fs::create_directories(d);
-  return d;
-}
-
-fs::path maps_dir() {
-  const char* root = std::getenv("TESTBED_ROOT");
-  return fs::path(root != nullptr ? root : ".") / "scenarios" / "maps";
-}
-
-struct Rgb {
-  int r, g, b;
-};
-
-Rgb pixel(const Image& im, int x, int y) {
-  const auto* p = &im.rgba[(static_cast<std::size_t>(y) * im.width + x) * 4];
-  return {p[0], p[1], p[2]};
-}
-
-osg::Vec2d project(const CameraPose& pose, const osg::Vec3d& w) {
-  const osg::Vec3d n = w * pose.view * pose.projection;
-  return {(n.x() + 1.0) / 2.0 * kW, (1.0 - n.y()) / 2.0 * kH};
-}
 
 /// Grass, lit or in shade, near or a little fogged: green above red and blue.
 bool grass(Rgb c) {
@@ -84,39 +55,16 @@ VehicleLook look(const std::string& id, std::uint32_t station) {
   return l;
 }
 
-class RoadNodeRender : public ::testing::Test {
+class RoadNodeRender : public RenderTest {
  protected:
-  static void SetUpTestSuite() {
-    xvfb_ = std::make_unique<testing::Xvfb>();
-    if (!xvfb_->running())
-      return;
-    if (SDL_Init(SDL_INIT_VIDEO | SDL_INIT_EVENTS) != 0)
-      return;
-    SDL_GL_SetAttribute(SDL_GL_DOUBLEBUFFER, 1);
-    SDL_GL_SetAttribute(SDL_GL_DEPTH_SIZE, 24);
-    window_ = SDL_CreateWindow("terrain test", 0, 0, kW, kH, SDL_WINDOW_OPENGL | SDL_WINDOW_HIDDEN);
-    if (window_ != nullptr)
-      context_ = SDL_GL_CreateContext(window_);
-  }
-  static void TearDownTestSuite() {
-    if (context_ != nullptr)
-      SDL_GL_DeleteContext(context_);
-    if (window_ != nullptr)
-      SDL_DestroyWindow(window_);
-    SDL_Quit();
-    xvfb_.reset();
-  }
   void SetUp() override {
-    if (!xvfb_ || !xvfb_->running())
-      GTEST_SKIP() << "Xvfb did not start (scripts/install-deps installs xvfb)";
-    ASSERT_NE(context_, nullptr) << SDL_GetError();
-    ASSERT_EQ(SDL_GL_MakeCurrent(window_, context_), 0) << SDL_GetError();
-    view_ = std::make_unique<DriverView>(kW, kH);
+    RenderTest::SetUp();
+    if (IsSkipped() || HasFatalFailure())
+      return;
     net_ = std::make_shared<const odr::RoadNetwork>(
         odr::load_opendrive((maps_dir() / "four_way_junction.xodr").string()));
     terrain_ = std::make_unique<odr::Terrain>(*net_);
   }
-  void TearDown() override { view_.reset(); }
 
   /// A world with one car standing on the ground at (x, y), watched (no own car).
   FrameInput watching(double x, double y, double yaw) { return watching(net_, x, y, yaw); }
@@ -141,23 +89,6 @@ class RoadNodeRender : public ::testing::Test {
     return in;
   }
 
-  Image shoot(const FrameInput& in, const std::string& name) {
-    view_->render(in, 0.0);
-    view_->capture_next_frame();
-    view_->render(in, 1.0 / 60);
-    auto im = view_->take_capture();
-    EXPECT_TRUE(im.has_value());
-    if (!im)
-      return {};
-    EXPECT_EQ(write_png((log_dir() / (name + ".png")).string(), im->width, im->height, im->rgba),
-              "");
-    return *im;
-  }
-
-  static inline std::unique_ptr<testing::Xvfb> xvfb_;
-  static inline SDL_Window* window_ = nullptr;
-  static inline SDL_GLContext context_ = nullptr;
-  std::unique_ptr<DriverView> view_;
   std::shared_ptr<const odr::RoadNetwork> net_;
   std::unique_ptr<odr::Terrain> terrain_;
 };
