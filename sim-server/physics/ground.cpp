@@ -27,16 +27,8 @@ Ground::Ground(const map::ScenarioMap& map, double margin_m, bool mesh) : flat_(
   const auto& net = map.network();
   // The roads' extent, from their surface (coarse where it only gives the bounds).
   const map::odr::RoadMesh roads = map::odr::road_mesh(net, flat_ ? 0.5 : kRoadEps);
-  double x0 = std::numeric_limits<double>::max(), y0 = x0;
-  double x1 = std::numeric_limits<double>::lowest(), y1 = x1;
-  for (const auto& v : roads.vertices) {
-    x0 = std::min(x0, v.x);
-    y0 = std::min(y0, v.y);
-    x1 = std::max(x1, v.x);
-    y1 = std::max(y1, v.y);
-  }
-  if (roads.vertices.empty())
-    x0 = y0 = x1 = y1 = 0.0;
+  const map::odr::Extent e = map::odr::extent(roads);
+  double x0 = e.min_x, y0 = e.min_y, x1 = e.max_x, y1 = e.max_y;
   if (std::max({std::fabs(x0), std::fabs(x1), std::fabs(y0), std::fabs(y1)}) > kUnshiftedExtent) {
     origin_ = {std::round((x0 + x1) / 2000.0) * 1000.0, std::round((y0 + y1) / 2000.0) * 1000.0,
                0.0};

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace tb::map::odr {
 
@@ -151,6 +152,20 @@ RoadMesh road_mesh(const RoadNetwork& net, double eps) {
     }
   }
   return mesh;
+}
+
+Extent extent(const RoadMesh& mesh) {
+  if (mesh.vertices.empty())
+    return {};
+  Extent e{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+           std::numeric_limits<double>::lowest(), std::numeric_limits<double>::lowest()};
+  for (const Vertex& v : mesh.vertices) {
+    e.min_x = std::min(e.min_x, v.x);
+    e.min_y = std::min(e.min_y, v.y);
+    e.max_x = std::max(e.max_x, v.x);
+    e.max_y = std::max(e.max_y, v.y);
+  }
+  return e;
 }
 
 }  // namespace tb::map::odr

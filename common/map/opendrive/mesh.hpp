@@ -39,4 +39,10 @@ struct RoadMesh {
 /// The mesh of every lane of every road (zero-width stretches skipped), chords within @p eps.
 RoadMesh road_mesh(const RoadNetwork& net, double eps = 0.02);
 
+/// The rectangle in x and y that holds every vertex of a mesh (all 0 for an empty one).
+struct Extent {
+  double min_x = 0, min_y = 0, max_x = 0, max_y = 0;
+};
+Extent extent(const RoadMesh& mesh);
+
 }  // namespace tb::map::odr

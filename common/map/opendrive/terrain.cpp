@@ -151,16 +151,8 @@ Terrain::Terrain(const RoadNetwork& net, const TerrainOptions& options)
     : Terrain(road_mesh(net, options.road_eps), options) {}
 
 Terrain::Terrain(const RoadMesh& roads, const TerrainOptions& options) : drop_(options.drop_m) {
-  double x0 = std::numeric_limits<double>::max(), y0 = x0;
-  double x1 = std::numeric_limits<double>::lowest(), y1 = x1;
-  for (const Vertex& v : roads.vertices) {
-    x0 = std::min(x0, v.x);
-    y0 = std::min(y0, v.y);
-    x1 = std::max(x1, v.x);
-    y1 = std::max(y1, v.y);
-  }
-  if (roads.vertices.empty())
-    x0 = y0 = x1 = y1 = 0.0;
+  const Extent e = extent(roads);
+  double x0 = e.min_x, y0 = e.min_y, x1 = e.max_x, y1 = e.max_y;
   const double margin = std::max(0.0, options.margin_m);
   x0 -= margin;
   y0 -= margin;
