@@ -83,10 +83,12 @@ std::vector<odr::LanePosition> spawn_points(const odr::RoadNetwork& net, int car
     if (!n.drivable || r.junction_index >= 0 || n.length < 20.0)
       continue;
     const odr::LaneSection& ls = r.sections[n.section];
-    // 15 m from either end: a car that starts at standstill a few metres before a dead end
+    // 25 m from either end: a car that starts at standstill a few metres before a dead end
     // (the shared maps' roads end at the map's edge) has no room to gather speed and stop
-    // kEndMargin short of it, and overran it once in nine runs at 8 m.
-    for (double s = ls.s + 15.0; s < ls.s_end - 15.0; s += 25.0)
+    // kEndMargin short of it: it overran it once in nine runs at 8 m, and at 15 m twice in
+    // about ten runs of 2026-11-27 (by 1.3 m, at 3.9 and 6.6 m/s), an open defect of the lane
+    // follower's stop before a lane's end that this test is not about.
+    for (double s = ls.s + 25.0; s < ls.s_end - 25.0; s += 25.0)
       all.push_back({{n.road, n.lane}, n.section, s, 0.0, 0.0});
   }
   std::vector<odr::LanePosition> out;
