@@ -14,6 +14,7 @@
 #include <osg/LOD>
 
 #include "common/map/opendrive/road_objects.hpp"
+#include "sim-client/view3d/shapes.hpp"
 
 namespace tb::client::view3d {
 namespace {
@@ -83,13 +84,7 @@ class ShapeBatch {
   }
 
   osg::ref_ptr<osg::Geode> build(const char* name) {
-    osg::ref_ptr<osg::Geometry> g = new osg::Geometry;
-    g->setUseDisplayList(false);
-    g->setUseVertexBufferObjects(true);
-    g->setVertexArray(v_);
-    g->setNormalArray(n_, osg::Array::BIND_PER_VERTEX);
-    g->setColorArray(c_, osg::Array::BIND_PER_VERTEX);
-    g->addPrimitiveSet(new osg::DrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(v_->size())));
+    osg::ref_ptr<osg::Geometry> g = lit_geometry(v_, n_, c_, GL_TRIANGLES);
     osg::ref_ptr<osg::Geode> geode = new osg::Geode;
     geode->setName(name);
     geode->addDrawable(g);

@@ -31,15 +31,20 @@ void MeshBuilder::box(const osg::Vec3& lo, const osg::Vec3& hi, const osg::Vec4&
   quad({x0, y0, z0}, {x1, y0, z0}, {x1, y0, z1}, {x0, y0, z1}, colour);  // right
 }
 
-osg::ref_ptr<osg::Geometry> MeshBuilder::build() {
+osg::ref_ptr<osg::Geometry> lit_geometry(osg::Vec3Array* vertices, osg::Vec3Array* normals,
+                                         osg::Vec4Array* colours, GLenum mode) {
   osg::ref_ptr<osg::Geometry> g = new osg::Geometry;
   g->setUseDisplayList(false);
   g->setUseVertexBufferObjects(true);
-  g->setVertexArray(v_);
-  g->setNormalArray(n_, osg::Array::BIND_PER_VERTEX);
-  g->setColorArray(c_, osg::Array::BIND_PER_VERTEX);
-  g->addPrimitiveSet(new osg::DrawArrays(GL_QUADS, 0, static_cast<GLsizei>(v_->size())));
+  g->setVertexArray(vertices);
+  g->setNormalArray(normals, osg::Array::BIND_PER_VERTEX);
+  g->setColorArray(colours, osg::Array::BIND_PER_VERTEX);
+  g->addPrimitiveSet(new osg::DrawArrays(mode, 0, static_cast<GLsizei>(vertices->size())));
   return g;
+}
+
+osg::ref_ptr<osg::Geometry> MeshBuilder::build() {
+  return lit_geometry(v_, n_, c_, GL_QUADS);
 }
 
 osg::ref_ptr<osg::Geometry> MeshBuilder::build_overall(osg::ref_ptr<osg::Vec4Array>& colour,

@@ -19,6 +19,11 @@ osg::ref_ptr<ArrayT> filled(std::size_t n, const ValueT& value) {
   return a;
 }
 
+/// Per-vertex positions, normals and colours drawn as @p mode primitives (GL_TRIANGLES,
+/// GL_QUADS) in one geometry: vertex buffer objects, no display list.
+osg::ref_ptr<osg::Geometry> lit_geometry(osg::Vec3Array* vertices, osg::Vec3Array* normals,
+                                         osg::Vec4Array* colours, GLenum mode);
+
 /// Collects axis-aligned boxes (and quads) into one geometry: one draw call per builder.
 class MeshBuilder {
  public:

@@ -166,13 +166,7 @@ osg::ref_ptr<osg::Geode> make_glasshouse(const BodyProfile& p, float W, float H,
     strip({bx, y0, bz}, {rx, y1, H}, 0.05f);
     strip({p.rear_x + 0.08f, y0, p.rear_z}, {p.roof_back + 0.06f, y1, H}, 0.08f);
   }
-  osg::ref_ptr<osg::Geometry> g = new osg::Geometry;
-  g->setUseDisplayList(false);
-  g->setUseVertexBufferObjects(true);
-  g->setVertexArray(v);
-  g->setNormalArray(n, osg::Array::BIND_PER_VERTEX);
-  g->setColorArray(c, osg::Array::BIND_PER_VERTEX);
-  g->addPrimitiveSet(new osg::DrawArrays(GL_QUADS, 0, static_cast<GLsizei>(v->size())));
+  osg::ref_ptr<osg::Geometry> g = lit_geometry(v, n, c, GL_QUADS);
   osg::ref_ptr<osg::Geode> geode = new osg::Geode;
   geode->addDrawable(g);
   osg::ref_ptr<osg::Material> glass = new osg::Material;
