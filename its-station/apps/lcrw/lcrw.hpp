@@ -215,7 +215,7 @@ class Lcrw {
   /// per second (both keep their motion); empty when none does. A station evaluates on its fixes
   /// (10 Hz) and the CAMs it receives, so a TTC crosses the threshold between two evaluations
   /// and the warning would come up to a fix period late; evaluating again at the predicted onset
-  /// raises it on time (its-station/app/main.cpp).
+  /// raises it on time (its-station/station/station.cpp).
   std::optional<double> time_to_onset_s() const;
   const LcrwConfig& config() const { return cfg_; }
 

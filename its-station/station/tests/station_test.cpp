@@ -30,6 +30,9 @@ using namespace std::chrono_literals;
 
 constexpr std::uint16_t kEthertypeGn = 0x8947;
 const geodesy::Geodetic kOrigin{48.1351, 11.5820, 0.0};
+/// The world (a scenario with a pinned start time) runs a year behind the host's clock: what the
+/// station dates must come from its fixes, not from the host.
+constexpr clock::Duration kWorldBehindHost = std::chrono::hours{24 * 365};
 
 /// The contract's MAC address of a station: 02:00 and its StationID, big-endian.
 link::MacAddress mac_of(std::uint32_t id) {
@@ -82,12 +85,12 @@ struct FakeStation {
                 make_station_config(id, nullptr, &vehicle, StationOverrides{})) {}
 
   /// A receiver fix with the antenna (the bounding box's centre) at @p east, @p north metres
-  /// from kOrigin, moving along @p course_deg at @p speed_mps, dated now.
-  void fix(const clock::ManualRuntime& host, double east, double north, double course_deg,
-           double speed_mps) {
+  /// from kOrigin, moving along @p course_deg at @p speed_mps, dated now in the world.
+  clock::WallTime fix(const clock::ManualRuntime& host, double east, double north,
+                      double course_deg, double speed_mps) {
     const auto g = geodesy::LocalFrame(kOrigin).to_geodetic({east, north, 0.0});
     facilities::PositionFix f;
-    f.time = host.wall_now();
+    f.time = host.wall_now() - kWorldBehindHost;
     f.received = host.steady_now();
     f.latitude_deg = g.latitude_deg;
     f.longitude_deg = g.longitude_deg;
@@ -98,6 +101,7 @@ struct FakeStation {
     f.speed_confidence_mps = 0.1;
     f.heading_confidence_deg = 1.0;
     gnss.inject(f);
+    return f.time;
   }
 
   scenario::Vehicle vehicle;
@@ -156,11 +160,17 @@ TEST(Station, SendsACamWhenAFixMakesOneDue) {
   EXPECT_TRUE(cams_sent(s.link).empty()) << "a CAM without a fix";
 
   // Heading north at 10 m/s, the antenna 20 m east and 30 m north of the origin.
-  s.fix(host, 20.0, 30.0, 0.0, 10.0);
+  const clock::WallTime world = s.fix(host, 20.0, 30.0, 0.0, 10.0);
   const auto cams = cams_sent(s.link);
   ASSERT_EQ(cams.size(), 1u) << "the first fix makes the first CAM due (EN 302 637-2 6.1.3)";
   const messages::Cam& cam = cams[0];
   EXPECT_EQ(cam.header.stationID, 1001u);
+  // generationDeltaTime names the fix's instant: ms since 2004-01-01T00:00:00Z mod 65 536
+  // (EN 302 637-2 B.3), on the world's time, not the host's.
+  const std::int64_t world_ms =
+      std::chrono::duration_cast<std::chrono::milliseconds>(world.time_since_epoch()).count();
+  constexpr std::int64_t k2004UnixMs = 1'072'915'200'000;
+  EXPECT_EQ(cam.cam.generationDeltaTime, (world_ms - k2004UnixMs) % 65536);
   // The reference position is the front centre of the car (EN 302 637-2 B.3): half its length
   // ahead of the antenna, which sits at the centre.
   const auto front =
@@ -199,7 +209,7 @@ TEST(Station, WarnsOfANeighbourOnACollisionCourseFromItsCam) {
   // southbound, both at 15 m/s, both states of this instant.
   constexpr double kDistance = 80.0;
   constexpr double kSpeed = 15.0;
-  own.fix(host, 0.0, 0.0, 0.0, kSpeed);
+  const clock::WallTime world = own.fix(host, 0.0, 0.0, 0.0, kSpeed);
   EXPECT_TRUE(own.sink.on("its/1001/app/lcrw").empty()) << "a warning without a neighbour";
   other.fix(host, 0.0, kDistance, 180.0, kSpeed);
   const auto cams = cams_sent(other.link);
@@ -229,6 +239,12 @@ TEST(Station, WarnsOfANeighbourOnACollisionCourseFromItsCam) {
   EXPECT_NEAR(w["ttc_s"].get<double>(), ttc, 0.01);
   EXPECT_NEAR(w["distance_m"].get<double>(), gap, 0.05);
   EXPECT_NEAR(w["relative_speed_mps"].get<double>(), 2 * kSpeed, 0.05);
+  // Both states are of the world's instant: the received CAM is dated on the ITS clock, not on
+  // the host's (a year ahead here).
+  const auto world_ms =
+      std::chrono::duration_cast<std::chrono::milliseconds>(world.time_since_epoch()).count();
+  EXPECT_EQ(w["own_state_time"], world_ms);
+  EXPECT_EQ(w["other_state_time"], world_ms);
 
   // And the risk goes on the air as a collision-risk DENM (cause 97), geo-broadcast.
   ASSERT_GT(own.link.sent().size(), own_frames_before);
@@ -241,6 +257,40 @@ TEST(Station, WarnsOfANeighbourOnACollisionCourseFromItsCam) {
   ASSERT_TRUE(denms[0].denm.situation);
   EXPECT_EQ(denms[0].denm.situation->eventType.causeCode, 97);
 
+  own.station.stop();
+  other.station.stop();
+}
+
+// A TTC that will cross the threshold before the next fix is met by a timer at the predicted
+// onset, not a fix period late.
+TEST(Station, RaisesTheWarningAtThePredictedOnsetBetweenFixes) {
+  clock::ManualRuntime host;
+  FakeStation own(host, 1001, /*with_mqtt=*/true);
+  FakeStation other(host, 2002, /*with_mqtt=*/false);
+  own.station.start();
+  other.station.start();
+
+  // Head-on at 15 m/s each, TTC 3.05 s now: 50 ms above the 3 s threshold, half a fix period.
+  constexpr double kSpeed = 15.0;
+  const double threshold = apps::LcrwConfig{}.ttc_warning_s;
+  const double ttc_now = threshold + 0.05;
+  const double distance = own.vehicle.model.length_m + ttc_now * 2 * kSpeed;
+  own.fix(host, 0.0, 0.0, 0.0, kSpeed);
+  other.fix(host, 0.0, distance, 180.0, kSpeed);
+  for (const auto& f : other.link.sent())
+    own.link.inject(other.link.address(), f.destination, f.ethertype, f.payload, host.wall_now());
+  ASSERT_EQ(own.station.ldm().neighbours().size(), 1u);
+  EXPECT_TRUE(own.sink.on("its/1001/app/lcrw").empty()) << "TTC above the threshold";
+
+  host.advance(40ms);
+  EXPECT_TRUE(own.sink.on("its/1001/app/lcrw").empty()) << "raised before the onset";
+  host.advance(20ms);  // past the onset, still 40 ms before the next fix
+  const auto warnings = own.sink.on("its/1001/app/lcrw");
+  ASSERT_EQ(warnings.size(), 1u) << "no evaluation at the predicted onset";
+  const auto& w = warnings[0].payload["message"];
+  EXPECT_EQ(w["event"], "raised");
+  EXPECT_EQ(w["other_station_id"], 2002);
+  EXPECT_NEAR(w["ttc_s"].get<double>(), threshold, 0.01);
   own.station.stop();
   other.station.stop();
 }
