@@ -112,6 +112,7 @@ Station::~Station() {
 }
 
 void Station::start() {
+  stopped_ = false;
   ca_.start();
   spdlog::info("station {} (type {}) running, CAM policy {}", config_.station_id,
                unsigned{config_.ca.station_type},

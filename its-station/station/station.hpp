@@ -35,7 +35,9 @@
 namespace tb::its::station {
 
 /// What a station is built from. Every port outlives the Station and delivers (fixes, frames,
-/// timers) on one thread, the caller's.
+/// timers) on one thread, the caller's. The position provider keeps its listeners (it has no
+/// way to drop them), so it must deliver no fix after the Station is gone; the link's handler
+/// is removed when the Station goes.
 struct StationPorts {
   /// Timers, the host's monotonic and wall time (sockets, MQTT, trace records).
   clock::Runtime& runtime;
