@@ -101,10 +101,13 @@ Station::Station(const StationPorts& ports, StationConfig config)
   if (config_.lcrw_origin)
     frame_.emplace(*config_.lcrw_origin);
   position_.on_fix([this](const fac::PositionFix& fix) { on_fix(fix); });
-  ldm_.on_neighbour([this](const fac::Neighbour& n) {
-    if (const auto& fix = position_.current())
-      evaluate_lcrw(*fix, own_state(*fix), n.station_id);
-  });
+  // Only a station that runs LCRW listens: the own state it computes at every CAM received was
+  // a sixth of a pooled station's reception cost with LCRW off (station-host/README.md).
+  if (config_.lcrw)
+    ldm_.on_neighbour([this](const fac::Neighbour& n) {
+      if (const auto& fix = position_.current())
+        evaluate_lcrw(*fix, own_state(*fix), n.station_id);
+    });
 }
 
 Station::~Station() {
