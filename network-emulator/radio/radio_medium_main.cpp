@@ -128,6 +128,9 @@ std::vector<radio::PooledHostSpec> parse_pooled(const std::vector<std::string>& 
       if (key.empty())
         throw UsageError("--pooled: \"" + text + "\" has an empty station id");
       const radio::StationId id = scenario_station(key, sc, "--pooled");
+      if (sc.find_station(id)->station_kind != tb::scenario::StationKind::kPooled)
+        throw UsageError("--pooled: station " + key + " is not \"pooled\" in scenario " +
+                         sc.source + " (its vehicle's station.kind)");
       if (!seen.insert(id).second)
         throw UsageError("--pooled: station " + key +
                          " is given twice (in --stations or another --pooled)");

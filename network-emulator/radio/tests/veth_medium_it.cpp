@@ -693,9 +693,9 @@ fs::path write_pooled_scenario(const std::string& channel) {
                       << R"(,
   "vehicles": [
     { "id": "full", "station_id": 11, "spawn": { "x": 10, "y": 0, "heading_deg": 90 }, "driver": "human" },
-    { "id": "p1", "station_id": 21, "spawn": { "x": 60, "y": 0, "heading_deg": 90 }, "driver": "human" },
-    { "id": "p2", "station_id": 22, "spawn": { "x": 110, "y": 0, "heading_deg": 90 }, "driver": "human" },
-    { "id": "p3", "station_id": 23, "spawn": { "x": 160, "y": 0, "heading_deg": 90 }, "driver": "human" }
+    { "id": "p1", "station_id": 21, "spawn": { "x": 60, "y": 0, "heading_deg": 90 }, "driver": { "type": "lane_follow", "speed_profile": [{ "t": 0, "speed": 0 }] }, "station": { "kind": "pooled" } },
+    { "id": "p2", "station_id": 22, "spawn": { "x": 110, "y": 0, "heading_deg": 90 }, "driver": { "type": "lane_follow", "speed_profile": [{ "t": 0, "speed": 0 }] }, "station": { "kind": "pooled" } },
+    { "id": "p3", "station_id": 23, "spawn": { "x": 160, "y": 0, "heading_deg": 90 }, "driver": { "type": "lane_follow", "speed_profile": [{ "t": 0, "speed": 0 }] }, "station": { "kind": "pooled" } }
   ]
 })";
   return file;
@@ -876,6 +876,9 @@ TEST_F(VethMediumIT, PooledHostsAreRefusedOnHwsimAndCheckedAgainstTheScenario) {
   EXPECT_EQ(run({"--scenario", scenario.string(), "--mode", "veth", "--prefix", kPrefix, "--pooled",
                  ns_[1]->name() + "=21,777"}),
             1);  // not in the scenario
+  EXPECT_EQ(run({"--scenario", scenario.string(), "--mode", "veth", "--prefix", kPrefix, "--pooled",
+                 ns_[1]->name() + "=21,full"}),
+            1);  // a full station's vehicle
   EXPECT_EQ(run({"--scenario", scenario.string(), "--mode", "veth", "--prefix", kPrefix, "--pooled",
                  ns_[1]->name()}),
             1);
