@@ -686,6 +686,34 @@ Driver read_driver(Node n) {
   return f;
 }
 
+/// The "station" object's kind, mqtt and lcrw (issue 33). Pooled stations are station-host's:
+/// scripted vehicles on its-station's stack; a human driver needs a full station (its own
+/// process beside the driver's window), and a "command" is a stack of its own.
+void read_station_kind(Node& st, const Node& vehicle, Vehicle& v) {
+  if (auto k = st.optional("kind")) {
+    v.station_kind =
+        k->choice({"full", "pooled"}) == "pooled" ? StationKind::kPooled : StationKind::kFull;
+    if (v.station_kind == StationKind::kPooled) {
+      if (std::holds_alternative<HumanDriver>(v.driver)) {
+        k->fail(vehicle.has("driver")
+                    ? "a vehicle with a \"human\" driver cannot have a \"pooled\" station "
+                      "(human-driven vehicles get full stations)"
+                    : "a vehicle without a driver is driven by a human and cannot have a "
+                      "\"pooled\" station (human-driven vehicles get full stations)");
+      }
+      if (!v.station_command.empty())
+        k->fail("a \"pooled\" station runs its-station's stack, not a \"command\"");
+    }
+  }
+  const bool full = v.station_kind == StationKind::kFull;
+  v.station_mqtt = full;
+  v.station_lcrw = full;
+  if (auto mq = st.optional("mqtt"))
+    v.station_mqtt = mq->boolean();
+  if (auto l = st.optional("lcrw"))
+    v.station_lcrw = l->boolean();
+}
+
 Vehicle read_vehicle(Node n, const MapContext& m) {
   n.expect_object("a vehicle");
   Vehicle v;
@@ -777,7 +805,8 @@ Vehicle read_vehicle(Node n, const MapContext& m) {
   }
   if (auto st = n.optional("station")) {
     st->expect_object(
-        "a station (\"command\": the program and its arguments, \"pki\": a test PKI's name)");
+        "a station (\"command\": the program and its arguments, \"pki\": a test PKI's name, "
+        "\"kind\": \"full\" or \"pooled\", \"mqtt\", \"lcrw\")");
     if (auto cmd = st->optional("command")) {
       for (const Node& a : cmd->array(1, 256)) {
         v.station_command.push_back(a.string());
@@ -793,6 +822,7 @@ Vehicle read_vehicle(Node n, const MapContext& m) {
               std::string::npos)
         pki->fail("PKI name \"" + v.station_pki + "\" must be 1 to 64 letters, digits, '_' or '-'");
     }
+    read_station_kind(*st, n, v);
     st->finish();
   }
   n.finish();

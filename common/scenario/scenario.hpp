@@ -202,6 +202,11 @@ enum class VehicleRole : std::uint8_t {
   kTaxi = 12,
 };
 
+/// "station": {"kind": ...}: where a vehicle's ITS station runs (issue 33). A full station is a
+/// process of its own (its-station, or the vehicle's "command"); pooled stations run, many to a
+/// process, inside station-host, fed from the emulator's state stream.
+enum class StationKind { kFull, kPooled };
+
 struct Vehicle {
   std::string id;
   std::uint32_t station_id = 0;   ///< ETSI StationID
@@ -219,6 +224,15 @@ struct Vehicle {
   /// beside the scenario's. Stations of different PKIs drop each other's packets
   /// (untrusted_root): a foreign or misconfigured vehicle. Empty: the scenario's PKI.
   std::string station_pki;
+  /// "station": {"kind": "full" | "pooled"}. Pooled needs a scripted driver and its-station's
+  /// stack (no "command").
+  StationKind station_kind = StationKind::kFull;
+  /// "station": {"mqtt": bool}: whether the station mirrors its state to MQTT. Default true for
+  /// full stations; false for pooled ones (hundreds of mirrors at 10 Hz would flood the broker).
+  bool station_mqtt = true;
+  /// "station": {"lcrw": bool}: whether the station runs LCRW. Default true for full stations,
+  /// false for pooled ones.
+  bool station_lcrw = true;
   /// "role": a CDD VehicleRole name ("emergency", "publicTransport", …).
   VehicleRole role = VehicleRole::kDefault;
   /// "dangerous_goods": the CDD DangerousGoodsBasic (0 explosives1 … 19

@@ -47,7 +47,10 @@ int summary(const std::string& f, bool quiet) {
                            : std::holds_alternative<tb::scenario::TimelineDriver>(v.driver)
                                ? "timeline"
                                : "lane_follow";
-      std::printf("  %-12s station %-10u driver %s\n", v.id.c_str(), v.station_id, driver);
+      const bool pooled = v.station_kind == tb::scenario::StationKind::kPooled;
+      std::printf("  %-12s station %-10u driver %-11s %s%s%s\n", v.id.c_str(), v.station_id, driver,
+                  pooled ? "pooled" : "full", v.station_mqtt ? " mqtt" : "",
+                  v.station_lcrw ? " lcrw" : "");
     }
   }
   return 0;

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "common/scenario/loader.hpp"
@@ -69,6 +70,20 @@ const BadCase kBadCases[] = {
     {"station-command-empty.json", "/vehicles/0/station/command",
      "expected 1 to 256 elements, found 0"},
     {"bad-security.json", "/security", "\"sign\" is not one of \"none\", \"signed\""},
+    // Station kinds (issue 33): pooled stations are scripted vehicles on its-station's stack.
+    {"station-kind-unknown.json", "/vehicles/0/station/kind",
+     "\"shared\" is not one of \"full\", \"pooled\""},
+    {"pooled-human-driver.json", "/vehicles/0/station/kind",
+     "a vehicle with a \"human\" driver cannot have a \"pooled\" station (human-driven "
+     "vehicles get full stations)"},
+    {"pooled-no-driver.json", "/vehicles/0/station/kind",
+     "a vehicle without a driver is driven by a human and cannot have a \"pooled\" station"},
+    {"pooled-with-command.json", "/vehicles/0/station/kind",
+     "a \"pooled\" station runs its-station's stack, not a \"command\""},
+    {"pooled-without-station-id.json", "/vehicles/0/station_id",
+     "missing required field \"station_id\""},
+    {"pooled-lcrw-not-bool.json", "/vehicles/0/station/lcrw",
+     "expected true or false, found a string"},
     // OpenDRIVE maps (issue 17, "Bad input"); the maps are in tests/maps.
     {"opendrive-missing-file.json", "/map/file", "../maps/no-such-map.xodr: no such file"},
     {"opendrive-malformed.json", "/map/file", "malformed XML"},
@@ -284,6 +299,40 @@ TEST(ScenarioLoader, AVehicleMayBringItsOwnStationProgram) {
   } catch (const ScenarioError& e) {
     EXPECT_EQ(e.path(), "/vehicles/0/station/cmd") << e.what();
   }
+}
+
+TEST(ScenarioLoader, StationKindAndItsDefaults) {
+  const Scenario s = parse(R"({
+    "name": "pool", "map": {"type": "straight", "lanes": 2, "length": 500},
+    "origin": {"lat": 48.1, "lon": 11.5},
+    "vehicles": [
+      {"id": "ego", "station_id": 1, "spawn": {"lane": 0, "s": 10}},
+      {"id": "p1", "station_id": 2, "spawn": {"lane": 0, "s": 40},
+       "driver": {"type": "lane_follow", "speed_profile": [{"t": 0, "speed": 10}]},
+       "station": {"kind": "pooled"}},
+      {"id": "p2", "station_id": 3, "spawn": {"lane": 0, "s": 70},
+       "driver": {"type": "lane_follow", "speed_profile": [{"t": 0, "speed": 10}]},
+       "station": {"kind": "pooled", "mqtt": true, "lcrw": true}},
+      {"id": "f1", "station_id": 4, "spawn": {"lane": 0, "s": 100},
+       "driver": {"type": "lane_follow", "speed_profile": [{"t": 0, "speed": 10}]},
+       "station": {"kind": "full", "mqtt": false, "lcrw": false}}]
+  })",
+                           "inline.json");
+  ASSERT_EQ(s.vehicles.size(), 4u);
+  // A human-driven vehicle without a "station" is full, mirrored to MQTT and runs LCRW.
+  EXPECT_EQ(s.vehicles[0].station_kind, StationKind::kFull);
+  EXPECT_TRUE(s.vehicles[0].station_mqtt);
+  EXPECT_TRUE(s.vehicles[0].station_lcrw);
+  // Pooled: silent on MQTT and without LCRW unless asked.
+  EXPECT_EQ(s.vehicles[1].station_kind, StationKind::kPooled);
+  EXPECT_FALSE(s.vehicles[1].station_mqtt);
+  EXPECT_FALSE(s.vehicles[1].station_lcrw);
+  EXPECT_EQ(s.vehicles[2].station_kind, StationKind::kPooled);
+  EXPECT_TRUE(s.vehicles[2].station_mqtt);
+  EXPECT_TRUE(s.vehicles[2].station_lcrw);
+  EXPECT_EQ(s.vehicles[3].station_kind, StationKind::kFull);
+  EXPECT_FALSE(s.vehicles[3].station_mqtt);
+  EXPECT_FALSE(s.vehicles[3].station_lcrw);
 }
 
 TEST(ScenarioLoader, AStationMayComeFromAnotherPki) {
@@ -510,6 +559,34 @@ TEST(ScenarioCheck, ExitsWithTwoAndNamesTheProblem) {
   const auto [code, out] = check("unknown-key.json");
   EXPECT_EQ(code, kExitBadScenario);
   EXPECT_NE(out.find("unknown-key.json: /map/lane_widht: unknown field"), std::string::npos) << out;
+}
+
+TEST(ScenarioCheck, ShowsEachStationsKindAndRefusesAPooledHumanDriver) {
+  const fs::path good = fs::temp_directory_path() / "scenario_check_pooled.json";
+  {
+    std::ofstream(good) << R"({"name": "t", "map": {"type": "straight", "lanes": 2, "length": 500},
+      "origin": {"lat": 41.1, "lon": 29.0},
+      "vehicles": [{"id": "ego", "station_id": 1, "spawn": {"lane": 0, "s": 10}},
+                   {"id": "bg", "station_id": 2, "spawn": {"lane": 0, "s": 40},
+                    "driver": {"type": "lane_follow", "speed_profile": [{"t": 0, "speed": 9}]},
+                    "station": {"kind": "pooled"}}]})";
+  }
+  const auto [ok_code, ok_out] = check(good.string());
+  fs::remove(good);
+  EXPECT_EQ(ok_code, 0) << ok_out;
+  EXPECT_NE(ok_out.find("ego          station 1          driver human       full mqtt lcrw"),
+            std::string::npos)
+      << ok_out;
+  EXPECT_NE(ok_out.find("bg           station 2          driver lane_follow pooled\n"),
+            std::string::npos)
+      << ok_out;
+
+  const auto [code, out] = check("pooled-human-driver.json");
+  EXPECT_EQ(code, kExitBadScenario);
+  EXPECT_NE(out.find("pooled-human-driver.json: /vehicles/0/station/kind: a vehicle with a "
+                     "\"human\" driver cannot have a \"pooled\" station"),
+            std::string::npos)
+      << out;
 }
 
 TEST(ScenarioCheck, RoutesTheMapCannotGiveExitTwo) {
