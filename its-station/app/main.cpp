@@ -4,13 +4,11 @@
 
 #include <net/if.h>
 
-#include <array>
 #include <chrono>
 #include <csignal>
 #include <fstream>
 #include <memory>
 #include <optional>
-#include <set>
 #include <string>
 
 #include <spdlog/spdlog.h>
@@ -25,28 +23,18 @@
 #include "common/can/udp_can_bus.hpp"
 #include "common/clock/asio_runtime.hpp"
 #include "common/clock/gnss_disciplined_runtime.hpp"
-#include "common/clock/utc.hpp"
-#include "common/geodesy/local_frame.hpp"
-#include "common/map/scenario_map.hpp"
 #include "common/mqtt/mosquitto_client.hpp"
 #include "common/scenario/loader.hpp"
 #include "common/trace/tracer.hpp"
-#include "its-station/app/adapters.hpp"
-#include "its-station/app/time_synced_link.hpp"
-#include "its-station/apps/lcrw/lcrw_app.hpp"
-#include "its-station/apps/mqtt/publisher.hpp"
-#include "its-station/btp/dispatcher.hpp"
-#include "its-station/facilities/ca_service.hpp"
+#include "its-station/apps/mqtt/messages.hpp"
 #include "its-station/facilities/can_vehicle_data.hpp"
-#include "its-station/facilities/den_service.hpp"
 #include "its-station/facilities/gpsd_position_provider.hpp"
 #include "its-station/facilities/gpsd_process.hpp"
-#include "its-station/facilities/ldm.hpp"
-#include "its-station/facilities/reference_position.hpp"
-#include "its-station/geonet/router.hpp"
 #include "its-station/link/packet_socket_link.hpp"
 #include "its-station/security/pki_files.hpp"
 #include "its-station/security/security_entity.hpp"
+#include "its-station/station/station.hpp"
+#include "its-station/station/station_config.hpp"
 
 namespace {
 
@@ -142,6 +130,20 @@ std::unique_ptr<tb::can::CanBus> open_can(asio::io_context& io, const Options& o
   }
 }
 
+tb::its::station::StationOverrides overrides(const Options& o) {
+  tb::its::station::StationOverrides v;
+  v.station_type = o.station_type;
+  v.cam_policy = o.cam_policy;
+  v.cam_period_ms = o.cam_period_ms;
+  v.no_lcrw = !o.lcrw;
+  v.no_keep_alive_forwarding = o.no_keep_alive_forwarding;
+  v.denm_repetition_ms = o.denm_repetition_ms;
+  v.denm_repetition_duration_s = o.denm_repetition_duration_s;
+  v.mqtt_prefix = o.mqtt_prefix;
+  v.mqtt_cam_interval_ms = o.mqtt_cam_interval_ms;
+  return v;
+}
+
 int run(const Options& o) {
   if (!o.trace.empty())
     tb::trace::configure(o.trace, "its-station");
@@ -159,28 +161,8 @@ int run(const Options& o) {
           fmt::format("scenario {}: no vehicle with station id {}", o.scenario, o.station_id),
           tb::scenario::kExitBadScenario};
   }
-  fac::CaConfig ca_cfg;
-  ca_cfg.station_id = o.station_id;
-  ca_cfg.station_type = static_cast<tb::its::messages::StationType>(
-      o.station_type >= 0 ? o.station_type : (vehicle ? vehicle->station_type : 5));
-  if (scenario)
-    ca_cfg.policy = scenario->cam;
-  if (vehicle) {
-    ca_cfg.vehicle_length_m = vehicle->model.length_m;
-    ca_cfg.vehicle_width_m = vehicle->model.width_m;
-    // The scenario's role is the CDD VehicleRole, value for value.
-    ca_cfg.vehicle_role = static_cast<tb::its::messages::VehicleRole>(vehicle->role);
-    if (vehicle->dangerous_goods)
-      ca_cfg.dangerous_goods =
-          static_cast<tb::its::messages::DangerousGoodsBasic>(*vehicle->dangerous_goods);
-  }
-  if (o.cam_policy == "fixed") {
-    ca_cfg.policy.kind = tb::scenario::CamPolicy::Kind::kFixed;
-  } else if (o.cam_policy == "etsi") {
-    ca_cfg.policy.kind = tb::scenario::CamPolicy::Kind::kEtsi;
-  }
-  if (o.cam_period_ms > 0.0)
-    ca_cfg.policy.period_ms = o.cam_period_ms;
+  const tb::its::station::StationConfig config = tb::its::station::make_station_config(
+      o.station_id, scenario ? &*scenario : nullptr, vehicle, overrides(o));
 
   asio::io_context io;
   tb::clock::AsioRuntime runtime(io);
@@ -223,37 +205,8 @@ int run(const Options& o) {
     vehicle_data->start();
   }
 
-  // Everything above the receiver works with the vehicle's orientation and the CAM reference
-  // point (front centre), not the antenna's course and position (reference_position.hpp).
-  fac::AntennaGeometry antenna;
-  if (vehicle) {
-    antenna.vehicle_length_m = vehicle->model.length_m;
-    antenna.antenna_forward_m = vehicle->model.antenna.forward_m;
-    antenna.antenna_left_m = vehicle->model.antenna.left_m;
-  }
-  fac::ReferencePositionProvider position(gnss, vehicle_data.get(), antenna);
-
-  // The station's ITS clock (docs/time.md): every time a standard dates or times — GN TST and
-  // location-table ageing, CAM timing, DENM times, DEN repetition and validity, LDM expiry,
-  // security generation time and certificate validity, LCRW — runs on GNSS time, the world's
-  // clock (the scenario's start time + sim time), as on a real OBU. The host's clock only
-  // serves sockets, gpsd, CAN, MQTT and trace records. It is told of a fix before anything else
-  // hears of it.
+  // The station's ITS clock (docs/time.md), disciplined by the Station from its fixes.
   tb::clock::GnssDisciplinedRuntime its_clock(runtime);
-  position.on_fix([&](const fac::PositionFix& fix) {
-    const bool first = !its_clock.synchronised();
-    const unsigned resyncs = its_clock.resyncs();
-    its_clock.on_fix(fix.time);
-    if (first)
-      spdlog::info(
-          "ITS clock: on GNSS time from the first fix ({}, {:+.1f} s from the host's "
-          "clock)",
-          tb::clock::format_utc(fix.time),
-          std::chrono::duration<double>(fix.time - runtime.wall_now()).count());
-    else if (its_clock.resyncs() != resyncs)
-      spdlog::warn("ITS clock: GNSS time jumped (a restarted simulation?): now {}",
-                   tb::clock::format_utc(fix.time));
-  });
 
   // Radio: the real interface (hwsim in OCB mode, or the veth stand-in of the same name).
   auto link = tb::its::link::PacketSocketLink::open(io, o.radio);
@@ -266,53 +219,19 @@ int run(const Options& o) {
                (*link)->driver().empty() ? "driver unknown" : (*link)->driver(),
                tb::its::link::to_string((*link)->address()));
 
-  tb::its::station::GnPositionAdapter gn_position(position);
-  tb::its::geonet::RouterConfig gn_cfg;
-  gn_cfg.station_type = static_cast<tb::its::geonet::StationType>(ca_cfg.station_type);
-  tb::its::station::TimeSyncedLink synced_link(**link, its_clock);
-  tb::its::geonet::Router router(its_clock, synced_link, gn_position, gn_cfg);
   std::unique_ptr<tb::its::security::SecurityEntity> security = make_security(o, scenario);
-  router.set_security(security.get());
-  if (security)
-    security->set_trace_station(o.station_id);
   if (security && !security->can_sign(tb::its::security::kPsidGnMgmt))
     spdlog::warn(
         "security: the AT of {} has no GN-MGMT permission (psid 141, an older "
         "its-pki): beacons go unsigned; make the PKI again to sign them",
         o.pki_dir);
-  tb::its::btp::Dispatcher btp(router);
-  tb::its::station::BtpMessageSender sender(btp);
 
-  // Facilities.
-  fac::Ldm ldm(its_clock);
-  fac::CaService ca(its_clock, position, vehicle_data.get(), sender, ldm, ca_cfg);
-  fac::DenConfig den_cfg;
-  den_cfg.station_id = o.station_id;
-  den_cfg.station_type = ca_cfg.station_type;
-  den_cfg.keep_alive_forwarding = !o.no_keep_alive_forwarding;
-  tb::its::station::GnAreaLocator den_locator(position);
-  fac::DenService den(its_clock, sender, ldm, den_cfg, &den_locator);
-  // Received CAMs are dated on the ITS clock from their kernel receive stamp, so that
-  // generationDeltaTime resolves to the right instant and neighbours' states compare with the
-  // own ones.
-  btp.register_port(fac::kBtpPortCam, [&](const tb::its::btp::Indication& ind,
-                                          std::span<const std::uint8_t> payload) {
-    // A verified CAM is checked against its signer's SSP (a permissive station's unverified
-    // ones have nothing trustworthy to check against).
-    std::optional<std::span<const std::uint8_t>> ssp;
-    if (ind.gn && ind.gn->security_report == tb::its::security::VerifyResult::kOk)
-      ssp = ind.gn->permissions;
-    ca.receive(payload, ind.gn ? its_clock.to_its(ind.gn->rx_time) : its_clock.wall_now(), ssp);
-  });
-  btp.register_port(fac::kBtpPortDenm, [&](const tb::its::btp::Indication& ind,
-                                           std::span<const std::uint8_t> payload) {
-    den.receive(payload, tb::its::station::den_reception(ind));
-  });
-
-  // MQTT.
+  // MQTT: one login per station, unless the scenario keeps this station off MQTT.
   std::unique_ptr<tb::mqtt::MosquittoClient> mqtt;
-  std::unique_ptr<apps::mqtt::StationPublisher> publisher;
-  if (!o.mqtt_host.empty()) {
+  std::string mqtt_root;
+  if (!o.mqtt_host.empty() && !config.mqtt)
+    spdlog::info("MQTT: off for this station (the scenario's station.mqtt)");
+  if (!o.mqtt_host.empty() && config.mqtt) {
     tb::mqtt::ClientConfig mc;
     mc.host = o.mqtt_host;
     mc.port = o.mqtt_port;
@@ -328,232 +247,25 @@ int run(const Options& o) {
     apps::mqtt::Topics topics(o.mqtt_prefix, o.station_id);
     mc.status_topic = topics.status();
     mc.publish_prefix = topics.root() + "/";
+    mqtt_root = topics.root();
     mqtt = std::make_unique<tb::mqtt::MosquittoClient>(runtime, mc);
-    publisher = std::make_unique<apps::mqtt::StationPublisher>(
-        runtime, *mqtt,
-        apps::mqtt::PublisherConfig{o.mqtt_prefix, o.station_id,
-                                    std::chrono::milliseconds{o.mqtt_cam_interval_ms}});
-    publisher->set_tracer(&tb::trace::global());
-    mqtt->start();
-    spdlog::info("MQTT: publishing to {}:{} under {}", o.mqtt_host, o.mqtt_port, topics.root());
-    ldm.on_neighbour([&](const fac::Neighbour& n) {
-      apps::mqtt::ReceivedCam c;
-      c.station_id = n.station_id;
-      c.station_type = n.station_type;
-      c.generation_delta_time = n.latest().generation_delta_time;
-      c.kinematics = tb::its::station::neighbour_kinematics(n);
-      c.received_at = n.latest().received_wall;
-      publisher->publish_cam(c);
-    });
-    ldm.on_event([&](const fac::Event& e, fac::DenmOutcome) {
-      publisher->publish_denm_received(tb::its::station::denm_view(e.denm));
-    });
-    den.on_sent([&](const tb::its::messages::Denm& d) {
-      publisher->publish_denm_sent(tb::its::station::denm_view(d));
-    });
   }
 
-  // LCRW: evaluated at every own fix against the LDM's neighbours, and at every CAM received
-  // against its sender (a neighbour's state change must not wait up to a fix period, 100 ms,
-  // for the next own fix before it can raise a warning) and the neighbours with an active
-  // warning; both states are extrapolated to the evaluation instant.
-  // And once more at the predicted onset (Lcrw::time_to_onset_s) when a TTC will cross the
-  // warning threshold before the next fix: otherwise the warning came up to a fix period late
-  // (the frontal case at 50 km/h warned anywhere between TTC 3.0 and 2.9 s).
-  // LCRW computes in an East-North-Up frame; with a scenario it is anchored where the map's
-  // (0, 0, 0) lies (the map's geoReference, or the scenario's origin: common/map's ScenarioMap).
-  std::optional<tb::geodesy::LocalFrame> frame;
-  if (scenario)
-    frame.emplace(*tb::map::ScenarioMap(*scenario).origin().origin);
-  tb::its::station::DenPortAdapter den_port(
-      den,
-      std::chrono::duration_cast<tb::clock::Duration>(
-          std::chrono::duration<double, std::milli>(o.denm_repetition_ms)),
-      std::chrono::duration_cast<tb::clock::Duration>(
-          std::chrono::duration<double>(o.denm_repetition_duration_s)));
-  std::unique_ptr<apps::LcrwDenmTrigger> lcrw_denm;
-  std::unique_ptr<apps::LcrwApplication> lcrw;
-  std::set<std::uint32_t> published_about;  // neighbours of the current evaluation's warnings
-  asio::steady_timer lcrw_onset(io);
-  // A fix period: an onset further away is met by the next fix's evaluation.
-  const double fix_period_s = 1.0 / (scenario ? scenario->rates.gnss_hz : 10.0);
-  std::function<void()> evaluate_at_onset;
-  const auto own_state = [&](const fac::PositionFix& fix) {
-    const fac::VehicleData* vd =
-        vehicle_data && vehicle_data->current() ? &*vehicle_data->current() : nullptr;
-    return tb::its::station::own_kinematics(fix, vd, ca_cfg.vehicle_length_m,
-                                            ca_cfg.vehicle_width_m);
-  };
-  // `its.lcrw` records (docs/tracing.md) are written here rather than by the application:
-  // after an own fix one per neighbour assessed, after a CAM only the decision about its
-  // sender — one record per CAM, not one per neighbour per CAM (with 50 stations that would be
-  // a million records a second). They are stamped with the start of the evaluation: a warning
-  // is published from inside it, so the report's decision → publication stage (mqtt) spans the
-  // evaluation and the hand-off to the MQTT client.
-  const auto evaluate_lcrw = [&](const fac::PositionFix& fix, const apps::mqtt::Kinematics& own,
-                                 std::optional<std::uint32_t> cam_from) {
-    if (!o.lcrw)
-      return;
-    if (!frame) {
-      // Without a scenario the first fix anchors the local frame LCRW computes in.
-      frame.emplace(tb::geodesy::Geodetic{fix.latitude_deg, fix.longitude_deg, 0.0});
-    }
-    if (!lcrw) {
-      lcrw_denm = std::make_unique<apps::LcrwDenmTrigger>(den_port, *frame);
-      lcrw = std::make_unique<apps::LcrwApplication>(
-          its_clock, apps::LcrwConfig{},
-          [&](const apps::LcrwWarning& w) {
-            published_about.insert(w.other_station_id);
-            spdlog::info("LCRW: {} station {} ({}), TTC {:.2f} s",
-                         w.event == apps::WarningEvent::kCleared ? "cleared" : "warning",
-                         w.other_station_id, apps::to_string(w.collision_case), w.ttc_s);
-            if (publisher)
-              publisher->publish_warning(w);
-          },
-          lcrw_denm.get(), nullptr);
-    }
-    const std::int64_t decided_ns = tb::trace::Tracer::now_ns();
-    published_about.clear();
-    std::vector<apps::VehicleKinematics> others;
-    const auto assess = [&](std::uint32_t id, const fac::Neighbour& n) {
-      others.push_back(tb::its::station::lcrw_kinematics(
-          id, tb::its::station::neighbour_kinematics(n), n.latest().generation_time, *frame));
-    };
-    const auto& neighbours = ldm.neighbours();
-    if (cam_from) {
-      // After a CAM only its sender's state is new: assess the sender, and every neighbour with
-      // an active warning (so that time can still update or end it, as before); the others
-      // wait for the next own fix (100 ms at 10 Hz). Assessing every neighbour at every CAM
-      // made LCRW quadratic in the neighbours per station: with 50 stations each one took 490
-      // CAMs a second × 49 neighbours, most of the testbed's CPU (issue 21, docs/latency.md).
-      if (const auto it = neighbours.find(*cam_from); it != neighbours.end())
-        assess(it->first, it->second);
-      for (const auto& [id, w] : lcrw->lcrw().active())
-        if (const auto it = neighbours.find(id); id != *cam_from && it != neighbours.end())
-          assess(it->first, it->second);
-    } else {
-      for (const auto& [id, n] : neighbours)
-        assess(id, n);
-    }
-    lcrw->update(tb::its::station::lcrw_kinematics(o.station_id, own, fix.time, *frame), others);
-    if (const auto onset = lcrw->lcrw().time_to_onset_s(); onset && *onset < fix_period_s) {
-      // At least 1 ms: a TTC that does not fall as predicted (the other braking) is met again
-      // by the next fix, never by a busy loop.
-      lcrw_onset.expires_after(
-          std::chrono::microseconds(std::max<std::int64_t>(1000, std::llround(*onset * 1e6))));
-      lcrw_onset.async_wait([&](const boost::system::error_code& ec) {
-        if (!ec)
-          evaluate_at_onset();
-      });
-    } else {
-      lcrw_onset.cancel();
-    }
-    auto& tracer = tb::trace::global();
-    if (!tracer.enabled())
-      return;
-    const auto& assessed = lcrw->lcrw().last_assessments();
-    for (const auto& n : others) {
-      // After a CAM, its sender's decision, and any other that published (a warning cleared
-      // on the passing of time), so that every publication has its decision record.
-      if (cam_from && n.station_id != *cam_from && !published_about.contains(n.station_id))
-        continue;
-      const auto a = assessed.find(n.station_id);
-      if (a == assessed.end())
-        continue;  // too old to assess
-      tracer.record_at(decided_ns, "its.lcrw",
-                       {{"station", o.station_id},
-                        {"from", n.station_id},
-                        {"gdt", apps::generation_delta_time(n.time)},
-                        {"warn", lcrw->lcrw().active().contains(n.station_id)},
-                        {"ttc", a->second.ttc_s}});
-    }
-  };
-  evaluate_at_onset = [&] {
-    if (const auto& fix = position.current())
-      evaluate_lcrw(*fix, own_state(*fix), std::nullopt);
-  };
-  position.on_fix([&](const fac::PositionFix& fix) {
-    const auto own = own_state(fix);
-    if (publisher) {
-      apps::mqtt::StationState s;
-      s.station_id = o.station_id;
-      s.station_type = ca_cfg.station_type;
-      s.kinematics = own;
-      s.fix = fix.altitude_m ? apps::mqtt::GnssFix::k3D : apps::mqtt::GnssFix::k2D;
-      s.time = fix.time;
-      publisher->publish_state(s);
-    }
-    evaluate_lcrw(fix, own, std::nullopt);
-  });
-  ldm.on_neighbour([&](const fac::Neighbour& n) {
-    if (const auto& fix = position.current())
-      evaluate_lcrw(*fix, own_state(*fix), n.station_id);
-  });
+  tb::its::station::Station station(
+      tb::its::station::StationPorts{runtime, its_clock, gnss, vehicle_data.get(), **link,
+                                     security.get(), mqtt.get()},
+      config);
+  if (mqtt) {
+    mqtt->start();
+    spdlog::info("MQTT: publishing to {}:{} under {}", o.mqtt_host, o.mqtt_port, mqtt_root);
+  }
 
   // Status file: the LDM as the station sees it, for operators and tests.
   asio::steady_timer status_timer(io);
-  std::array<bool, static_cast<std::size_t>(tb::its::security::VerifyResult::kCount)>
-      refusals_said{};
   auto write_status = [&] {
     if (o.status_file.empty())
       return;
-    nlohmann::json j;
-    j["station_id"] = o.station_id;
-    j["fix"] = position.current().has_value();
-    if (position.current()) {
-      j["latitude_deg"] = position.current()->latitude_deg;
-      j["longitude_deg"] = position.current()->longitude_deg;
-    }
-    j["frames_before_first_fix"] = synced_link.dropped_before_sync();
-    j["cams_sent"] = ca.counters().sent;
-    j["cams_received"] = ca.counters().received;
-    j["denms_sent"] = den.counters().sent;
-    j["denms_received"] = den.counters().received;
-    j["denms_forwarded"] = den.counters().forwarded;
-    j["neighbours"] = nlohmann::json::array();
-    for (const auto& [id, n] : ldm.neighbours()) {
-      const auto& s = n.latest();
-      nlohmann::json e{{"station_id", id},
-                       {"latitude_deg", s.latitude_deg},
-                       {"longitude_deg", s.longitude_deg},
-                       {"generation_delta_time", s.generation_delta_time}};
-      if (s.speed_mps)
-        e["speed_mps"] = *s.speed_mps;
-      if (s.heading_deg)
-        e["heading_deg"] = *s.heading_deg;
-      j["neighbours"].push_back(e);
-    }
-    j["events"] = ldm.active_events().size();
-    if (security) {
-      // Each verification outcome by name (TS 103 097 drop reasons), and what a permissive
-      // station passed up although it failed. A refusal the station had not seen before is
-      // also said once in the log (a station of another PKI: untrusted_root).
-      nlohmann::json v;
-      const auto& counts = security->verifier().counts();
-      for (std::size_t i = 0; i < counts.size(); ++i) {
-        if (counts[i] == 0)
-          continue;
-        const auto r = static_cast<tb::its::security::VerifyResult>(i);
-        v[std::string(tb::its::security::to_string(r))] = counts[i];
-        if (r != tb::its::security::VerifyResult::kOk &&
-            r != tb::its::security::VerifyResult::kUnknownSigner && !refusals_said[i]) {
-          refusals_said[i] = true;
-          spdlog::warn("security: dropping received packets: {}", tb::its::security::to_string(r));
-        }
-      }
-      j["security"] = {
-          {"mode", tb::its::security::to_string(security->mode())},
-          {"verify", v},
-          {"passed_unverified", security->passed_unverified()},
-          {"held", security->held()},
-          // (signer, generationTime) pairs kept for replay detection (verify.replay counts hits)
-          {"replay_entries", security->verifier().replay_entries()},
-          {"unsecured_dropped", router.stats().dropped(tb::its::geonet::DropReason::kUnsecured)},
-          {"cam_ssp_refused", ca.counters().not_permitted},
-          {"denm_ssp_refused", den.counters().not_permitted},
-          {"its_aid_mismatch", btp.stats().dropped(tb::its::btp::DropReason::kItsAidMismatch)},
-          {"beacons_unsigned", router.stats().beacons_unsigned}};
-    }
+    const nlohmann::json j = station.status();
     const std::string tmp = o.status_file + ".tmp";
     std::ofstream(tmp) << j.dump() << "\n";
     std::rename(tmp.c_str(), o.status_file.c_str());
@@ -575,11 +287,10 @@ int run(const Options& o) {
   auto shutdown = [&](const std::string& why, int code) {
     spdlog::info("shutting down: {}", why);
     exit_code = code;
-    ca.stop();
+    station.stop();
     gnss.stop();
     signals.cancel();
     status_timer.cancel();
-    lcrw_onset.cancel();
     gpsd_deadline.cancel();
     duration_timer.cancel();
     write_status();
@@ -610,24 +321,14 @@ int run(const Options& o) {
   });
 
   gnss.start();
-  ca.start();
+  station.start();
   status_tick();
-  spdlog::info("station {} (type {}) running, CAM policy {}", o.station_id,
-               unsigned{ca_cfg.station_type},
-               ca_cfg.policy.kind == tb::scenario::CamPolicy::Kind::kFixed
-                   ? fmt::format("fixed {} ms", ca_cfg.policy.period_ms)
-                   : std::string("ETSI EN 302 637-2"));
   io.run();
 
   if (mqtt)
     mqtt->stop();
   tb::trace::global().flush();
-  spdlog::info(
-      "CAMs sent {}, received {}; DENMs sent {}, received {}; router drops: {} parse; {} "
-      "frame(s) heard before the first fix, not taken in (no world time yet)",
-      ca.counters().sent, ca.counters().received, den.counters().sent, den.counters().received,
-      router.stats().dropped(tb::its::geonet::DropReason::kParseError),
-      synced_link.dropped_before_sync());
+  station.log_totals();
   return exit_code;
 }
 

@@ -8,10 +8,10 @@
 #include <string>
 
 #include "common/clock/runtime.hpp"
-#include "its-station/app/adapters.hpp"
 #include "its-station/facilities/ca_service.hpp"
 #include "its-station/link/pcap_reader.hpp"
 #include "its-station/link/test_link.hpp"
+#include "its-station/station/adapters.hpp"
 
 namespace tb::its::station {
 namespace {

@@ -1,4 +1,4 @@
-#include "its-station/app/time_synced_link.hpp"
+#include "its-station/station/time_synced_link.hpp"
 
 #include <array>
 

@@ -8,9 +8,9 @@
 
 #include "common/clock/runtime.hpp"
 #include "common/geodesy/local_frame.hpp"
-#include "its-station/app/adapters.hpp"
 #include "its-station/facilities/ca_service.hpp"
 #include "its-station/link/test_link.hpp"
+#include "its-station/station/adapters.hpp"
 
 namespace tb::its::station {
 namespace {

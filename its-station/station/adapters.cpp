@@ -1,4 +1,4 @@
-#include "its-station/app/adapters.hpp"
+#include "its-station/station/adapters.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -1,0 +1,352 @@
+#include "its-station/station/station.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <spdlog/spdlog.h>
+
+#include "common/clock/utc.hpp"
+#include "common/trace/tracer.hpp"
+#include "its-station/facilities/transport.hpp"
+
+namespace tb::its::station {
+
+namespace fac = facilities;
+
+ItsClockDiscipline::ItsClockDiscipline(fac::PositionProvider& position,
+                                       clock::GnssDisciplinedRuntime& its,
+                                       const clock::Clock& host) {
+  // The station's ITS clock (docs/time.md): every time a standard dates or times — GN TST and
+  // location-table ageing, CAM timing, DENM times, DEN repetition and validity, LDM expiry,
+  // security generation time and certificate validity, LCRW — runs on GNSS time, the world's
+  // clock (the scenario's start time + sim time), as on a real OBU. The host's clock only
+  // serves sockets, gpsd, CAN, MQTT and trace records. It is told of a fix before anything else
+  // hears of it.
+  position.on_fix([&its, &host](const fac::PositionFix& fix) {
+    const bool first = !its.synchronised();
+    const unsigned resyncs = its.resyncs();
+    its.on_fix(fix.time);
+    if (first)
+      spdlog::info(
+          "ITS clock: on GNSS time from the first fix ({}, {:+.1f} s from the host's "
+          "clock)",
+          clock::format_utc(fix.time),
+          std::chrono::duration<double>(fix.time - host.wall_now()).count());
+    else if (its.resyncs() != resyncs)
+      spdlog::warn("ITS clock: GNSS time jumped (a restarted simulation?): now {}",
+                   clock::format_utc(fix.time));
+  });
+}
+
+namespace {
+
+geonet::RouterConfig router_config(const StationConfig& c) {
+  geonet::RouterConfig r;
+  r.station_type = static_cast<geonet::StationType>(c.ca.station_type);
+  return r;
+}
+
+fac::DenConfig den_config(const StationConfig& c) {
+  fac::DenConfig d;
+  d.station_id = c.station_id;
+  d.station_type = c.ca.station_type;
+  d.keep_alive_forwarding = c.keep_alive_forwarding;
+  return d;
+}
+
+}  // namespace
+
+Station::Station(const StationPorts& ports, StationConfig config)
+    : runtime_(ports.runtime),
+      its_clock_(ports.its_clock),
+      vehicle_data_(ports.vehicle_data),
+      security_(ports.security),
+      config_(std::move(config)),
+      position_(ports.gnss, ports.vehicle_data, config_.antenna),
+      clock_discipline_(position_, its_clock_, runtime_),
+      gn_position_(position_),
+      synced_link_(ports.link, its_clock_),
+      router_(its_clock_, synced_link_, gn_position_, router_config(config_)),
+      btp_(router_),
+      sender_(btp_),
+      ldm_(its_clock_),
+      ca_(its_clock_, position_, vehicle_data_, sender_, ldm_, config_.ca),
+      den_locator_(position_),
+      den_(its_clock_, sender_, ldm_, den_config(config_), &den_locator_),
+      den_port_(den_, config_.denm_repetition_interval, config_.denm_repetition_duration) {
+  router_.set_security(security_);
+  if (security_)
+    security_->set_trace_station(config_.station_id);
+
+  btp_.register_port(fac::kBtpPortCam,
+                     [this](const btp::Indication& ind, std::span<const std::uint8_t> payload) {
+                       receive_cam(ind, payload);
+                     });
+  btp_.register_port(fac::kBtpPortDenm,
+                     [this](const btp::Indication& ind, std::span<const std::uint8_t> payload) {
+                       den_.receive(payload, den_reception(ind));
+                     });
+
+  if (ports.mqtt) {
+    publisher_ =
+        std::make_unique<apps::mqtt::StationPublisher>(runtime_, *ports.mqtt, config_.publisher);
+    publisher_->set_tracer(&trace::global());
+    mirror_to_mqtt();
+  }
+
+  if (config_.lcrw_origin)
+    frame_.emplace(*config_.lcrw_origin);
+  position_.on_fix([this](const fac::PositionFix& fix) { on_fix(fix); });
+  ldm_.on_neighbour([this](const fac::Neighbour& n) {
+    if (const auto& fix = position_.current())
+      evaluate_lcrw(*fix, own_state(*fix), n.station_id);
+  });
+}
+
+Station::~Station() {
+  cancel_onset();
+}
+
+void Station::start() {
+  ca_.start();
+  spdlog::info("station {} (type {}) running, CAM policy {}", config_.station_id,
+               unsigned{config_.ca.station_type},
+               config_.ca.policy.kind == scenario::CamPolicy::Kind::kFixed
+                   ? fmt::format("fixed {} ms", config_.ca.policy.period_ms)
+                   : std::string("ETSI EN 302 637-2"));
+}
+
+void Station::stop() {
+  stopped_ = true;
+  ca_.stop();
+  cancel_onset();
+}
+
+// Received CAMs are dated on the ITS clock from their kernel receive stamp, so that
+// generationDeltaTime resolves to the right instant and neighbours' states compare with the
+// own ones.
+void Station::receive_cam(const btp::Indication& ind, std::span<const std::uint8_t> payload) {
+  // A verified CAM is checked against its signer's SSP (a permissive station's unverified
+  // ones have nothing trustworthy to check against).
+  std::optional<std::span<const std::uint8_t>> ssp;
+  if (ind.gn && ind.gn->security_report == security::VerifyResult::kOk)
+    ssp = ind.gn->permissions;
+  ca_.receive(payload, ind.gn ? its_clock_.to_its(ind.gn->rx_time) : its_clock_.wall_now(), ssp);
+}
+
+void Station::mirror_to_mqtt() {
+  ldm_.on_neighbour([this](const fac::Neighbour& n) {
+    apps::mqtt::ReceivedCam c;
+    c.station_id = n.station_id;
+    c.station_type = n.station_type;
+    c.generation_delta_time = n.latest().generation_delta_time;
+    c.kinematics = neighbour_kinematics(n);
+    c.received_at = n.latest().received_wall;
+    publisher_->publish_cam(c);
+  });
+  ldm_.on_event([this](const fac::Event& e, fac::DenmOutcome) {
+    publisher_->publish_denm_received(denm_view(e.denm));
+  });
+  den_.on_sent([this](const messages::Denm& d) { publisher_->publish_denm_sent(denm_view(d)); });
+}
+
+apps::mqtt::Kinematics Station::own_state(const fac::PositionFix& fix) const {
+  const fac::VehicleData* vd =
+      vehicle_data_ && vehicle_data_->current() ? &*vehicle_data_->current() : nullptr;
+  return own_kinematics(fix, vd, config_.ca.vehicle_length_m, config_.ca.vehicle_width_m);
+}
+
+void Station::on_fix(const fac::PositionFix& fix) {
+  const auto own = own_state(fix);
+  if (publisher_) {
+    apps::mqtt::StationState s;
+    s.station_id = config_.station_id;
+    s.station_type = config_.ca.station_type;
+    s.kinematics = own;
+    s.fix = fix.altitude_m ? apps::mqtt::GnssFix::k3D : apps::mqtt::GnssFix::k2D;
+    s.time = fix.time;
+    publisher_->publish_state(s);
+  }
+  evaluate_lcrw(fix, own, std::nullopt);
+}
+
+// LCRW: evaluated at every own fix against the LDM's neighbours, and at every CAM received
+// against its sender (a neighbour's state change must not wait up to a fix period, 100 ms, for
+// the next own fix before it can raise a warning) and the neighbours with an active warning;
+// both states are extrapolated to the evaluation instant.
+// And once more at the predicted onset (Lcrw::time_to_onset_s) when a TTC will cross the
+// warning threshold before the next fix: otherwise the warning came up to a fix period late
+// (the frontal case at 50 km/h warned anywhere between TTC 3.0 and 2.9 s).
+//
+// `its.lcrw` records (docs/tracing.md) are written here rather than by the application: after
+// an own fix one per neighbour assessed, after a CAM only the decision about its sender — one
+// record per CAM, not one per neighbour per CAM (with 50 stations that would be a million
+// records a second). They are stamped with the start of the evaluation: a warning is published
+// from inside it, so the report's decision → publication stage (mqtt) spans the evaluation and
+// the hand-off to the MQTT client.
+void Station::evaluate_lcrw(const fac::PositionFix& fix, const apps::mqtt::Kinematics& own,
+                            std::optional<std::uint32_t> cam_from) {
+  if (!config_.lcrw)
+    return;
+  if (!frame_) {
+    // Without a scenario the first fix anchors the local frame LCRW computes in.
+    frame_.emplace(geodesy::Geodetic{fix.latitude_deg, fix.longitude_deg, 0.0});
+  }
+  if (!lcrw_) {
+    lcrw_denm_ = std::make_unique<apps::LcrwDenmTrigger>(den_port_, *frame_);
+    lcrw_ = std::make_unique<apps::LcrwApplication>(
+        its_clock_, apps::LcrwConfig{}, [this](const apps::LcrwWarning& w) { on_lcrw_warning(w); },
+        lcrw_denm_.get(), nullptr);
+  }
+  const std::int64_t decided_ns = trace::Tracer::now_ns();
+  published_about_.clear();
+  std::vector<apps::VehicleKinematics> others;
+  const auto assess = [&](std::uint32_t id, const fac::Neighbour& n) {
+    others.push_back(
+        lcrw_kinematics(id, neighbour_kinematics(n), n.latest().generation_time, *frame_));
+  };
+  const auto& neighbours = ldm_.neighbours();
+  if (cam_from) {
+    // After a CAM only its sender's state is new: assess the sender, and every neighbour with
+    // an active warning (so that time can still update or end it, as before); the others wait
+    // for the next own fix (100 ms at 10 Hz). Assessing every neighbour at every CAM made LCRW
+    // quadratic in the neighbours per station: with 50 stations each one took 490 CAMs a
+    // second × 49 neighbours, most of the testbed's CPU (issue 21, docs/latency.md).
+    if (const auto it = neighbours.find(*cam_from); it != neighbours.end())
+      assess(it->first, it->second);
+    for (const auto& [id, w] : lcrw_->lcrw().active())
+      if (const auto it = neighbours.find(id); id != *cam_from && it != neighbours.end())
+        assess(it->first, it->second);
+  } else {
+    for (const auto& [id, n] : neighbours)
+      assess(id, n);
+  }
+  lcrw_->update(lcrw_kinematics(config_.station_id, own, fix.time, *frame_), others);
+  schedule_onset(lcrw_->lcrw().time_to_onset_s());
+  auto& tracer = trace::global();
+  if (!tracer.enabled())
+    return;
+  const auto& assessed = lcrw_->lcrw().last_assessments();
+  for (const auto& n : others) {
+    // After a CAM, its sender's decision, and any other that published (a warning cleared on
+    // the passing of time), so that every publication has its decision record.
+    if (cam_from && n.station_id != *cam_from && !published_about_.contains(n.station_id))
+      continue;
+    const auto a = assessed.find(n.station_id);
+    if (a == assessed.end())
+      continue;  // too old to assess
+    tracer.record_at(decided_ns, "its.lcrw",
+                     {{"station", config_.station_id},
+                      {"from", n.station_id},
+                      {"gdt", apps::generation_delta_time(n.time)},
+                      {"warn", lcrw_->lcrw().active().contains(n.station_id)},
+                      {"ttc", a->second.ttc_s}});
+  }
+}
+
+void Station::on_lcrw_warning(const apps::LcrwWarning& w) {
+  published_about_.insert(w.other_station_id);
+  spdlog::info("LCRW: {} station {} ({}), TTC {:.2f} s",
+               w.event == apps::WarningEvent::kCleared ? "cleared" : "warning", w.other_station_id,
+               apps::to_string(w.collision_case), w.ttc_s);
+  if (publisher_)
+    publisher_->publish_warning(w);
+}
+
+void Station::schedule_onset(std::optional<double> onset_s) {
+  cancel_onset();
+  if (stopped_ || !onset_s || *onset_s >= config_.fix_period_s)
+    return;
+  // At least 1 ms: a TTC that does not fall as predicted (the other braking) is met again by the
+  // next fix, never by a busy loop. On the host's clock, as the fix period it is measured
+  // against.
+  const auto delay =
+      std::chrono::microseconds(std::max<std::int64_t>(1000, std::llround(*onset_s * 1e6)));
+  onset_timer_ = runtime_.schedule_in(delay, [this] {
+    onset_timer_.reset();
+    if (const auto& fix = position_.current())
+      evaluate_lcrw(*fix, own_state(*fix), std::nullopt);
+  });
+}
+
+void Station::cancel_onset() {
+  if (onset_timer_) {
+    runtime_.cancel(*onset_timer_);
+    onset_timer_.reset();
+  }
+}
+
+nlohmann::json Station::status() {
+  nlohmann::json j;
+  j["station_id"] = config_.station_id;
+  j["fix"] = position_.current().has_value();
+  if (position_.current()) {
+    j["latitude_deg"] = position_.current()->latitude_deg;
+    j["longitude_deg"] = position_.current()->longitude_deg;
+  }
+  j["frames_before_first_fix"] = synced_link_.dropped_before_sync();
+  j["cams_sent"] = ca_.counters().sent;
+  j["cams_received"] = ca_.counters().received;
+  j["denms_sent"] = den_.counters().sent;
+  j["denms_received"] = den_.counters().received;
+  j["denms_forwarded"] = den_.counters().forwarded;
+  j["neighbours"] = nlohmann::json::array();
+  for (const auto& [id, n] : ldm_.neighbours()) {
+    const auto& s = n.latest();
+    nlohmann::json e{{"station_id", id},
+                     {"latitude_deg", s.latitude_deg},
+                     {"longitude_deg", s.longitude_deg},
+                     {"generation_delta_time", s.generation_delta_time}};
+    if (s.speed_mps)
+      e["speed_mps"] = *s.speed_mps;
+    if (s.heading_deg)
+      e["heading_deg"] = *s.heading_deg;
+    j["neighbours"].push_back(e);
+  }
+  j["events"] = ldm_.active_events().size();
+  if (security_) {
+    // Each verification outcome by name (TS 103 097 drop reasons), and what a permissive
+    // station passed up although it failed. A refusal the station had not seen before is also
+    // said once in the log (a station of another PKI: untrusted_root).
+    nlohmann::json v;
+    const auto& counts = security_->verifier().counts();
+    for (std::size_t i = 0; i < counts.size(); ++i) {
+      if (counts[i] == 0)
+        continue;
+      const auto r = static_cast<security::VerifyResult>(i);
+      v[std::string(security::to_string(r))] = counts[i];
+      if (r != security::VerifyResult::kOk && r != security::VerifyResult::kUnknownSigner &&
+          !refusals_said_[i]) {
+        refusals_said_[i] = true;
+        spdlog::warn("security: dropping received packets: {}", security::to_string(r));
+      }
+    }
+    j["security"] = {
+        {"mode", security::to_string(security_->mode())},
+        {"verify", v},
+        {"passed_unverified", security_->passed_unverified()},
+        {"held", security_->held()},
+        // (signer, generationTime) pairs kept for replay detection (verify.replay counts hits)
+        {"replay_entries", security_->verifier().replay_entries()},
+        {"unsecured_dropped", router_.stats().dropped(geonet::DropReason::kUnsecured)},
+        {"cam_ssp_refused", ca_.counters().not_permitted},
+        {"denm_ssp_refused", den_.counters().not_permitted},
+        {"its_aid_mismatch", btp_.stats().dropped(btp::DropReason::kItsAidMismatch)},
+        {"beacons_unsigned", router_.stats().beacons_unsigned}};
+  }
+  return j;
+}
+
+void Station::log_totals() const {
+  spdlog::info(
+      "CAMs sent {}, received {}; DENMs sent {}, received {}; router drops: {} parse; {} "
+      "frame(s) heard before the first fix, not taken in (no world time yet)",
+      ca_.counters().sent, ca_.counters().received, den_.counters().sent, den_.counters().received,
+      router_.stats().dropped(geonet::DropReason::kParseError), synced_link_.dropped_before_sync());
+}
+
+}  // namespace tb::its::station

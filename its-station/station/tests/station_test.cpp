@@ -1,0 +1,265 @@
+// A Station built from fake ports — a hand-fed receiver, the test link, the manual clock and a
+// recording MQTT sink — as station-host builds hundreds: no sockets, no sleeps. What it sends is
+// decoded off the link and graded against the world the test sets up (positions, speeds, the
+// vehicle's size), not against figures the stack printed.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "common/clock/gnss_disciplined_runtime.hpp"
+#include "common/clock/runtime.hpp"
+#include "common/geodesy/local_frame.hpp"
+#include "common/mqtt/sink.hpp"
+#include "its-station/btp/header.hpp"
+#include "its-station/geonet/packet.hpp"
+#include "its-station/link/test_link.hpp"
+#include "its-station/messages/cam.hpp"
+#include "its-station/messages/denm.hpp"
+#include "its-station/station/station.hpp"
+
+namespace tb::its::station {
+namespace {
+
+using namespace std::chrono_literals;
+
+constexpr std::uint16_t kEthertypeGn = 0x8947;
+const geodesy::Geodetic kOrigin{48.1351, 11.5820, 0.0};
+
+/// The contract's MAC address of a station: 02:00 and its StationID, big-endian.
+link::MacAddress mac_of(std::uint32_t id) {
+  return {0x02,
+          0x00,
+          static_cast<std::uint8_t>(id >> 24),
+          static_cast<std::uint8_t>(id >> 16),
+          static_cast<std::uint8_t>(id >> 8),
+          static_cast<std::uint8_t>(id)};
+}
+
+struct Published {
+  std::string topic;
+  nlohmann::json payload;
+};
+
+class RecordingSink final : public tb::mqtt::MqttSink {
+ public:
+  void publish(std::string_view topic, std::string payload, tb::mqtt::Qos, bool) override {
+    published.push_back({std::string(topic), nlohmann::json::parse(payload)});
+  }
+  std::vector<Published> on(const std::string& topic) const {
+    std::vector<Published> r;
+    for (const auto& p : published)
+      if (p.topic == topic)
+        r.push_back(p);
+    return r;
+  }
+  std::vector<Published> published;
+};
+
+/// A scripted vehicle as the scenario describes it: the default car (4.255 m × 1.799 m), its
+/// GNSS antenna at the centre of its bounding box.
+scenario::Vehicle car(std::uint32_t id) {
+  scenario::Vehicle v;
+  v.id = "v" + std::to_string(id);
+  v.station_id = id;
+  return v;
+}
+
+/// One station over fake ports. Every station of a test shares the host runtime, as the pooled
+/// stations of a station-host share its io thread.
+struct FakeStation {
+  FakeStation(clock::ManualRuntime& host, std::uint32_t id, bool with_mqtt)
+      : vehicle(car(id)),
+        its_clock(host),
+        link(mac_of(id)),
+        station(StationPorts{host, its_clock, gnss, nullptr, link, nullptr,
+                             with_mqtt ? &sink : nullptr},
+                make_station_config(id, nullptr, &vehicle, StationOverrides{})) {}
+
+  /// A receiver fix with the antenna (the bounding box's centre) at @p east, @p north metres
+  /// from kOrigin, moving along @p course_deg at @p speed_mps, dated now.
+  void fix(const clock::ManualRuntime& host, double east, double north, double course_deg,
+           double speed_mps) {
+    const auto g = geodesy::LocalFrame(kOrigin).to_geodetic({east, north, 0.0});
+    facilities::PositionFix f;
+    f.time = host.wall_now();
+    f.received = host.steady_now();
+    f.latitude_deg = g.latitude_deg;
+    f.longitude_deg = g.longitude_deg;
+    f.speed_mps = speed_mps;
+    f.course_deg = course_deg;
+    f.heading_deg = course_deg;
+    f.position_confidence = facilities::PositionFix::Ellipse{2.0, 2.0, 0.0};
+    f.speed_confidence_mps = 0.1;
+    f.heading_confidence_deg = 1.0;
+    gnss.inject(f);
+  }
+
+  scenario::Vehicle vehicle;
+  clock::GnssDisciplinedRuntime its_clock;
+  facilities::InjectedPositionProvider gnss;
+  link::TestLink link;
+  RecordingSink sink;
+  Station station;
+};
+
+/// A GN frame off the link, down to its BTP-B destination port and the message's bytes.
+struct Decoded {
+  geonet::Packet gn;
+  std::uint16_t btp_port = 0;
+  std::span<const std::uint8_t> message;
+};
+std::optional<Decoded> decode(const link::TestLink::SentFrame& f) {
+  if (f.ethertype != kEthertypeGn)
+    return std::nullopt;
+  auto gn = geonet::parse_packet(f.payload);
+  if (!gn)
+    return std::nullopt;
+  auto btp = btp::parse_header_b(gn->payload);
+  if (!btp)
+    return std::nullopt;
+  return Decoded{*gn, btp->destination_port, gn->payload.subspan(btp::kHeaderSize)};
+}
+
+std::vector<messages::Cam> cams_sent(link::TestLink& link) {
+  std::vector<messages::Cam> r;
+  for (const auto& f : link.sent())
+    if (const auto d = decode(f); d && d->btp_port == btp::kPortCam)
+      if (auto cam = messages::decode_cam(d->message))
+        r.push_back(*cam);
+  return r;
+}
+
+std::vector<messages::Denm> denms_sent(link::TestLink& link, bool* all_geobroadcast) {
+  std::vector<messages::Denm> r;
+  *all_geobroadcast = true;
+  for (const auto& f : link.sent())
+    if (const auto d = decode(f); d && d->btp_port == btp::kPortDenm) {
+      if (auto denm = messages::decode_denm(d->message)) {
+        r.push_back(*denm);
+        *all_geobroadcast &= std::holds_alternative<geonet::GbcHeader>(d->gn.extended);
+      }
+    }
+  return r;
+}
+
+TEST(Station, SendsACamWhenAFixMakesOneDue) {
+  clock::ManualRuntime host;
+  FakeStation s(host, 1001, /*with_mqtt=*/true);
+  s.station.start();
+  host.advance(300ms);
+  EXPECT_TRUE(cams_sent(s.link).empty()) << "a CAM without a fix";
+
+  // Heading north at 10 m/s, the antenna 20 m east and 30 m north of the origin.
+  s.fix(host, 20.0, 30.0, 0.0, 10.0);
+  const auto cams = cams_sent(s.link);
+  ASSERT_EQ(cams.size(), 1u) << "the first fix makes the first CAM due (EN 302 637-2 6.1.3)";
+  const messages::Cam& cam = cams[0];
+  EXPECT_EQ(cam.header.stationID, 1001u);
+  // The reference position is the front centre of the car (EN 302 637-2 B.3): half its length
+  // ahead of the antenna, which sits at the centre.
+  const auto front =
+      geodesy::LocalFrame(kOrigin).to_geodetic({20.0, 30.0 + s.vehicle.model.length_m / 2, 0.0});
+  const auto& ref = cam.cam.camParameters.basicContainer.referencePosition;
+  EXPECT_NEAR(ref.latitude, std::lround(front.latitude_deg * 1e7), 2);
+  EXPECT_NEAR(ref.longitude, std::lround(front.longitude_deg * 1e7), 2);
+  // Sent from the station's own MAC address.
+  ASSERT_FALSE(s.link.sent().empty());
+  const auto gn = decode(s.link.sent().back());
+  ASSERT_TRUE(gn);
+  EXPECT_EQ(geonet::source_position(gn->gn.extended).address.mid, mac_of(1001));
+
+  // The fix reaches MQTT as the station's state, and the status reports it.
+  EXPECT_EQ(s.sink.on("its/1001/state").size(), 1u);
+  const auto status = s.station.status();
+  EXPECT_EQ(status["station_id"], 1001);
+  EXPECT_EQ(status["fix"], true);
+  EXPECT_EQ(status["cams_sent"], 1);
+
+  // No new fix: the next CAM waits for one, or for T_GenCamMax (1 s) with the old fix.
+  host.advance(500ms);
+  EXPECT_EQ(cams_sent(s.link).size(), 1u);
+  s.station.stop();
+}
+
+TEST(Station, WarnsOfANeighbourOnACollisionCourseFromItsCam) {
+  clock::ManualRuntime host;
+  FakeStation own(host, 1001, /*with_mqtt=*/true);
+  FakeStation other(host, 2002, /*with_mqtt=*/false);
+  EXPECT_TRUE(own.station.config().lcrw);
+  own.station.start();
+  other.station.start();
+
+  // Head-on in one lane: the own car northbound at the origin, the other 80 m ahead
+  // southbound, both at 15 m/s, both states of this instant.
+  constexpr double kDistance = 80.0;
+  constexpr double kSpeed = 15.0;
+  own.fix(host, 0.0, 0.0, 0.0, kSpeed);
+  EXPECT_TRUE(own.sink.on("its/1001/app/lcrw").empty()) << "a warning without a neighbour";
+  other.fix(host, 0.0, kDistance, 180.0, kSpeed);
+  const auto cams = cams_sent(other.link);
+  ASSERT_EQ(cams.size(), 1u);
+
+  // The other's CAM, as the radio hands it over.
+  const std::size_t own_frames_before = own.link.sent().size();
+  for (const auto& f : other.link.sent())
+    own.link.inject(other.link.address(), f.destination, f.ethertype, f.payload, host.wall_now());
+
+  ASSERT_EQ(own.station.ldm().neighbours().size(), 1u);
+  EXPECT_TRUE(own.station.ldm().neighbours().contains(2002));
+
+  // What the world says: bumper to bumper the centres' distance less two half lengths, closed at
+  // the sum of the speeds.
+  const double length = own.vehicle.model.length_m;
+  const double gap = kDistance - length;
+  const double ttc = gap / (2 * kSpeed);
+  ASSERT_LT(ttc, apps::LcrwConfig{}.ttc_warning_s);
+
+  const auto warnings = own.sink.on("its/1001/app/lcrw");
+  ASSERT_EQ(warnings.size(), 1u);
+  const auto& w = warnings[0].payload["message"];
+  EXPECT_EQ(w["event"], "raised");
+  EXPECT_EQ(w["other_station_id"], 2002);
+  EXPECT_EQ(w["collision_case"], "frontal");
+  EXPECT_NEAR(w["ttc_s"].get<double>(), ttc, 0.01);
+  EXPECT_NEAR(w["distance_m"].get<double>(), gap, 0.05);
+  EXPECT_NEAR(w["relative_speed_mps"].get<double>(), 2 * kSpeed, 0.05);
+
+  // And the risk goes on the air as a collision-risk DENM (cause 97), geo-broadcast.
+  ASSERT_GT(own.link.sent().size(), own_frames_before);
+  bool geobroadcast = false;
+  const auto denms = denms_sent(own.link, &geobroadcast);
+  ASSERT_EQ(denms.size(), 1u);
+  EXPECT_TRUE(geobroadcast);
+  EXPECT_EQ(denms[0].header.stationID, 1001u);
+  EXPECT_EQ(denms[0].denm.management.actionID.originatingStationID, 1001u);
+  ASSERT_TRUE(denms[0].denm.situation);
+  EXPECT_EQ(denms[0].denm.situation->eventType.causeCode, 97);
+
+  own.station.stop();
+  other.station.stop();
+}
+
+TEST(Station, APooledStationRunsNoLcrwUnlessAsked) {
+  clock::ManualRuntime host;
+  scenario::Vehicle v = car(3003);
+  v.station_kind = scenario::StationKind::kPooled;
+  v.station_lcrw = false;
+  v.station_mqtt = false;
+  const auto config = make_station_config(3003, nullptr, &v, StationOverrides{});
+  EXPECT_FALSE(config.lcrw);
+  EXPECT_FALSE(config.mqtt);
+  v.station_lcrw = true;
+  EXPECT_TRUE(make_station_config(3003, nullptr, &v, StationOverrides{}).lcrw);
+  StationOverrides no_lcrw;
+  no_lcrw.no_lcrw = true;
+  EXPECT_FALSE(make_station_config(3003, nullptr, &v, no_lcrw).lcrw);
+}
+
+}  // namespace
+}  // namespace tb::its::station
