@@ -6,6 +6,8 @@
 #include <benchmark/benchmark.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -13,6 +15,7 @@
 #include "common/clock/runtime.hpp"
 #include "common/geodesy/local_frame.hpp"
 #include "its-station/station/station.hpp"
+#include "station-host/feed/state_feed.hpp"
 #include "station-host/link/pooled_links.hpp"
 
 namespace {
@@ -121,6 +124,93 @@ void BM_ReceiveFanOut(benchmark::State& state) {
   state.counters["frames"] = static_cast<double>(air_out.frames.size());
 }
 BENCHMARK(BM_ReceiveFanOut)->Arg(30)->Arg(300)->Unit(benchmark::kMicrosecond);
+
+/// The rest of a pooled station's second: its states (100 Hz physics) through the GPS agent and
+/// FixAssembler at 10 Hz, the CA service's generation and the CAMs it sends, for N stations
+/// driving a ring at 14 m/s (a CAM every ~0.3 s by the 4 m rule). No reception: see above.
+void BM_StationSecondWithoutReception(benchmark::State& state) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  spdlog::set_level(spdlog::level::warn);
+  tb::clock::ManualRuntime rt;
+  Capture out;
+  out.keep = false;
+  tb::host::PooledLinks links(out, rt, false, {});
+  tb::scenario::Scenario scenario;
+  scenario.name = "bench";
+  for (std::size_t i = 0; i < n; ++i) {
+    tb::scenario::Vehicle v;
+    v.id = "v" + std::to_string(i);
+    v.station_id = 3000 + static_cast<std::uint32_t>(i);
+    v.station_kind = tb::scenario::StationKind::kPooled;
+    v.station_lcrw = false;
+    v.station_mqtt = false;
+    scenario.vehicles.push_back(v);
+  }
+  const tb::geodesy::LocalFrame frame(kOrigin);
+  tb::host::StateFeed feed(scenario, frame, rt, 1);
+  std::vector<std::unique_ptr<tb::clock::GnssDisciplinedRuntime>> clocks;
+  std::vector<std::unique_ptr<station::Station>> stations;
+  for (const auto& v : scenario.vehicles) {
+    auto& src = feed.add(v.station_id);
+    clocks.push_back(std::make_unique<tb::clock::GnssDisciplinedRuntime>(rt));
+    stations.push_back(std::make_unique<station::Station>(
+        station::StationPorts{rt, *clocks.back(), *src.gnss, src.vehicle.get(),
+                              links.link(v.station_id), nullptr, nullptr},
+        station::make_station_config(v.station_id, nullptr, &v, station::StationOverrides{})));
+    stations.back()->start();
+  }
+  const std::int64_t world_start = tb::clock::to_unix_ns(rt.wall_now());
+  std::vector<tb::wire::VehicleState> batch(n);
+  std::vector<std::uint8_t> bytes;
+  std::int64_t tick = 0;
+  auto step = [&] {
+    const double t = static_cast<double>(tick) * 0.01;
+    for (std::size_t i = 0; i < n; ++i) {
+      // Each on its own 200 m circle, 14 m/s.
+      const double a = 14.0 * t / 200.0 + static_cast<double>(i);
+      auto& s = batch[i];
+      s.station_id = 3000 + static_cast<std::uint32_t>(i);
+      s.tick = static_cast<std::uint64_t>(tick);
+      s.sim_time_ns = tick * 10'000'000;
+      s.position = {200.0 * std::cos(a), 200.0 * std::sin(a), 0.0};
+      s.velocity = {static_cast<float>(-14.0 * std::sin(a)), static_cast<float>(14.0 * std::cos(a)),
+                    0.0f};
+      s.yaw = static_cast<float>(a + 1.5707963);
+      s.speed = 14.0f;
+      s.gear = 1;
+    }
+    // Datagrams as the emulator forwards them: at most an Ethernet MTU each (9 states).
+    const std::size_t per = tb::wire::states_per_batch(tb::wire::kDefaultBatchDatagramSize);
+    for (std::size_t first = 0; first < n; first += per) {
+      const auto count = std::min(per, n - first);
+      bytes.resize(tb::wire::batch_datagram_size(count));
+      tb::wire::encode_batch(std::span(batch).subspan(first, count), bytes, world_start);
+      feed.handle_datagram(bytes);
+    }
+    rt.advance(10ms);
+    ++tick;
+  };
+  for (int k = 0; k < 300; ++k)  // warm up: fixes, first CAMs
+    step();
+  if (feed.counters().states == 0 || links.counters().sent == 0) {
+    state.SkipWithError("no states taken in or no CAM sent");
+    return;
+  }
+  const auto sent_before = links.counters().sent;
+  std::int64_t seconds = 0;
+  for (auto _ : state) {
+    for (int k = 0; k < 100; ++k)
+      step();
+    ++seconds;
+  }
+  state.counters["per_station_second"] =
+      benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate |
+                                                     benchmark::Counter::kInvert);
+  state.counters["cams_per_station_second"] =
+      static_cast<double>(links.counters().sent - sent_before) /
+      (static_cast<double>(seconds) * static_cast<double>(n));
+}
+BENCHMARK(BM_StationSecondWithoutReception)->Arg(300)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
