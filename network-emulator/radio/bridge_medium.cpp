@@ -63,15 +63,26 @@ BridgeMedium::~BridgeMedium() {
 void BridgeMedium::attach(StationId id, const std::string& host_ifname) {
   RouteSocket().set_master(host_ifname, bridge_);
   detach(id);
-  station_of_ifindex_[ifindex_of(host_ifname)] = id;
+  attribution_.add_station_port(ifindex_of(host_ifname), id);
   ifname_of_station_[id] = host_ifname;
   stations_.push_back(id);
+}
+
+void BridgeMedium::attach_pooled_host(const std::string& host_ifname,
+                                      std::span<const StationId> ids) {
+  RouteSocket().set_master(host_ifname, bridge_);
+  const int ifindex = ifindex_of(host_ifname);
+  for (const StationId id : ids) {
+    detach(id);
+    attribution_.add_pooled(ifindex, id);
+    stations_.push_back(id);
+  }
 }
 
 void BridgeMedium::detach(StationId id) {
   std::erase(stations_, id);
   ifname_of_station_.erase(id);
-  std::erase_if(station_of_ifindex_, [id](const auto& e) { return e.second == id; });
+  attribution_.remove_station(id);
 }
 
 void BridgeMedium::start() {
@@ -92,22 +103,34 @@ void BridgeMedium::drain_all() {
 }
 
 void BridgeMedium::on_frame(const TappedFrame& f) {
-  const auto it = station_of_ifindex_.find(f.ifindex);
-  if (it == station_of_ifindex_.end()) {
+  if (!attribution_.is_port(f.ifindex)) {
     // Another interface of this namespace with the same ethertype, or a port detached since.
     if (unknown_port_++ == 0)
       spdlog::debug("radio: frame on interface {}, which is no station's port (ignored)",
                     f.ifindex);
     return;
   }
-  const StationId from = it->second;
+  const auto sender = attribution_.sender(f.ifindex, f.bytes);
+  if (!sender) {
+    if (attribution_.unknown_sender() == 1)
+      spdlog::warn(
+          "radio: a frame on a station-host's port (interface {}) from a MAC address that names "
+          "none of its stations (forwarded by the kernel, not counted: unknown_sender, "
+          "reported once)",
+          f.ifindex);
+    return;
+  }
+  const StationId from = *sender;
   ++frames_in_;
   if (observer_)
     observer_(from, f.bytes, f.unix_ns);
   // The kernel has delivered it to every other port; the channel counts (and traces) what it
-  // would have decided, which for this channel is exactly that.
+  // would have decided, which for this channel is exactly that. Not to the sender's own
+  // host's stations: the bridge sends nothing back out of the port it came in on, and the
+  // host hands them the frame itself.
+  const int host = attribution_.host_port_of(from);
   for (const StationId to : stations_)
-    if (to != from)
+    if (to != from && (host == 0 || attribution_.host_port_of(to) != host))
       channel_.decide(from, to);
 }
 

@@ -23,6 +23,7 @@
 #include "network-emulator/radio/channel.hpp"
 #include "network-emulator/radio/medium.hpp"
 #include "network-emulator/radio/packet_tap.hpp"
+#include "network-emulator/radio/sender_attribution.hpp"
 
 namespace tb::emu::radio {
 
@@ -45,6 +46,11 @@ class BridgeMedium {
   /// Makes @p host_ifname (a veth host end, up) a port: from now on @p id hears and is heard.
   /// @throws NetlinkError.
   void attach(StationId id, const std::string& host_ifname);
+  /// Makes @p host_ifname (a station-host's veth host end) a port carrying the pooled
+  /// stations @p ids, told apart by source MAC. The host gets every other port's frames plain,
+  /// once, and loops its own stations' frames back to its other stations itself: those never
+  /// reach the bridge and are not counted here. @throws NetlinkError.
+  void attach_pooled_host(const std::string& host_ifname, std::span<const StationId> ids);
   /// Forgets @p id (its veth is gone or about to be; a gone port leaves the bridge by itself).
   void detach(StationId id);
 
@@ -66,6 +72,10 @@ class BridgeMedium {
   /// kernel's counters. The only loss of an ideal channel in the kernel.
   std::map<StationId, std::uint64_t> kernel_drops() const;
   const std::string& bridge_name() const { return bridge_; }
+  /// Frames from a station-host's port whose source MAC names none of the known stations:
+  /// the kernel forwarded them anyway (it cannot tell), but they are neither counted nor
+  /// traced.
+  std::uint64_t unknown_sender() const { return attribution_.unknown_sender(); }
 
  private:
   void on_frame(const TappedFrame& f);
@@ -74,7 +84,7 @@ class BridgeMedium {
   Channel& channel_;
   std::unique_ptr<PacketTap> tap_;
   boost::asio::posix::stream_descriptor descriptor_;
-  std::map<int, StationId> station_of_ifindex_;
+  SenderAttribution attribution_;
   std::map<StationId, std::string> ifname_of_station_;
   std::vector<StationId> stations_;
   FrameObserver observer_;

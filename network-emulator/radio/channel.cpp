@@ -38,11 +38,34 @@ std::string_view to_string(Kind k) {
   return "unknown";
 }
 
+void PositionTable::index_cells(double cell_m) {
+  grid_.reset();
+  if (cell_m == 0.0)
+    return;
+  grid_ = std::make_unique<SpatialGrid>(cell_m);
+  for (const auto& [id, p] : table_)
+    grid_->place(id, p.position);
+}
+
+void PositionTable::set(StationId id, const StationPosition& p) {
+  table_[id] = p;
+  if (grid_)
+    grid_->place(id, p.position);
+}
+
 bool PositionTable::update(const wire::VehicleState& s) {
   auto it = table_.find(s.station_id);
   if (it != table_.end() && it->second.sim_time_ns > s.sim_time_ns)
     return false;
-  table_[s.station_id] = StationPosition{s.position, s.sim_time_ns};
+  set(s.station_id, StationPosition{s.position, s.sim_time_ns});
+  return true;
+}
+
+bool PositionTable::stations_within(const std::array<double, 3>& p, double radius_m,
+                                    std::vector<StationId>& out) const {
+  if (!grid_)
+    return false;
+  grid_->within(p, radius_m, out);
   return true;
 }
 
@@ -90,6 +113,19 @@ Channel::Channel(const scenario::ChannelModel& model, const PositionSource& posi
             "must be positive");
     require(model.frequency_mhz > 0.0, "frequency_mhz", model.frequency_mhz, "must be positive");
   }
+  max_range_m_ = scenario::max_range_m(model);
+}
+
+bool Channel::reachable(StationId from, std::vector<StationId>& out) const {
+  out.clear();
+  if (!max_range_m_)
+    return false;
+  const auto p = positions_.position(from);
+  if (!p)
+    return false;
+  // A hair beyond the range, so that rounding never culls a link judge() would deliver: one
+  // just beyond is offered and dropped by judge() as it always was.
+  return positions_.stations_within(p->position, *max_range_m_ * (1.0 + 1e-9) + 1e-6, out);
 }
 
 double Channel::uniform() {
@@ -179,7 +215,8 @@ nlohmann::json Channel::stats_json() const {
   return {{"model", std::string(to_string(model_.kind))},
           {"seed", seed_},
           {"links", std::move(links)},
-          {"totals", to_json(totals())}};
+          {"totals", to_json(totals())},
+          {"culled", culled_}};
 }
 
 }  // namespace tb::emu::radio

@@ -9,10 +9,12 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <random>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 #include <nlohmann/json_fwd.hpp>
 
@@ -20,6 +22,7 @@
 #include "common/scenario/channel_range.hpp"
 #include "common/scenario/scenario.hpp"
 #include "common/wire/vehicle_state.hpp"
+#include "network-emulator/radio/spatial_grid.hpp"
 
 namespace tb::emu::radio {
 
@@ -36,21 +39,39 @@ class PositionSource {
  public:
   virtual ~PositionSource() = default;
   virtual std::optional<StationPosition> position(StationId id) const = 0;
+  /// Appends to @p out (not cleared) every station within @p radius_m of @p p and returns
+  /// true, if the source keeps an index that answers this without looking at every station;
+  /// false (nothing appended) if not: then every station is a candidate.
+  virtual bool stations_within(const std::array<double, 3>& p, double radius_m,
+                               std::vector<StationId>& out) const {
+    (void)p, (void)radius_m, (void)out;
+    return false;
+  }
 };
 
 /// The latest position of every station, fed from vehicle states. Not thread-safe: the
 /// emulator updates and reads it from one io_context.
 class PositionTable final : public PositionSource {
  public:
-  void set(StationId id, const StationPosition& p) { table_[id] = p; }
+  PositionTable() = default;
+  /// Keeps a SpatialGrid of @p cell_m wide cells (> 0) over the positions, for
+  /// stations_within(): one channel's maximum range wide (Channel::max_range_m()).
+  explicit PositionTable(double cell_m) { index_cells(cell_m); }
+  /// Starts (or rebuilds) the grid with @p cell_m wide cells; 0 stops it.
+  void index_cells(double cell_m);
+
+  void set(StationId id, const StationPosition& p);
   /// Keeps the state only if it is not older than the one held: UDP may reorder datagrams.
   /// Returns whether it was taken.
   bool update(const wire::VehicleState& s);
   std::optional<StationPosition> position(StationId id) const override;
+  bool stations_within(const std::array<double, 3>& p, double radius_m,
+                       std::vector<StationId>& out) const override;
   std::size_t size() const { return table_.size(); }
 
  private:
   std::map<StationId, StationPosition> table_;
+  std::unique_ptr<SpatialGrid> grid_;
 };
 
 enum class DropReason : std::uint8_t {
@@ -96,6 +117,20 @@ class Channel {
   /// Decides one frame from @p from to @p to and records the outcome in that link's stats.
   Decision decide(StationId from, StationId to);
 
+  /// How far a frame can get (common/scenario/channel_range.hpp); empty for the ideal channel,
+  /// which reaches everyone.
+  const std::optional<double>& max_range_m() const { return max_range_m_; }
+  /// The stations a frame from @p from can reach at all (within max_range_m(), @p from itself
+  /// among them), appended to @p out (cleared first), when the positions can tell without
+  /// looking at every station: false when the channel is ideal, @p from's position is unknown
+  /// or the positions keep no index. Stations without a position are never in @p out.
+  bool reachable(StationId from, std::vector<StationId>& out) const;
+  bool has_position(StationId id) const { return positions_.position(id).has_value(); }
+  /// Receivers that were not offered a frame because they were beyond max_range_m() (range
+  /// culling, Medium): not links, so not in the links' counts; reported as "culled".
+  void count_culled(std::uint64_t n) { culled_ += n; }
+  std::uint64_t culled() const { return culled_; }
+
   /// Sees every decision as it is made (radio-medium writes them as `medium.frame` trace
   /// records, docs/tracing.md). Called from decide(); must not call back into the channel.
   using Observer = std::function<void(StationId from, StationId to, const Decision&)>;
@@ -118,6 +153,8 @@ class Channel {
   std::mt19937_64 rng_;
   std::map<std::pair<StationId, StationId>, LinkStats> links_;
   Observer observer_;
+  std::optional<double> max_range_m_;
+  std::uint64_t culled_ = 0;
 };
 
 }  // namespace tb::emu::radio

@@ -23,6 +23,16 @@ class FrameSink {
   virtual void transmit(std::span<const std::uint8_t> frame) = 0;
 };
 
+/// A station-host's port (issue 33): one frame to many of the host's stations at once. The
+/// medium calls it once per frame and due time with every receiver of that host that gets the
+/// frame then (the port writes one TBPD frame, common/wire/pooled_delivery.hpp).
+class PooledSink {
+ public:
+  virtual ~PooledSink() = default;
+  virtual void transmit(std::span<const StationId> receivers,
+                        std::span<const std::uint8_t> frame) = 0;
+};
+
 /// Sees every frame a station puts on the air, before the channel decides: the veth medium's
 /// (Ethernet) and the hwsim medium's (802.11) alike. @p unix_ns is when the kernel received it
 /// (CLOCK_REALTIME), or 0 where the medium does not know: then it is now.
@@ -38,7 +48,16 @@ class Medium {
 
   /// @p sink must outlive the medium (or detach()).
   void attach(StationId id, FrameSink& sink);
+  /// @p id is a pooled station behind @p host (a station-host's port, shared by its stations).
+  void attach_pooled(StationId id, PooledSink& host);
   void detach(StationId id);
+
+  /// Range culling (on by default): a frame is offered only to the receivers within the
+  /// channel's maximum range, found through the positions' spatial index (Channel::reachable)
+  /// instead of deciding every pair. Off, every receiver is offered (the links beyond the
+  /// range are then counted as dropped, out_of_range or below_sensitivity). Either way
+  /// receivers without a position are offered, so that their links say unknown_position.
+  void set_culling(bool on) { culling_ = on; }
 
   /// Called with every frame that comes in, before the channel decides (the trace's
   /// `medium.rx`).
@@ -51,22 +70,50 @@ class Medium {
   void on_frame(StationId from, std::span<const std::uint8_t> frame, std::int64_t unix_ns = 0);
 
   std::uint64_t frames_in() const { return frames_in_; }
+  /// Per receiving station, pooled ones included.
   std::uint64_t deliveries() const { return deliveries_; }
+  /// Calls of a PooledSink (each carries one or more deliveries).
+  std::uint64_t pooled_transmits() const { return pooled_transmits_; }
+  /// Receivers not offered a frame because they were out of range, over all frames.
+  std::uint64_t culled() const { return culled_; }
   std::size_t pending() const { return timers_.size(); }
 
  private:
   struct Receiver {
-    FrameSink* sink = nullptr;
+    FrameSink* sink = nullptr;     ///< a full station's port, or
+    PooledSink* pooled = nullptr;  ///< its station-host's port
     clock::SteadyTime last_due{};
   };
+  /// A pooled delivery waiting to be grouped with its host's others of the same due time.
+  struct PooledDelivery {
+    PooledSink* host;
+    clock::SteadyTime due;
+    StationId to;
+  };
+
+  /// Fills offered_ with the receivers @p from's frame is offered to, in id order.
+  void offer(StationId from);
+  void schedule(clock::SteadyTime due, std::function<void()> fn);
+  void flush_pooled(std::span<const std::uint8_t> frame, clock::SteadyTime now,
+                    std::shared_ptr<const std::vector<std::uint8_t>>& copy);
 
   clock::Runtime& runtime_;
   Channel& channel_;
   std::map<StationId, Receiver> receivers_;
   std::set<clock::TimerId> timers_;
   FrameObserver frame_observer_;
+  bool culling_ = true;
+  // Reused per frame.
+  std::vector<StationId> offered_;
+  std::vector<StationId> reachable_;
+  std::vector<PooledDelivery> pooled_;
+  std::vector<StationId> group_;
+  /// Receivers attached before their first position: offered every frame until they have one.
+  std::vector<StationId> unplaced_;
   std::uint64_t frames_in_ = 0;
   std::uint64_t deliveries_ = 0;
+  std::uint64_t pooled_transmits_ = 0;
+  std::uint64_t culled_ = 0;
 };
 
 }  // namespace tb::emu::radio

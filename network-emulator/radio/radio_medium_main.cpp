@@ -10,6 +10,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,7 @@ constexpr int kExitSetup = 3;
 struct Options {
   std::string scenario;
   std::string stations;
+  std::vector<std::string> pooled;
   std::string mode = "auto";
   std::string forwarding = "auto";
   std::string positions = "udp://0.0.0.0:4701";
@@ -70,6 +72,16 @@ std::uint32_t parse_u32(std::string_view s, const std::string& what) {
 }
 
 // "1001=ns1,1002=/proc/42/ns/net,red=ns3": station ids or the scenario's vehicle ids.
+radio::StationId scenario_station(const std::string& key, const tb::scenario::Scenario& sc,
+                                  const std::string& option) {
+  if (const auto* v = sc.find_vehicle(key))
+    return v->station_id;
+  const radio::StationId id = parse_u32(key, option);
+  if (!sc.find_station(id))
+    throw UsageError(option + ": station " + key + " is not in scenario " + sc.source);
+  return id;
+}
+
 std::vector<radio::StationSpec> parse_stations(const std::string& text,
                                                const tb::scenario::Scenario& sc) {
   std::vector<radio::StationSpec> out;
@@ -84,20 +96,50 @@ std::vector<radio::StationSpec> parse_stations(const std::string& text,
     const std::string key(item.substr(0, eq));
     radio::StationSpec s;
     s.netns = std::string(item.substr(eq + 1));
-    if (const auto* v = sc.find_vehicle(key)) {
-      s.id = v->station_id;
-    } else {
-      s.id = parse_u32(key, "--stations");
-      if (!sc.find_station(s.id))
-        throw UsageError("--stations: station " + key + " is not in scenario " + sc.source);
-    }
+    s.id = scenario_station(key, sc, "--stations");
     for (const auto& o : out)
       if (o.id == s.id)
         throw UsageError("--stations: station " + key + " given twice");
     out.push_back(std::move(s));
   }
-  if (out.empty())
-    throw UsageError("--stations: no station given");
+  return out;
+}
+
+// Each --pooled "NETNS=3004,3007,...": one station-host's namespace and its stations (station
+// ids or the scenario's vehicle ids), none of them a full station or another host's.
+std::vector<radio::PooledHostSpec> parse_pooled(const std::vector<std::string>& texts,
+                                                const std::vector<radio::StationSpec>& full,
+                                                const tb::scenario::Scenario& sc) {
+  std::vector<radio::PooledHostSpec> out;
+  std::set<radio::StationId> seen;
+  for (const auto& f : full)
+    seen.insert(f.id);
+  for (const std::string& text : texts) {
+    const auto eq = text.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
+      throw UsageError("--pooled: \"" + text + "\" is not NETNS=ID[,ID...]");
+    radio::PooledHostSpec h;
+    h.netns = text.substr(0, eq);
+    std::string_view rest = std::string_view(text).substr(eq + 1);
+    while (!rest.empty()) {
+      const auto comma = rest.find(',');
+      const std::string key(rest.substr(0, comma));
+      rest = comma == std::string_view::npos ? std::string_view{} : rest.substr(comma + 1);
+      if (key.empty())
+        throw UsageError("--pooled: \"" + text + "\" has an empty station id");
+      const radio::StationId id = scenario_station(key, sc, "--pooled");
+      if (sc.find_station(id)->station_kind != tb::scenario::StationKind::kPooled)
+        throw UsageError("--pooled: station " + key + " is not \"pooled\" in scenario " +
+                         sc.source + " (its vehicle's station.kind)");
+      if (!seen.insert(id).second)
+        throw UsageError("--pooled: station " + key +
+                         " is given twice (in --stations or another --pooled)");
+      h.stations.push_back(id);
+    }
+    if (h.stations.empty())
+      throw UsageError("--pooled: \"" + text + "\" lists no station");
+    out.push_back(std::move(h));
+  }
   return out;
 }
 
@@ -186,6 +228,7 @@ class PositionListener {
 /// How the frames move between the stations' radios, for the statistics file.
 struct Forwarding {
   radio::BridgeMedium* bridge = nullptr;  ///< in the kernel; else in this program (or hwsim)
+  radio::VethPorts* ports = nullptr;      ///< in this program, veth
 };
 
 void write_stats(const std::string& file, const radio::Channel& channel, const Forwarding& fw) {
@@ -201,8 +244,11 @@ void write_stats(const std::string& file, const radio::Channel& channel, const F
       drops[std::to_string(id)] = n;
     j["kernel_dropped"] = drops;
     j["tap_missed"] = fw.bridge->tap_drops();
+    j["unknown_sender"] = fw.bridge->unknown_sender();
   } else {
     j["forwarding"] = "radio-medium";
+    if (fw.ports)
+      j["unknown_sender"] = fw.ports->unknown_sender();
   }
   // Written beside and renamed, so that a reader never sees half a file.
   const std::string tmp = file + ".tmp";
@@ -227,6 +273,9 @@ int run(const Options& opt) {
     return tb::scenario::kExitBadScenario;
   }
   const auto stations = parse_stations(opt.stations, sc);
+  const auto hosts = parse_pooled(opt.pooled, stations, sc);
+  if (stations.empty() && hosts.empty())
+    throw UsageError("--stations: no station given (and no --pooled host)");
   const std::uint16_t ethertype = parse_ethertype(opt.ethertype);
   const auto why_not_kernel = radio::why_bridge_cannot_carry(sc.channel);
   if (opt.forwarding == "kernel" && why_not_kernel)
@@ -241,6 +290,10 @@ int run(const Options& opt) {
   radio::PositionTable positions;
   seed_positions(sc, positions);
   radio::Channel channel(sc.channel, positions, opt.seed);
+  // Range culling: cells one maximum range wide, so that a frame's possible receivers are in
+  // the 3×3 cells around its sender (none for the ideal channel: everyone hears).
+  if (const auto& r = channel.max_range_m())
+    positions.index_cells(*r);
   // One `medium.frame` record per frame and possible receiver (docs/tracing.md): ok says
   // whether it was delivered; delayed frames carry the delay they were given.
   const std::string trace_path =
@@ -263,7 +316,17 @@ int run(const Options& opt) {
     });
   }
 
-  const radio::MediumChoice choice = radio::choose_medium(opt.mode);
+  if (!hosts.empty() && opt.mode == "hwsim")
+    throw UsageError(
+        "--mode hwsim with --pooled: a station-host's stations share one interface, and one "
+        "hwsim radio per pooled station (hundreds) is not what a host can own; use --mode "
+        "veth or auto");
+  radio::MediumChoice choice = radio::choose_medium(opt.mode);
+  if (!hosts.empty() && choice.kind == radio::MediumKind::kHwsim) {
+    choice = {radio::MediumKind::kVeth,
+              "--pooled station-hosts join through one veth each, so the veth stand-in is used "
+              "although the kernel has mac80211_hwsim"};
+  }
   spdlog::info("radio-medium: using {} ({})", radio::to_string(choice.kind), choice.why);
 
   asio::io_context io;
@@ -312,12 +375,14 @@ int run(const Options& opt) {
     if (choice.kind == radio::MediumKind::kVeth) {
       for (const auto& name : radio::VethRadios::remove_leftovers(opt.prefix))
         spdlog::warn("radio-medium: removed {} left by a run that did not end cleanly", name);
-      veths = std::make_unique<radio::VethRadios>(stations, opt.prefix);
+      veths = std::make_unique<radio::VethRadios>(stations, opt.prefix, hosts);
       if (opt.forwarding == "kernel" || (opt.forwarding == "auto" && !why_not_kernel)) {
         bridge = std::make_unique<radio::BridgeMedium>(io, opt.prefix + "br", radio::owner_alias(),
                                                        ethertype, channel);
         for (const auto& s : stations)
           bridge->attach(s.id, veths->host_ifname(s.id));
+        for (std::size_t k = 0; k < hosts.size(); ++k)
+          bridge->attach_pooled_host(veths->pooled_host_ifname(k), hosts[k].stations);
         if (tb::trace::global().enabled())
           bridge->set_frame_observer(frame_tracer(radio::LinkFraming::kEthernet));
         bridge->start();
@@ -329,6 +394,9 @@ int run(const Options& opt) {
         ports = std::make_unique<radio::VethPorts>(io, ethertype, medium);
         for (const auto& s : stations)
           ports->attach(s.id, veths->host_ifname(s.id));
+        for (std::size_t k = 0; k < hosts.size(); ++k)
+          ports->attach_pooled_host(veths->pooled_host_ifname(k), hosts[k].stations,
+                                    radio::kPooledHostMtu);
         ports->start();
         spdlog::info("radio-medium: forwarding in radio-medium: {}",
                      why_not_kernel ? *why_not_kernel : std::string("--forwarding user"));
@@ -397,14 +465,23 @@ int run(const Options& opt) {
     stats_timer.async_wait([&](const boost::system::error_code& ec) {
       if (ec)
         return;
-      write_stats(opt.stats_file, channel, {bridge.get()});
+      write_stats(opt.stats_file, channel, {bridge.get(), ports.get()});
       arm_stats();
     });
   };
   arm_stats();
 
-  spdlog::info("radio-medium: {} stations on the air, channel model {}, positions on {}",
-               stations.size(), radio::to_string(sc.channel.kind), opt.positions);
+  std::size_t pooled_count = 0;
+  for (const auto& h : hosts)
+    pooled_count += h.stations.size();
+  spdlog::info(
+      "radio-medium: {} stations on the air ({} pooled behind {} station-hosts), channel model "
+      "{}{}, positions on {}",
+      stations.size() + pooled_count, pooled_count, hosts.size(), radio::to_string(sc.channel.kind),
+      channel.max_range_m()
+          ? fmt::format(" (frames offered within {:.0f} m)", *channel.max_range_m())
+          : std::string(),
+      opt.positions);
   // Launchers and tests wait for this line before they send.
   std::printf("radio-medium: ready\n");
   std::fflush(stdout);
@@ -412,7 +489,7 @@ int run(const Options& opt) {
   io.run();
   if (bridge)
     bridge->drain_all();  // what the tap holds yet
-  write_stats(opt.stats_file, channel, {bridge.get()});
+  write_stats(opt.stats_file, channel, {bridge.get(), ports.get()});
   tb::trace::global().flush();
   const auto t = channel.totals();
   const std::uint64_t frames_in = hwsim_medium ? hwsim_medium->frames_in()
@@ -430,8 +507,11 @@ int run(const Options& opt) {
         "nor counted)",
         kernel_dropped, bridge->tap_drops());
   } else if (ports) {
-    spdlog::info("radio-medium: {} deliveries in {} sendmmsg calls, {} failed", ports->sent(),
-                 ports->send_calls(), ports->send_errors());
+    spdlog::info(
+        "radio-medium: {} frames sent in {} sendmmsg calls ({} of them pooled deliveries), {} "
+        "failed; {} frames from an unknown sender; {} receivers culled (out of range)",
+        ports->sent(), ports->send_calls(), ports->pooled_frames_sent(), ports->send_errors(),
+        ports->unknown_sender(), medium.culled());
   }
   return 0;
 }
@@ -446,8 +526,10 @@ int main(int argc, char** argv) {
   app.add_option("--scenario", opt.scenario, "scenario file (channel model, stations)")->required();
   app.add_option("--stations", opt.stations,
                  "ID=NETNS,...: station id (or vehicle id) and its namespace, a name under "
-                 "/run/netns or a path such as /proc/PID/ns/net")
-      ->required();
+                 "/run/netns or a path such as /proc/PID/ns/net");
+  app.add_option("--pooled", opt.pooled,
+                 "NETNS=ID[,ID...], repeatable: a station-host's namespace (one veth pair, "
+                 "PREFIXh<k> here, wlan0 there) and its pooled stations");
   app.add_option("--mode", opt.mode, "auto (hwsim when the kernel has it), hwsim or veth")
       ->check(CLI::IsMember({"auto", "hwsim", "veth"}));
   app.add_option("--positions", opt.positions, "where vehicle states arrive, udp://ADDR:PORT");

@@ -69,7 +69,7 @@ std::vector<LinkInfo> RouteSocket::links() {
 
 void RouteSocket::add_veth(const std::string& name, const std::string& alias,
                            const std::string& peer_name, int peer_netns_fd,
-                           const MacAddress& peer_mac) {
+                           const MacAddress& peer_mac, unsigned mtu) {
   if (name.size() >= IFNAMSIZ || peer_name.size() >= IFNAMSIZ)
     throw NetlinkError("veth " + name + "/" + peer_name + ": name longer than " +
                            std::to_string(IFNAMSIZ - 1) + " characters",
@@ -87,6 +87,10 @@ void RouteSocket::add_veth(const std::string& name, const std::string& alias,
   std::unique_ptr<nl_addr, AddrDeleter> addr(
       nl_addr_build(AF_LLC, peer_mac.data(), peer_mac.size()));
   rtnl_link_set_addr(peer, addr.get());
+  if (mtu != 0) {
+    rtnl_link_set_mtu(link.get(), mtu);
+    rtnl_link_set_mtu(peer, mtu);
+  }
   rtnl_link_put(peer);  // rtnl_link_veth_get_peer took a reference
   if (int err = rtnl_link_add(sock_, link.get(), NLM_F_CREATE | NLM_F_EXCL); err < 0)
     throw NetlinkError("cannot create veth " + name + " with peer " + peer_name + " (" +

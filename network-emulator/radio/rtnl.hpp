@@ -46,10 +46,10 @@ class RouteSocket {
   std::vector<LinkInfo> links();
   /// A veth pair: @p name here, @p peer_name created directly in the namespace @p peer_netns_fd
   /// (so that it can be called wlan0 whatever this namespace holds) with @p peer_mac; both down.
-  /// @p alias labels the local end so that a later run can tell its leftovers. @throws
-  /// NetlinkError.
+  /// @p alias labels the local end so that a later run can tell its leftovers. @p mtu, if not
+  /// 0, is both ends' MTU. @throws NetlinkError.
   void add_veth(const std::string& name, const std::string& alias, const std::string& peer_name,
-                int peer_netns_fd, const MacAddress& peer_mac);
+                int peer_netns_fd, const MacAddress& peer_mac, unsigned mtu = 0);
   /// A bridge that behaves as a hub: it learns no addresses (ageing time 0), so that every
   /// frame, unicast too, goes out of every port but the one it came in on; no spanning tree,
   /// no multicast snooping. Down; @p alias as for add_veth. @throws NetlinkError.

@@ -13,6 +13,7 @@
 #include <spdlog/spdlog.h>
 #include <boost/asio/post.hpp>
 
+#include "common/wire/pooled_delivery.hpp"
 #include "network-emulator/radio/packet_tap.hpp"
 #include "network-emulator/radio/read_loop.hpp"
 
@@ -74,6 +75,8 @@ VethPorts::VethPorts(boost::asio::io_context& io, std::uint16_t ethertype, Mediu
 VethPorts::~VethPorts() {
   for (const auto& [id, port] : ports_)
     medium_.detach(id);
+  for (const StationId id : pooled_)
+    medium_.detach(id);
   ::close(rx_fd_);
   ::close(tx_fd_);
 }
@@ -84,15 +87,33 @@ void VethPorts::attach(StationId id, const std::string& host_ifname) {
     fail(errno, "no interface " + host_ifname);
   detach(id);
   auto& port = ports_[id] = std::make_unique<Port>(*this, ifindex);
-  station_of_ifindex_[ifindex] = id;
+  attribution_.add_station_port(ifindex, id);
   medium_.attach(id, *port);
 }
 
+void VethPorts::attach_pooled_host(const std::string& host_ifname, std::span<const StationId> ids,
+                                   unsigned mtu) {
+  const int ifindex = static_cast<int>(if_nametoindex(host_ifname.c_str()));
+  if (ifindex == 0)
+    fail(errno, "no interface " + host_ifname);
+  auto& host = hosts_[ifindex];
+  if (!host)
+    host = std::make_unique<HostPort>(*this, ifindex, mtu);
+  for (const StationId id : ids) {
+    detach(id);
+    attribution_.add_pooled(ifindex, id);
+    pooled_.push_back(id);
+    medium_.attach_pooled(id, *host);
+  }
+}
+
 void VethPorts::detach(StationId id) {
-  if (ports_.erase(id) == 0)
+  const bool full = ports_.erase(id) > 0;
+  const bool pooled = std::erase(pooled_, id) > 0;
+  if (!full && !pooled)
     return;
   medium_.detach(id);
-  std::erase_if(station_of_ifindex_, [id](const auto& e) { return e.second == id; });
+  attribution_.remove_station(id);
 }
 
 void VethPorts::start() {
@@ -136,15 +157,25 @@ void VethPorts::drain_batches() {
       const auto& from =
           reinterpret_cast<const sockaddr_ll&>(rx_from_[static_cast<std::size_t>(i)]);
       const std::size_t len = rx_headers_[static_cast<std::size_t>(i)].msg_len;
-      const auto it = station_of_ifindex_.find(from.sll_ifindex);
-      if (it == station_of_ifindex_.end() || from.sll_pkttype == PACKET_OUTGOING)
+      if (!attribution_.is_port(from.sll_ifindex) || from.sll_pkttype == PACKET_OUTGOING)
         continue;  // not a station's port, or (kernels before 4.20) one of our own deliveries
       if (len > kMaxFrame || (m.msg_flags & MSG_TRUNC)) {
         if (receive_errors_++ == 0)
           spdlog::warn(
-              "radio: a frame of {} bytes from station {} is longer than {} (dropped, "
+              "radio: a frame of {} bytes on interface {} is longer than {} (dropped, "
               "counted, reported once)",
-              len, it->second, kMaxFrame);
+              len, from.sll_ifindex, kMaxFrame);
+        continue;
+      }
+      const std::span<const std::uint8_t> bytes(rx_buffers_[static_cast<std::size_t>(i)].data(),
+                                                len);
+      const auto sender = attribution_.sender(from.sll_ifindex, bytes);
+      if (!sender) {
+        if (attribution_.unknown_sender() == 1)
+          spdlog::warn(
+              "radio: a frame on a station-host's port (interface {}) from a MAC address that "
+              "names none of its stations (dropped, counted as unknown_sender, reported once)",
+              from.sll_ifindex);
         continue;
       }
       std::int64_t unix_ns = 0;
@@ -157,7 +188,7 @@ void VethPorts::drain_batches() {
         }
       }
       ++received_;
-      medium_.on_frame(it->second, {rx_buffers_[static_cast<std::size_t>(i)].data(), len}, unix_ns);
+      medium_.on_frame(*sender, bytes, unix_ns);
     }
     if (static_cast<std::size_t>(n) < kBatch)
       return;
@@ -170,6 +201,36 @@ void VethPorts::queue(int ifindex, std::span<const std::uint8_t> frame) {
   pending_.push_back({ifindex, arena_.size(), frame.size()});
   arena_.insert(arena_.end(), frame.begin(), frame.end());
   if (!draining_ && !flush_posted_) {  // a delayed delivery: flushed once the due ones are in
+    flush_posted_ = true;
+    boost::asio::post(io_, [this] { flush(); });
+  }
+}
+
+void VethPorts::queue_pooled(int ifindex, unsigned mtu, std::span<const StationId> receivers,
+                             std::span<const std::uint8_t> frame) {
+  // One frame for all of them; more only where the list would not fit into the host's MTU.
+  const std::size_t per_frame = wire::pooled_receivers_per_frame(mtu, frame.size());
+  if (per_frame == 0 || frame.size() < wire::kEthernetHeaderSize) {
+    ++send_errors_;
+    if (oversized_++ == 0)
+      spdlog::warn(
+          "radio: a frame of {} bytes does not fit into a pooled delivery of at most {} bytes "
+          "(dropped, counted as a send error, reported once)",
+          frame.size(), mtu);
+    return;
+  }
+  for (std::size_t first = 0; first < receivers.size(); first += per_frame) {
+    const auto chunk = receivers.subspan(first, std::min(per_frame, receivers.size() - first));
+    const std::size_t size = wire::pooled_delivery_frame_size(chunk.size(), frame.size());
+    if (pending_.size() >= kMaxPending)
+      flush();
+    const std::size_t offset = arena_.size();
+    arena_.resize(offset + size);
+    wire::build_pooled_delivery_frame(chunk, frame, std::span(arena_).subspan(offset, size));
+    pending_.push_back({ifindex, offset, size});
+    ++pooled_frames_;
+  }
+  if (!draining_ && !flush_posted_) {
     flush_posted_ = true;
     boost::asio::post(io_, [this] { flush(); });
   }

@@ -24,6 +24,7 @@
 #include <boost/asio/posix/stream_descriptor.hpp>
 
 #include "network-emulator/radio/medium.hpp"
+#include "network-emulator/radio/sender_attribution.hpp"
 
 namespace tb::emu::radio {
 
@@ -44,7 +45,14 @@ class VethPorts {
   /// Makes @p host_ifname (a veth host end) @p id's port and attaches it to the medium.
   /// @throws std::system_error when there is no such interface.
   void attach(StationId id, const std::string& host_ifname);
-  /// Detaches @p id from the medium; deliveries already queued for it are still sent.
+  /// Makes @p host_ifname (a station-host's veth host end, VethRadios::pooled_host_ifname) the
+  /// port of the pooled stations @p ids: their frames are told apart by source MAC, and what
+  /// the medium delivers to any of them goes out as one pooled delivery (TBPD,
+  /// common/wire/pooled_delivery.hpp) per frame and due time, split only where the receivers
+  /// would not fit into @p mtu. @throws std::system_error when there is no such interface.
+  void attach_pooled_host(const std::string& host_ifname, std::span<const StationId> ids,
+                          unsigned mtu);
+  /// Detaches @p id (full or pooled) from the medium; deliveries already queued are still sent.
   void detach(StationId id);
   void start();
 
@@ -53,6 +61,9 @@ class VethPorts {
   std::uint64_t send_calls() const { return send_calls_; }
   std::uint64_t send_errors() const { return send_errors_; }
   std::uint64_t receive_errors() const { return receive_errors_; }
+  /// Frames from a station-host's port whose source MAC names no known station (dropped).
+  std::uint64_t unknown_sender() const { return attribution_.unknown_sender(); }
+  std::uint64_t pooled_frames_sent() const { return pooled_frames_; }
 
  private:
   class Port final : public FrameSink {
@@ -64,6 +75,20 @@ class VethPorts {
     VethPorts& owner_;
     int ifindex_;
   };
+  class HostPort final : public PooledSink {
+   public:
+    HostPort(VethPorts& owner, int ifindex, unsigned mtu)
+        : owner_(owner), ifindex_(ifindex), mtu_(mtu) {}
+    void transmit(std::span<const StationId> receivers,
+                  std::span<const std::uint8_t> frame) override {
+      owner_.queue_pooled(ifindex_, mtu_, receivers, frame);
+    }
+
+   private:
+    VethPorts& owner_;
+    int ifindex_;
+    unsigned mtu_;
+  };
   struct Pending {
     int ifindex;
     std::size_t offset, size;  // in arena_
@@ -72,6 +97,8 @@ class VethPorts {
   void drain();
   void drain_batches();
   void queue(int ifindex, std::span<const std::uint8_t> frame);
+  void queue_pooled(int ifindex, unsigned mtu, std::span<const StationId> receivers,
+                    std::span<const std::uint8_t> frame);
   void flush();
 
   boost::asio::io_context& io_;
@@ -79,8 +106,10 @@ class VethPorts {
   int rx_fd_ = -1;
   int tx_fd_ = -1;
   boost::asio::posix::stream_descriptor descriptor_;
-  std::map<int, StationId> station_of_ifindex_;
+  SenderAttribution attribution_;
   std::map<StationId, std::unique_ptr<Port>> ports_;
+  std::map<int, std::unique_ptr<HostPort>> hosts_;  ///< by ifindex
+  std::vector<StationId> pooled_;                   ///< attached behind a host
   // Receive batch, reused.
   std::vector<std::array<std::uint8_t, kMaxFrame>> rx_buffers_;
   std::vector<mmsghdr> rx_headers_;
@@ -100,6 +129,8 @@ class VethPorts {
   std::uint64_t send_calls_ = 0;
   std::uint64_t send_errors_ = 0;
   std::uint64_t receive_errors_ = 0;
+  std::uint64_t pooled_frames_ = 0;
+  std::uint64_t oversized_ = 0;
 };
 
 }  // namespace tb::emu::radio

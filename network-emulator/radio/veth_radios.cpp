@@ -41,12 +41,22 @@ MacAddress station_mac(StationId id) {
           static_cast<std::uint8_t>(id)};
 }
 
-VethRadios::VethRadios(const std::vector<StationSpec>& stations, const std::string& prefix)
-    : prefix_(prefix), stations_(stations) {
+MacAddress host_mac(std::size_t k) {
+  return {0x02, 0x01, 0x00, 0x00, 0x00, static_cast<std::uint8_t>(k)};
+}
+
+VethRadios::VethRadios(const std::vector<StationSpec>& stations, const std::string& prefix,
+                       const std::vector<PooledHostSpec>& hosts)
+    : prefix_(prefix), stations_(stations), hosts_(hosts) {
+  if (hosts_.size() > kMaxPooledHosts)
+    throw std::runtime_error(std::to_string(hosts_.size()) + " station-hosts: at most " +
+                             std::to_string(kMaxPooledHosts) + " (the last byte of their MAC)");
   RouteSocket rtnl;
   try {
     for (const StationSpec& s : stations_)
       add(rtnl, s);
+    for (std::size_t k = 0; k < hosts_.size(); ++k)
+      add_host(rtnl, k);
   } catch (...) {
     remove_all();
     throw;
@@ -68,6 +78,23 @@ void VethRadios::add(RouteSocket& rtnl, const StationSpec& s) {
   placed_in_[s.id] = ns.identity();
   spdlog::debug("radio: station {}: {} ↔ {}:{} ({})", s.id, name, ns.path(), kStationIfname,
                 to_string(station_mac(s.id)));
+}
+
+void VethRadios::add_host(RouteSocket& rtnl, std::size_t k) {
+  const PooledHostSpec& h = hosts_[k];
+  NetnsFd ns;
+  try {
+    ns = NetnsFd::open(h.netns);
+  } catch (const std::system_error& e) {
+    throw std::runtime_error("station-host " + std::to_string(k) + ": " + e.what());
+  }
+  const std::string name = pooled_host_ifname(k);
+  rtnl.add_veth(name, owner_alias(), kStationIfname, ns.fd(), host_mac(k), kPooledHostMtu);
+  created_.push_back(name);
+  rtnl.set_up(name);
+  in_netns(ns, [] { RouteSocket(/*the host's namespace*/).set_up(kStationIfname); });
+  spdlog::debug("radio: station-host {} ({} stations): {} ↔ {}:{} ({})", k, h.stations.size(), name,
+                ns.path(), kStationIfname, to_string(host_mac(k)));
 }
 
 std::vector<StationId> VethRadios::moved_stations() const {

@@ -24,6 +24,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "common/wire/pooled_delivery.hpp"
 #include "common/wire/vehicle_state.hpp"
 #include "network-emulator/radio/netns.hpp"
 #include "network-emulator/radio/packet_socket.hpp"
@@ -391,10 +392,14 @@ TEST_F(VethMediumIT, RangeModelReachesStationsInRangeAndNoneBeyond) {
   const auto j = read_json(stats);
   expect_links_add_up(j);
   EXPECT_EQ(link(j, 11, 12)["delivered"], 300u + probes);
-  EXPECT_EQ(link(j, 11, 13)["dropped"]["out_of_range"], 300u + probes - c.count_from(11));
+  // Out of range, a's frames were not offered to c at all (range culling): no drops on the
+  // link, only the frames after the move, all delivered; the rest counted as culled.
+  EXPECT_EQ(link(j, 11, 13)["sent"], c.count_from(11));
+  EXPECT_EQ(link(j, 11, 13)["delivered"], c.count_from(11));
+  EXPECT_EQ(j["culled"], 300u + probes - c.count_from(11));
   EXPECT_EQ(link(j, 12, 11)["delivered"], 300u);
   EXPECT_EQ(link(j, 12, 13)["delivered"], 300u);
-  EXPECT_EQ(j["totals"]["sent"], 2 * (300u + probes) + 2 * 300u);
+  EXPECT_EQ(j["totals"]["sent"], 300u + probes + c.count_from(11) + 2 * 300u);
 
   // One medium.frame trace record per decision, agreeing with the statistics, and one
   // medium.rx per frame that came in (these test frames are no CAMs: no station or gdt).
@@ -420,7 +425,8 @@ TEST_F(VethMediumIT, RangeModelReachesStationsInRangeAndNoneBeyond) {
   const auto a_c = traced[std::make_pair(11, 13)];
   const auto b_c = traced[std::make_pair(12, 13)];
   EXPECT_EQ(a_b.first, link(j, 11, 12)["delivered"].get<std::uint64_t>());
-  EXPECT_EQ(a_c.second, link(j, 11, 13)["dropped"]["out_of_range"].get<std::uint64_t>());
+  EXPECT_EQ(a_c.first, c.count_from(11));
+  EXPECT_EQ(a_c.second, 0u);  // culled links are not decided, so not traced
   EXPECT_EQ(b_c.first, 300u);
 }
 
@@ -603,6 +609,279 @@ TEST_F(VethMediumIT, MissingNamespaceFailsWithAClearMessageAndLeavesNothing) {
   const int status = medium.stop();
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 3);
+}
+
+// --- Station-hosts (issue 33): one namespace, one veth pair, several pooled stations ---------
+
+// A station-host's end, standing in for station-host: AF_PACKET on its wlan0 for every
+// ethertype; sends with any pooled station's MAC, sorts out plain and pooled deliveries.
+class RawHost {
+ public:
+  explicit RawHost(const std::string& netns) {
+    socket_ = in_netns(NetnsFd::open(netns), [] {
+      return std::make_unique<PacketSocket>(kStationIfname, kEthertypeAll, 16 << 20);
+    });
+  }
+  void send_as(StationId id, std::uint32_t seq) {
+    std::vector<std::uint8_t> f(100, 0);
+    std::fill_n(f.begin(), 6, 0xff);
+    const MacAddress src = station_mac(id);
+    std::copy(src.begin(), src.end(), f.begin() + 6);
+    f[12] = 0x89;
+    f[13] = 0x47;
+    std::memcpy(&f[14], &id, 4);
+    std::memcpy(&f[18], &seq, 4);
+    ASSERT_TRUE(socket_->send(f)) << "send as " << id << ": " << std::strerror(errno);
+  }
+  struct Got {
+    bool pooled = false;            ///< a TBPD frame (else a plain GN frame)
+    std::vector<StationId> listed;  ///< TBPD: the receivers it names
+    MacAddress outer_src{};         ///< the outer frame's source MAC
+    StationId from = 0;             ///< the test payload's sender
+    std::uint32_t seq = 0;
+  };
+  // Every GN or TBPD frame waiting, or the first within @p wait; malformed TBPD fails the test.
+  void poll(std::chrono::milliseconds wait = 0ms) {
+    std::array<std::uint8_t, 16384> buf{};
+    pollfd p{socket_->fd(), POLLIN, 0};
+    if (::poll(&p, 1, static_cast<int>(wait.count())) <= 0)
+      return;
+    for (;;) {
+      const long n = socket_->receive(buf);
+      if (n <= 0)
+        return;
+      const std::span<const std::uint8_t> frame(buf.data(), static_cast<std::size_t>(n));
+      if (frame.size() < 14)
+        continue;
+      const unsigned type = unsigned{frame[12]} << 8 | frame[13];
+      Got g;
+      std::copy_n(frame.begin() + 6, 6, g.outer_src.begin());
+      std::span<const std::uint8_t> inner = frame;
+      if (type == wire::kEthertypePooledDelivery) {
+        const auto d = wire::parse_pooled_delivery_frame(frame);
+        ASSERT_TRUE(d) << "malformed TBPD: " << wire::to_string(d.error());
+        g.pooled = true;
+        g.listed = d->receivers();
+        inner = d->inner_frame;
+      } else if (type != kEthertypeGeoNetworking) {
+        continue;  // a namespace's own IPv6 chatter, forwarded by the bridge
+      }
+      if (inner.size() < 22)
+        continue;
+      std::memcpy(&g.from, &inner[14], 4);
+      std::memcpy(&g.seq, &inner[18], 4);
+      got.push_back(std::move(g));
+    }
+  }
+  std::vector<Got> got;
+
+ private:
+  std::unique_ptr<PacketSocket> socket_;
+};
+
+// 11 is a full station at x = 10 m; 21, 22, 23 are pooled at 60, 110 and 160 m.
+fs::path write_pooled_scenario(const std::string& channel) {
+  const fs::path dir = fs::temp_directory_path() / ("radio-it-" + kTag);
+  fs::create_directories(dir);
+  const fs::path file = dir / "pooled-scenario.json";
+  std::ofstream(file) << R"({
+  "name": "radio-it-pooled",
+  "map": { "type": "straight", "lanes": 2, "lane_width": 3.5, "length": 2000 },
+  "origin": { "lat": 41.1, "lon": 29.0, "alt": 60 },
+  "start_time": "2025-06-02T09:00:00Z",
+  "channel": )" << channel
+                      << R"(,
+  "vehicles": [
+    { "id": "full", "station_id": 11, "spawn": { "x": 10, "y": 0, "heading_deg": 90 }, "driver": "human" },
+    { "id": "p1", "station_id": 21, "spawn": { "x": 60, "y": 0, "heading_deg": 90 }, "driver": { "type": "lane_follow", "speed_profile": [{ "t": 0, "speed": 0 }] }, "station": { "kind": "pooled" } },
+    { "id": "p2", "station_id": 22, "spawn": { "x": 110, "y": 0, "heading_deg": 90 }, "driver": { "type": "lane_follow", "speed_profile": [{ "t": 0, "speed": 0 }] }, "station": { "kind": "pooled" } },
+    { "id": "p3", "station_id": 23, "spawn": { "x": 160, "y": 0, "heading_deg": 90 }, "driver": { "type": "lane_follow", "speed_profile": [{ "t": 0, "speed": 0 }] }, "station": { "kind": "pooled" } }
+  ]
+})";
+  return file;
+}
+
+std::vector<std::string> pooled_args(const fs::path& scenario, const fs::path& stats,
+                                     unsigned short port, const std::string& full_ns,
+                                     const std::string& host_ns) {
+  return {"--scenario",  scenario.string(),
+          "--mode",      "veth",
+          "--prefix",    kPrefix,
+          "--stations",  "11=" + full_ns,
+          "--pooled",    host_ns + "=21,p2,23",
+          "--stats",     stats.string(),
+          "--positions", "udp://127.0.0.1:" + std::to_string(port),
+          "--log-level", "warn"};
+}
+
+void send_state(unsigned short port, StationId id, double x) {
+  wire::VehicleState s;
+  s.station_id = id;
+  s.sim_time_ns = 1'000'000'000;
+  s.position = {x, 0.0, 0.0};
+  const auto bytes = wire::encode_batch({&s, 1});
+  const int udp = ::socket(AF_INET, SOCK_DGRAM, 0);
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  to.sin_port = htons(port);
+  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ASSERT_EQ(
+      ::sendto(udp, bytes.data(), bytes.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to),
+      static_cast<ssize_t>(bytes.size()));
+  ::close(udp);
+}
+
+// Polls @p a and @p h until @p done or 5 s.
+template <typename Done>
+void poll_until(Station& a, RawHost& h, Done done) {
+  const auto deadline = Clock::now() + 5s;
+  while (!done() && Clock::now() < deadline) {
+    a.poll_frames(2ms);
+    h.poll(2ms);
+  }
+  for (int i = 0; i < 10; ++i) {  // and a little longer for frames that must not come
+    a.poll_frames(5ms);
+    h.poll(5ms);
+  }
+}
+
+bool has_link(const nlohmann::json& stats, StationId from, StationId to) {
+  for (const auto& l : stats["links"])
+    if (l["from"] == from && l["to"] == to)
+      return true;
+  return false;
+}
+
+TEST_F(VethMediumIT, PooledHostInTheKernelIsAPortLikeAnyOther) {
+  const fs::path scenario = write_pooled_scenario(R"({ "model": "ideal" })");
+  const fs::path stats = scenario.parent_path() / "pooled-kernel-stats.json";
+  MediumProcess medium(
+      pooled_args(scenario, stats, free_udp_port(), ns_[0]->name(), ns_[1]->name()));
+  ASSERT_TRUE(medium.wait_ready());
+  EXPECT_TRUE(ns_[1]->has(kStationIfname));
+  Station a(11, ns_[0]->name());
+  RawHost h(ns_[1]->name());
+
+  // A frame with a pooled MAC reaches the full station, attributed to that pooled station.
+  for (std::uint32_t i = 0; i < 20; ++i)
+    h.send_as(22, i);
+  // The full station's frames reach the host plain, once each.
+  for (std::uint32_t i = 0; i < 20; ++i)
+    a.send(i);
+  poll_until(a, h, [&] { return a.count_from(22) == 20 && h.got.size() >= 20; });
+  EXPECT_EQ(a.count_from(22), 20u);
+  ASSERT_EQ(h.got.size(), 20u);
+  for (std::uint32_t i = 0; i < 20; ++i) {
+    EXPECT_FALSE(h.got[i].pooled);
+    EXPECT_EQ(h.got[i].from, 11u);
+    EXPECT_EQ(h.got[i].seq, i);
+  }
+  h.send_as(99, 0);  // a MAC that names no station: the kernel forwards it, nobody counts it
+  poll_until(a, h, [&] { return a.count_from(99) == 1; });
+
+  ASSERT_TRUE(WIFEXITED(medium.stop()));
+  const auto j = read_json(stats);
+  expect_links_add_up(j);
+  EXPECT_EQ(j["forwarding"], "kernel");
+  EXPECT_EQ(link(j, 22, 11)["delivered"], 20u);
+  for (StationId p : {21u, 22u, 23u})
+    EXPECT_EQ(link(j, 11, p)["delivered"], 20u) << p;
+  // Between the host's own stations the kernel carries nothing: the host loops them back.
+  EXPECT_FALSE(has_link(j, 22, 21));
+  EXPECT_FALSE(has_link(j, 22, 23));
+  EXPECT_EQ(j["unknown_sender"], 1u);
+  EXPECT_EQ(j["totals"]["sent"], 20u + 3 * 20u);
+}
+
+TEST_F(VethMediumIT, PooledHostInTheProgramGetsOneFrameListingItsStationsInRange) {
+  const fs::path scenario = write_pooled_scenario(R"({ "model": "range", "range_m": 300 })");
+  const fs::path stats = scenario.parent_path() / "pooled-user-stats.json";
+  const unsigned short port = free_udp_port();
+  MediumProcess medium(pooled_args(scenario, stats, port, ns_[0]->name(), ns_[1]->name()));
+  ASSERT_TRUE(medium.wait_ready());
+  Station a(11, ns_[0]->name());
+  RawHost h(ns_[1]->name());
+
+  // 23 moves to 1500 m: out of everyone's range. Probe until a delivery leaves it out.
+  send_state(port, 23, 1500.0);
+  std::uint32_t probes = 0;
+  const auto moved = [&] {
+    return !h.got.empty() && h.got.back().listed == std::vector<StationId>{21, 22};
+  };
+  const auto deadline = Clock::now() + 5s;
+  while (!moved() && Clock::now() < deadline) {
+    a.send(1000 + probes++);
+    h.poll(10ms);
+  }
+  ASSERT_TRUE(moved()) << "the position update never took effect";
+  h.got.clear();
+
+  for (std::uint32_t i = 0; i < 20; ++i)
+    a.send(i);
+  for (std::uint32_t i = 0; i < 20; ++i)
+    h.send_as(21, i);
+  for (std::uint32_t i = 0; i < 5; ++i)
+    h.send_as(23, i);  // heard by nobody
+  h.send_as(99, 0);    // no such station: dropped
+  poll_until(a, h, [&] { return a.count_from(21) == 20 && h.got.size() >= 40; });
+
+  EXPECT_EQ(a.count_from(21), 20u);
+  EXPECT_EQ(a.count_from(23), 0u);
+  EXPECT_EQ(a.count_from(99), 0u);
+  std::uint32_t from_full = 0, from_own = 0;
+  for (const auto& g : h.got) {
+    ASSERT_TRUE(g.pooled) << "a plain frame on a host's port in the program's forwarding";
+    EXPECT_EQ(g.outer_src, station_mac(g.from));
+    if (g.from == 11) {
+      EXPECT_EQ(g.listed, (std::vector<StationId>{21, 22}));
+      EXPECT_EQ(g.seq, from_full++);
+    } else {
+      EXPECT_EQ(g.from, 21u);
+      EXPECT_EQ(g.listed, std::vector<StationId>{22});  // its own host's other station in range
+      EXPECT_EQ(g.seq, from_own++);
+    }
+  }
+  EXPECT_EQ(from_full, 20u);
+  EXPECT_EQ(from_own, 20u);
+
+  ASSERT_TRUE(WIFEXITED(medium.stop()));
+  const auto j = read_json(stats);
+  expect_links_add_up(j);
+  EXPECT_EQ(j["forwarding"], "radio-medium");
+  EXPECT_EQ(j["unknown_sender"], 1u);
+  EXPECT_EQ(link(j, 21, 11)["delivered"], 20u);
+  EXPECT_EQ(link(j, 21, 22)["delivered"], 20u);
+  EXPECT_EQ(link(j, 11, 22)["delivered"], 20u + probes);
+  EXPECT_FALSE(has_link(j, 23, 11));  // 1.5 km away: culled, not a link
+  // Culled: 21's 20 frames to 23, 23's 5 to each of 11, 21, 22, and a's frames to 23 after
+  // the move.
+  EXPECT_GE(j["culled"].get<std::uint64_t>(), 20u + 15u + 20u);
+}
+
+TEST_F(VethMediumIT, PooledHostsAreRefusedOnHwsimAndCheckedAgainstTheScenario) {
+  const fs::path scenario = write_pooled_scenario(R"({ "model": "ideal" })");
+  auto run = [&](std::vector<std::string> argv) {
+    MediumProcess medium(argv);
+    EXPECT_FALSE(medium.wait_ready());
+    const int status = medium.stop();
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  auto argv = pooled_args(scenario, scenario.parent_path() / "x.json", free_udp_port(),
+                          ns_[0]->name(), ns_[1]->name());
+  argv[3] = "hwsim";  // --mode hwsim
+  EXPECT_EQ(run(argv), 1);
+  EXPECT_EQ(run({"--scenario", scenario.string(), "--mode", "veth", "--prefix", kPrefix,
+                 "--stations", "11=" + ns_[0]->name(), "--pooled", ns_[1]->name() + "=21,11"}),
+            1);  // 11 is a full station already
+  EXPECT_EQ(run({"--scenario", scenario.string(), "--mode", "veth", "--prefix", kPrefix, "--pooled",
+                 ns_[1]->name() + "=21,777"}),
+            1);  // not in the scenario
+  EXPECT_EQ(run({"--scenario", scenario.string(), "--mode", "veth", "--prefix", kPrefix, "--pooled",
+                 ns_[1]->name() + "=21,full"}),
+            1);  // a full station's vehicle
+  EXPECT_EQ(run({"--scenario", scenario.string(), "--mode", "veth", "--prefix", kPrefix, "--pooled",
+                 ns_[1]->name()}),
+            1);
 }
 
 }  // namespace
