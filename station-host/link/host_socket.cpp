@@ -4,10 +4,13 @@
 #include <linux/filter.h>
 #include <linux/if_ether.h>
 #include <linux/if_packet.h>
+#include <linux/sockios.h>
 #include <net/if.h>
+#include <sys/ioctl.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
@@ -76,17 +79,25 @@ Expected<std::unique_ptr<HostSocket>, link::OpenError> HostSocket::open(
   mr.mr_type = PACKET_MR_PROMISC;
   if (::setsockopt(guard.fd, SOL_PACKET, PACKET_ADD_MEMBERSHIP, &mr, sizeof mr) < 0)
     return fail(link::OpenErrorKind::kSocketOption, errno);
+  ifreq req{};
+  std::memcpy(req.ifr_name, interface.c_str(), interface.size() + 1);
+  const std::size_t mtu =
+      ::ioctl(guard.fd, SIOCGIFMTU, &req) == 0 && req.ifr_mtu > 0
+          ? std::max<std::size_t>(link::kMaxPayload, static_cast<std::size_t>(req.ifr_mtu))
+          : link::kMaxPayload;
   std::unique_ptr<HostSocket> s{
-      new HostSocket(io, guard.release(), interface, static_cast<int>(ifindex))};
+      new HostSocket(io, guard.release(), interface, static_cast<int>(ifindex), mtu)};
   s->arm();
   return s;
 }
 
-HostSocket::HostSocket(boost::asio::io_context& io, int fd, std::string interface, int ifindex)
+HostSocket::HostSocket(boost::asio::io_context& io, int fd, std::string interface, int ifindex,
+                       std::size_t mtu)
     : socket_(io, fd),
       interface_(std::move(interface)),
       ifindex_(ifindex),
-      buffers_(kBatch * kFrameCapacity) {}
+      frame_capacity_(14 + mtu + 1),
+      buffers_(kBatch * frame_capacity_) {}
 
 HostSocket::~HostSocket() {
   boost::system::error_code ignored;
@@ -129,7 +140,7 @@ void HostSocket::drain() {
   alignas(cmsghdr) std::array<std::array<char, CMSG_SPACE(sizeof(timespec))>, kBatch> control{};
   for (;;) {
     for (std::size_t i = 0; i < kBatch; ++i) {
-      iovs[i] = {buffers_.data() + i * kFrameCapacity, kFrameCapacity};
+      iovs[i] = {buffers_.data() + i * frame_capacity_, frame_capacity_};
       msgs[i] = {};
       msgs[i].msg_hdr.msg_name = &from[i];
       msgs[i].msg_hdr.msg_namelen = sizeof from[i];
@@ -154,7 +165,7 @@ void HostSocket::drain() {
         ++stats_.ignored_outgoing;
         continue;
       }
-      if (len >= kFrameCapacity || (m.msg_flags & MSG_TRUNC)) {
+      if (len >= frame_capacity_ || (m.msg_flags & MSG_TRUNC)) {
         ++stats_.truncated;
         continue;
       }
@@ -169,7 +180,7 @@ void HostSocket::drain() {
       }
       ++stats_.frames;
       if (handler_)
-        handler_({buffers_.data() + static_cast<std::size_t>(i) * kFrameCapacity, len}, rx_time);
+        handler_({buffers_.data() + static_cast<std::size_t>(i) * frame_capacity_, len}, rx_time);
     }
     if (static_cast<std::size_t>(n) < kBatch)
       return;

@@ -53,7 +53,8 @@ class HostSocket final : public FrameOutput {
   const HostSocketStats& stats() const { return stats_; }
 
  private:
-  HostSocket(boost::asio::io_context& io, int fd, std::string interface, int ifindex);
+  HostSocket(boost::asio::io_context& io, int fd, std::string interface, int ifindex,
+             std::size_t mtu);
   void arm();
   void drain();
 
@@ -62,7 +63,9 @@ class HostSocket final : public FrameOutput {
   int ifindex_;
   FrameHandler handler_;
   HostSocketStats stats_;
-  static constexpr std::size_t kFrameCapacity = 14 + 1500 + 1;  // one byte over the MTU
+  /// A header and the interface's MTU (radio-medium gives a host's veth 9000 for its pooled
+  /// deliveries), plus one byte to tell an oversized frame.
+  std::size_t frame_capacity_;
   std::vector<std::uint8_t> buffers_;
 };
 

@@ -1,9 +1,11 @@
 // Integration: one station-host with 20 pooled stations and one full its-station, in two
-// network namespaces joined by a veth pair named wlan0 on both ends (the kernel-forwarding
-// medium: every frame to the other end, never back), the full station's gpsd fed NMEA and the
-// host fed vehicle states by this test. CAMs must go both ways, every pooled station must send
-// with its own MAC and station id (checked in a capture of the air), and the host's stations
-// must hear each other (looped back in-process). Unsigned and signed. Needs root; ~25 s each.
+// network namespaces, the full station's gpsd fed NMEA and the host fed vehicle states by this
+// test. Two media: a veth pair named wlan0 on both ends (as the kernel bridge forwards: every
+// frame to the other end, never back; the host loops its own stations' frames back), and
+// radio-medium with --pooled and a range channel (the program forwards: pooled deliveries,
+// TBPD, to the host, its own stations' frames included). CAMs must go both ways, the host's
+// stations must hear each other, and every pooled station must send with its own MAC and
+// station id (checked in a capture of the air). Unsigned and signed. Needs root; ~10 s each.
 
 #include <gtest/gtest.h>
 
@@ -15,12 +17,15 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
+#include <span>
 #include <sstream>
 #include <thread>
 
@@ -96,7 +101,37 @@ std::string mac_of(std::uint32_t id) {
                      id >> 8 & 0xff, id & 0xff);
 }
 
-class StationHostIt : public ::testing::TestWithParam<bool> {
+struct Case {
+  bool signed_mode = false;
+  bool radio_medium = false;  ///< else a plain veth pair
+};
+
+/// radio-medium in this process's namespace; says "radio-medium: ready" on stdout.
+class Medium {
+ public:
+  Medium(const std::vector<std::string>& args, const fs::path& log)
+      : pid_(spawn(args, log)), log_(log) {}
+  ~Medium() {
+    if (pid_ > 0) {
+      kill(pid_, SIGTERM);
+      wait_for(pid_, 10s);
+    }
+  }
+  bool wait_ready() const {
+    for (int i = 0; i < 100; ++i) {
+      if (output_of("cat " + log_.string()).find("radio-medium: ready") != std::string::npos)
+        return true;
+      std::this_thread::sleep_for(100ms);
+    }
+    return false;
+  }
+
+ private:
+  pid_t pid_ = -1;
+  fs::path log_;
+};
+
+class StationHostIt : public ::testing::TestWithParam<Case> {
  protected:
   void SetUp() override {
     if (geteuid() != 0)
@@ -106,7 +141,8 @@ class StationHostIt : public ::testing::TestWithParam<bool> {
     host_bin = b / "station-host";
     station_bin = b / "its-station";
     pki_bin = b / "its-pki";
-    for (const auto& p : {host_bin, station_bin, pki_bin})
+    medium_bin = b / "radio-medium";
+    for (const auto& p : {host_bin, station_bin, pki_bin, medium_bin})
       if (!fs::exists(p))
         GTEST_SKIP() << p << " not built";
     if (sh("command -v tshark") != 0)
@@ -120,13 +156,16 @@ class StationHostIt : public ::testing::TestWithParam<bool> {
     const std::string va = "shva" + tag, vb = "shvb" + tag;
     ASSERT_EQ(sh("ip netns add " + ns_full), 0);
     ASSERT_EQ(sh("ip netns add " + ns_host), 0);
+    for (const auto& ns : {ns_full, ns_host})
+      ASSERT_EQ(sh(fmt::format("ip netns exec {} ip link set lo up", ns)), 0);
+    if (GetParam().radio_medium)
+      return;  // radio-medium makes the pairs and names the ends
     ASSERT_EQ(sh(fmt::format("ip link add {} type veth peer name {}", va, vb)), 0);
     ASSERT_EQ(sh(fmt::format("ip link set {} netns {}", va, ns_full)), 0);
     ASSERT_EQ(sh(fmt::format("ip link set {} netns {}", vb, ns_host)), 0);
     for (const auto& [ns, v] : {std::pair{ns_full, va}, std::pair{ns_host, vb}}) {
       ASSERT_EQ(sh(fmt::format("ip netns exec {} ip link set {} name wlan0", ns, v)), 0);
       ASSERT_EQ(sh(fmt::format("ip netns exec {} ip link set wlan0 up", ns)), 0);
-      ASSERT_EQ(sh(fmt::format("ip netns exec {} ip link set lo up", ns)), 0);
     }
     // The full station sends with 02:00 + its id, as radio-medium gives every station.
     ASSERT_EQ(
@@ -142,7 +181,7 @@ class StationHostIt : public ::testing::TestWithParam<bool> {
       fs::remove_all(dir);
   }
 
-  void write_scenario(bool signed_mode) {
+  void write_scenario(bool signed_mode, bool range_channel) {
     nlohmann::json v = nlohmann::json::array();
     auto vehicle = [](std::uint32_t id, int lane, double s, bool pooled) {
       nlohmann::json j{{"id", fmt::format("v{}", id)},
@@ -164,6 +203,8 @@ class StationHostIt : public ::testing::TestWithParam<bool> {
                      {"vehicles", v}};
     if (signed_mode)
       s["security"] = "signed";
+    if (range_channel)  // radio-medium forwards then, per receiver
+      s["channel"] = {{"model", "range"}, {"range_m", 400}};
     std::ofstream(dir / "scenario.json") << s.dump(2);
   }
 
@@ -194,15 +235,31 @@ class StationHostIt : public ::testing::TestWithParam<bool> {
     return nlohmann::json::parse(in, nullptr, false);
   }
 
-  fs::path host_bin, station_bin, pki_bin, dir;
+  fs::path host_bin, station_bin, pki_bin, medium_bin, dir;
   std::string ns_full, ns_host;
 };
 
 TEST_P(StationHostIt, CamsBothWaysEachPooledStationWithItsOwnIdAndMac) {
-  const bool signed_mode = GetParam();
-  write_scenario(signed_mode);
+  const bool signed_mode = GetParam().signed_mode;
+  const bool radio_medium = GetParam().radio_medium;
+  write_scenario(signed_mode, radio_medium);
   if (signed_mode)
     make_pki();
+  std::string ids;
+  for (int i = 0; i < kPooled; ++i)
+    ids += (i ? "," : "") + std::to_string(kFirstPooled + i);
+  std::optional<Medium> medium;
+  const auto positions_port = static_cast<unsigned short>(20000 + getpid() % 20000);
+  if (radio_medium) {
+    medium.emplace(std::vector<std::string>{medium_bin.string(), "--scenario",
+                                            (dir / "scenario.json").string(), "--mode", "veth",
+                                            "--prefix", fmt::format("tbs{:02d}", getpid() % 100),
+                                            "--stations", fmt::format("{}={}", kFull, ns_full),
+                                            "--pooled", ns_host + "=" + ids, "--positions",
+                                            fmt::format("udp://127.0.0.1:{}", positions_port)},
+                   dir / "medium.log");
+    ASSERT_TRUE(medium->wait_ready()) << output_of("cat " + (dir / "medium.log").string());
+  }
   const fs::path pcap = dir / "air.pcap";
   const pid_t capture =
       spawn({"ip", "netns", "exec", ns_full, "tshark", "-i", "wlan0", "-q", "-w", pcap.string()},
@@ -229,9 +286,6 @@ TEST_P(StationHostIt, CamsBothWaysEachPooledStationWithItsOwnIdAndMac) {
                                      "90",
                                      "--status-file",
                                      (dir / "full.json").string()};
-  std::string ids;
-  for (int i = 0; i < kPooled; ++i)
-    ids += (i ? "," : "") + std::to_string(kFirstPooled + i);
   std::vector<std::string> host_args{"ip",
                                      "netns",
                                      "exec",
@@ -246,7 +300,7 @@ TEST_P(StationHostIt, CamsBothWaysEachPooledStationWithItsOwnIdAndMac) {
                                      "--states",
                                      "udp://127.0.0.1:4710",
                                      "--forwarding",
-                                     "kernel",
+                                     radio_medium ? "user" : "kernel",
                                      "--duration",
                                      "90",
                                      "--status-file",
@@ -269,6 +323,9 @@ TEST_P(StationHostIt, CamsBothWaysEachPooledStationWithItsOwnIdAndMac) {
   gpsd.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
   sockaddr_in states_to = gpsd;
   states_to.sin_port = htons(4710);
+  sockaddr_in positions_to = gpsd;
+  positions_to.sin_port = htons(positions_port);
+  const int positions_fd = ::socket(AF_INET, SOCK_DGRAM, 0);  // radio-medium's, this namespace
 
   const tb::geodesy::LocalFrame frame({kOriginLat, kOriginLon, kOriginAlt});
   const auto t0 = std::chrono::system_clock::now();
@@ -307,13 +364,27 @@ TEST_P(StationHostIt, CamsBothWaysEachPooledStationWithItsOwnIdAndMac) {
       s.gear = 1;
       batch.push_back(s);
     }
-    const auto bytes = tb::wire::encode_batch(batch, world_start);
-    ::sendto(state_fd, bytes.data(), bytes.size(), 0, reinterpret_cast<const sockaddr*>(&states_to),
-             sizeof states_to);
+    // The full station's state too: the host skips it, the medium places it.
+    tb::wire::VehicleState full_state = batch.front();
+    full_state.station_id = kFull;
+    full_state.position = {20.0 + 10.0 * t, 0.0, 0.0};
+    batch.push_back(full_state);
+    // Datagrams of at most an Ethernet MTU (9 states), as network-emulator forwards them.
+    const std::size_t per = tb::wire::states_per_batch(tb::wire::kDefaultBatchDatagramSize);
+    for (std::size_t first = 0; first < batch.size(); first += per) {
+      const auto bytes = tb::wire::encode_batch(
+          std::span(batch).subspan(first, std::min(per, batch.size() - first)), world_start);
+      ::sendto(state_fd, bytes.data(), bytes.size(), 0,
+               reinterpret_cast<const sockaddr*>(&states_to), sizeof states_to);
+      if (radio_medium)
+        ::sendto(positions_fd, bytes.data(), bytes.size(), 0,
+                 reinterpret_cast<const sockaddr*>(&positions_to), sizeof positions_to);
+    }
     std::this_thread::sleep_until(start + (k + 1) * 100ms);
   }
   ::close(nmea_fd);
   ::close(state_fd);
+  ::close(positions_fd);
   kill(full, SIGTERM);
   kill(host, SIGTERM);
   EXPECT_EQ(wait_for(full, 10s), 0);
@@ -350,6 +421,17 @@ TEST_P(StationHostIt, CamsBothWaysEachPooledStationWithItsOwnIdAndMac) {
       EXPECT_GT(s["security"]["verify"].value("ok", 0), 0) << s.dump();
     }
   }
+  // How the frames came: pooled deliveries from radio-medium, or plain frames and the host's
+  // own loopback on the veth pair.
+  const auto& link = h["link"];
+  if (radio_medium) {
+    EXPECT_GT(link["pooled"].get<int>(), 0) << link.dump();
+    EXPECT_EQ(link["looped_back"].get<int>(), 0) << link.dump();
+  } else {
+    EXPECT_GT(link["plain"].get<int>(), 0) << link.dump();
+    EXPECT_GT(link["looped_back"].get<int>(), 0) << link.dump();
+  }
+  EXPECT_EQ(link["malformed_pooled"].get<int>(), 0) << link.dump();
   if (signed_mode) {
     ASSERT_TRUE(f.contains("security")) << f.dump();
     EXPECT_GT(f["security"]["verify"].value("ok", 0), 0) << f.dump();
@@ -380,7 +462,12 @@ TEST_P(StationHostIt, CamsBothWaysEachPooledStationWithItsOwnIdAndMac) {
   EXPECT_GT(cams_on_air[kFull], 0);
 }
 
-INSTANTIATE_TEST_SUITE_P(Security, StationHostIt, ::testing::Values(false, true),
-                         [](const auto& info) { return info.param ? "Signed" : "Unsigned"; });
+INSTANTIATE_TEST_SUITE_P(Media, StationHostIt,
+                         ::testing::Values(Case{false, false}, Case{true, false}, Case{false, true},
+                                           Case{true, true}),
+                         [](const auto& info) {
+                           return std::string(info.param.radio_medium ? "RadioMedium" : "Veth") +
+                                  (info.param.signed_mode ? "Signed" : "Unsigned");
+                         });
 
 }  // namespace
