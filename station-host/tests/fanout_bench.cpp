@@ -9,11 +9,15 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "common/clock/gnss_disciplined_runtime.hpp"
 #include "common/clock/runtime.hpp"
 #include "common/geodesy/local_frame.hpp"
+#include "its-station/security/pki.hpp"
+#include "its-station/security/security_entity.hpp"
+#include "its-station/security/time.hpp"
 #include "its-station/station/station.hpp"
 #include "station-host/feed/state_feed.hpp"
 #include "station-host/link/pooled_links.hpp"
@@ -38,11 +42,13 @@ struct Capture final : tb::host::FrameOutput {
 
 /// One pooled station over a host's links, fed fixes by hand.
 struct Pooled {
-  Pooled(tb::clock::ManualRuntime& rt, tb::host::PooledLinks& links, std::uint32_t id)
+  Pooled(tb::clock::ManualRuntime& rt, tb::host::PooledLinks& links, std::uint32_t id,
+         std::unique_ptr<tb::its::security::SecurityEntity> sec = nullptr)
       : its_clock(rt),
-        station(
-            station::StationPorts{rt, its_clock, gnss, nullptr, links.link(id), nullptr, nullptr},
-            make_config(id)) {
+        security(std::move(sec)),
+        station(station::StationPorts{rt, its_clock, gnss, nullptr, links.link(id), security.get(),
+                                      nullptr},
+                make_config(id)) {
     station.start();
   }
   static station::StationConfig make_config(std::uint32_t id) {
@@ -73,19 +79,57 @@ struct Pooled {
   }
   tb::clock::GnssDisciplinedRuntime its_clock;
   facilities::InjectedPositionProvider gnss;
+  std::unique_ptr<tb::its::security::SecurityEntity> security;
   station::Station station;
+};
+
+/// A root, an AA and an AT per station, valid around @p now: the scenario's test PKI.
+class BenchPki {
+ public:
+  explicit BenchPki(tb::clock::WallTime now) : now_(now) {
+    namespace sec = tb::its::security;
+    start_ = sec::to_time32(now) - 3600;
+    root_ = sec::make_root(root_key_, "root", {start_, sec::DurationUnit::kHours, 100});
+    aa_ = sec::make_authority(aa_key_, "aa", {start_, sec::DurationUnit::kHours, 100}, root_,
+                              root_key_);
+  }
+  std::unique_ptr<tb::its::security::SecurityEntity> entity() {
+    namespace sec = tb::its::security;
+    sec::EcKey k = sec::EcKey::generate(sec::EccCurve::kNistP256);
+    sec::Certificate at =
+        sec::make_ticket(k, {start_, sec::DurationUnit::kHours, 10}, aa_, aa_key_);
+    sec::Verifier v({root_});
+    v.add_authority(aa_, sec::to_time64(now_));
+    return std::make_unique<sec::SecurityEntity>(
+        sec::SecurityMode::kSigned, sec::Signer(std::move(at), std::move(k), aa_), std::move(v));
+  }
+
+ private:
+  tb::clock::WallTime now_;
+  tb::its::security::Time32 start_ = 0;
+  tb::its::security::EcKey root_key_ =
+      tb::its::security::EcKey::generate(tb::its::security::EccCurve::kNistP256);
+  tb::its::security::EcKey aa_key_ =
+      tb::its::security::EcKey::generate(tb::its::security::EccCurve::kNistP256);
+  tb::its::security::Certificate root_, aa_;
 };
 
 void BM_ReceiveFanOut(benchmark::State& state) {
   const auto n = static_cast<std::size_t>(state.range(0));
+  const bool signed_mode = state.range(1) != 0;
   spdlog::set_level(spdlog::level::warn);  // hundreds of stations say when their fix came
   tb::clock::ManualRuntime rt;
+  std::optional<BenchPki> pki;
+  if (signed_mode)
+    pki.emplace(rt.wall_now());
+  auto entity = [&] { return pki ? pki->entity() : nullptr; };
   Capture host_out;
   host_out.keep = false;
   tb::host::PooledLinks host(host_out, rt, false, {});
   std::vector<std::unique_ptr<Pooled>> receivers;
   for (std::size_t i = 0; i < n; ++i)
-    receivers.push_back(std::make_unique<Pooled>(rt, host, 3000 + static_cast<std::uint32_t>(i)));
+    receivers.push_back(
+        std::make_unique<Pooled>(rt, host, 3000 + static_cast<std::uint32_t>(i), entity()));
 
   // CAMs of 16 other stations on a ring road, 10 Hz for 2 s: distinct senders and positions,
   // as a station hears them.
@@ -93,7 +137,7 @@ void BM_ReceiveFanOut(benchmark::State& state) {
   tb::host::PooledLinks air(air_out, rt, false, {});
   std::vector<std::unique_ptr<Pooled>> senders;
   for (std::uint32_t i = 0; i < 16; ++i)
-    senders.push_back(std::make_unique<Pooled>(rt, air, 9000 + i));
+    senders.push_back(std::make_unique<Pooled>(rt, air, 9000 + i, entity()));
   for (int k = 0; k < 20; ++k) {
     for (std::size_t i = 0; i < receivers.size(); ++i)
       receivers[i]->fix(rt, 3.0 * static_cast<double>(i % 100), 4.0 * static_cast<double>(i / 100),
@@ -123,7 +167,14 @@ void BM_ReceiveFanOut(benchmark::State& state) {
   state.counters["cams_taken_in"] = static_cast<double>(received);
   state.counters["frames"] = static_cast<double>(air_out.frames.size());
 }
-BENCHMARK(BM_ReceiveFanOut)->Arg(30)->Arg(300)->Unit(benchmark::kMicrosecond);
+// {stations, signed}. Signed: every station verifies every CAM (no verification on demand);
+// frames heard again after the first round are verified too (the verifier checks the signature
+// before it looks for replays) and then dropped as replays.
+BENCHMARK(BM_ReceiveFanOut)
+    ->Args({30, 0})
+    ->Args({300, 0})
+    ->Args({30, 1})
+    ->Unit(benchmark::kMicrosecond);
 
 /// The rest of a pooled station's second: its states (100 Hz physics) through the GPS agent and
 /// FixAssembler at 10 Hz, the CA service's generation and the CAMs it sends, for N stations
