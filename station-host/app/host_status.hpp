@@ -1,0 +1,36 @@
+#pragma once
+/// @file station-host's --status-file: every pooled station's counters, neighbours and
+/// security counts, and the host's link and state-stream counters, written atomically.
+
+#include <span>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "its-station/security/security_entity.hpp"
+#include "its-station/station/station.hpp"
+#include "station-host/feed/state_feed.hpp"
+#include "station-host/link/host_socket.hpp"
+#include "station-host/link/pooled_links.hpp"
+
+namespace tb::host {
+
+/// One station's entry: id, fix, CAM and DENM counts, neighbours (count and ids) and, when it
+/// signs, its verification outcomes by name. Compact: a host writes hundreds every 0.5 s.
+nlohmann::json station_status(const its::station::Station& station,
+                              const its::security::SecurityEntity* security);
+
+class HostStatus {
+ public:
+  explicit HostStatus(std::string path) : path_(std::move(path)) {}
+  /// Writes FILE.tmp and renames it over FILE, so that a reader never sees half a file.
+  void write(std::span<const its::station::Station* const> stations,
+             std::span<const its::security::SecurityEntity* const> security,
+             const DemuxCounters& link, const HostSocketStats& socket,
+             const StateFeed::Counters& states) const;
+
+ private:
+  std::string path_;
+};
+
+}  // namespace tb::host
