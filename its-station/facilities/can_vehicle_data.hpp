@@ -86,9 +86,11 @@ class CanVehicleDecoder {
 /// frame updates the state and notifies the listeners when it is taken in.
 class CanVehicleDataProvider final : public VehicleDataProvider {
  public:
-  /// Reads closer together than this find the bus's state unchanged (frames come every 10 ms
-  /// at 100 Hz); it bounds the reads of a burst of LCRW evaluations, one per received CAM.
-  static constexpr clock::Duration kPollInterval = std::chrono::milliseconds{1};
+  /// Reads closer together than this mostly find no new frame (they come every 10 ms at
+  /// 100 Hz, and a read that finds none is a wasted system call); it bounds the reads of a
+  /// burst of LCRW evaluations, one per received CAM, to a few per burst. The state is then
+  /// at most this much older than the newest frame, against a CAM every 100 ms or more.
+  static constexpr clock::Duration kPollInterval = std::chrono::milliseconds{5};
   /// The longest a frame waits in the socket when nobody asks (before the first fix, say).
   static constexpr std::chrono::milliseconds kBackstop{250};
 
