@@ -786,9 +786,7 @@ def pooled_scale_failures(out, scenario, cams):
     missing = sorted(set(pooled) - set(seen))
     if missing:
         failures.append(f"the station-hosts' status lists no pooled station {missing[:10]}")
-    deaf = [sid for sid, st in seen.items()
-            if not set(full) <= {n if isinstance(n, int) else n.get("station_id")
-                                 for n in st.get("neighbours", [])}]
+    deaf = [sid for sid, st in seen.items() if not set(full) <= set(st.get("neighbour_ids", []))]
     silent = [sid for sid, st in seen.items() if st.get("cams_sent", 0) == 0]
     if deaf:
         failures.append(f"{len(deaf)} pooled station(s) lack a full station among their "
@@ -938,7 +936,8 @@ def run_case(args):
 
     warnings = [(t, m["message"]) for t, m in messages if t.endswith("/app/lcrw")]
     cams = {t for t, _ in messages if "/in/cam/" in t}
-    print(f"e2e: {len(warnings)} LCRW message(s), CAM topics seen: {sorted(cams)}")
+    shown = sorted(cams) if len(cams) <= 20 else sorted(cams)[:20] + [f"... {len(cams)} in all"]
+    print(f"e2e: {len(warnings)} LCRW message(s), CAM topics seen: {shown}")
     for t, w in warnings[:20]:
         print(f"  {t}: {w.get('event')} {w.get('collision_case')} other={w.get('other_station_id')} "
               f"ttc={w.get('ttc_s')} d={w.get('distance_m')}")
