@@ -96,7 +96,7 @@ void Hub::handle(ClientId id, Client& c, const sim::ClientMessage& m) {
     c.name = hello->client_name;
     c.conversation.on_hello();
     spdlog::info("client {} is {}", id, label(c));
-    c.link->send(share(sim::encode(welcome())));
+    c.link->send(share(sim::encode(welcome())), FrameKind::kReply);
   } else if (const auto* a = std::get_if<sim::Attach>(&m)) {
     attach(id, c, *a);
   } else if (const auto* in = std::get_if<sim::ControlsMsg>(&m)) {
@@ -131,7 +131,7 @@ void Hub::attach(ClientId id, Client& c, const sim::Attach& a) {
   if (a.role == sim::Role::kWatcher) {
     c.streaming = true;
     spdlog::info("client {} watches", label(c));
-    c.link->send(share(sim::encode(res)));
+    c.link->send(share(sim::encode(res)), FrameKind::kReply);
     return;
   }
   if (a.vehicle >= vehicles_.size()) {
@@ -144,7 +144,7 @@ void Hub::attach(ClientId id, Client& c, const sim::Attach& a) {
   }
   if (res.status != sim::AttachStatus::kOk) {
     spdlog::info("client {}: attach to vehicle {} refused: {}", label(c), a.vehicle, res.reason);
-    c.link->send(share(sim::encode(res)));
+    c.link->send(share(sim::encode(res)), FrameKind::kReply);
     return;
   }
   VehicleSlot& slot = vehicles_[a.vehicle];
@@ -155,9 +155,9 @@ void Hub::attach(ClientId id, Client& c, const sim::Attach& a) {
   c.conversation.on_driving(a.vehicle);
   c.streaming = true;
   spdlog::info("client {} drives vehicle '{}'", label(c), scenario_.vehicles[a.vehicle].id);
-  c.link->send(share(sim::encode(res)));
+  c.link->send(share(sim::encode(res)), FrameKind::kReply);
   if (changed)
-    broadcast(share(sim::encode(sim::DriverChanged{a.vehicle, c.name})));
+    broadcast(share(sim::encode(sim::DriverChanged{a.vehicle, c.name})), FrameKind::kReply);
   if (changed_)
     changed_();
 }
@@ -170,7 +170,8 @@ void Hub::release(std::size_t vehicle, std::string_view why) {
   spdlog::info("vehicle '{}' has no driver ({}): braking to a stop", scenario_.vehicles[vehicle].id,
                why);
   stop_vehicle(vehicle);
-  broadcast(share(sim::encode(sim::DriverChanged{static_cast<std::uint16_t>(vehicle), ""})));
+  broadcast(share(sim::encode(sim::DriverChanged{static_cast<std::uint16_t>(vehicle), ""})),
+            FrameKind::kReply);
 }
 
 void Hub::stop_vehicle(std::size_t vehicle) {
@@ -227,7 +228,8 @@ void Hub::after_step() {
   ++frames_;
   broadcast(share(sim::encode_state(world_.tick(), world_.sim_time_ns(),
                                     states.empty() ? 0 : states.front().step_wall_ns, states,
-                                    clock::to_unix_ns(clock_.wall_now()))));
+                                    clock::to_unix_ns(clock_.wall_now()))),
+            FrameKind::kState);
 }
 
 bool Hub::drivers_answered() const {
@@ -238,12 +240,12 @@ bool Hub::drivers_answered() const {
   return true;
 }
 
-void Hub::broadcast(const SharedBytes& frame) {
+void Hub::broadcast(const SharedBytes& frame, FrameKind kind) {
   std::vector<ClientId> slow;
   for (auto& [id, c] : clients_) {
     if (!c.streaming)
       continue;
-    if (c.link->send(frame))
+    if (c.link->send(frame, kind))
       ++stats_.frames_sent;
     else
       slow.push_back(id);
@@ -267,7 +269,7 @@ void Hub::close_client(ClientId id, sim::CloseReason reason, const std::string& 
     spdlog::info("client {} ({}): closing: {}", id, label(c), text);
   }
   // Best effort: a full queue refuses this too, and the connection closes without it.
-  c.link->send(share(sim::encode(sim::Closing{reason, text})));
+  c.link->send(share(sim::encode(sim::Closing{reason, text})), FrameKind::kReply);
   c.link->close();
   disconnect(id);
 }

@@ -29,12 +29,23 @@ namespace tb::server {
 using Bytes = std::vector<std::uint8_t>;
 using SharedBytes = std::shared_ptr<const Bytes>;
 
+/// What a frame is to the slow-client rule.
+enum class FrameKind {
+  /// An answer or an announcement (Welcome, AttachResult, DriverChanged, Closing): always
+  /// queued, since their number is bounded by what the clients ask. A scripted client that
+  /// claims 300 vehicles in one go gets 600 of them at once (answer and announcement each).
+  kReply,
+  /// The periodic world state: refused when the client already has its limit of them queued,
+  /// which is how a client that does not keep up is found.
+  kState,
+};
+
 /// One client's byte stream towards it.
 class ClientLink {
  public:
   virtual ~ClientLink() = default;
-  /// Queues a frame without blocking; false when the queue is full.
-  virtual bool send(SharedBytes frame) = 0;
+  /// Queues a frame without blocking; false when a kState frame finds the queue full.
+  virtual bool send(SharedBytes frame, FrameKind kind) = 0;
   /// Sends what is queued (best effort), then closes. The link must not call back into the hub
   /// from here.
   virtual void close() = 0;
@@ -122,7 +133,7 @@ class Hub {
   void attach(ClientId id, Client& c, const wire::sim::Attach& a);
   void release(std::size_t vehicle, std::string_view why);
   void close_client(ClientId id, wire::sim::CloseReason reason, const std::string& text);
-  void broadcast(const SharedBytes& frame);
+  void broadcast(const SharedBytes& frame, FrameKind kind);
   void stop_vehicle(std::size_t vehicle);
   wire::sim::Welcome welcome() const;
   std::string label(const Client& c) const;

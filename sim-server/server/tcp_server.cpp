@@ -34,11 +34,14 @@ class TcpConnection final : public ClientLink, public std::enable_shared_from_th
     read();
   }
 
-  bool send(SharedBytes frame) override {
+  bool send(SharedBytes frame, FrameKind kind) override {
     if (closing_)
       return true;
-    if (queue_.size() >= max_frames_)
-      return false;
+    if (kind == FrameKind::kState) {
+      if (states_queued_ >= max_frames_)
+        return false;
+      ++states_queued_;
+    }
     queue_.push_back(std::move(frame));
     if (!writing_)
       write();
@@ -74,6 +77,7 @@ class TcpConnection final : public ClientLink, public std::enable_shared_from_th
     // Everything queued goes out in one gathered write.
     batch_.assign(queue_.begin(), queue_.end());
     queue_.clear();
+    states_queued_ = 0;
     buffers_.clear();
     for (const auto& f : batch_)
       buffers_.push_back(asio::buffer(*f));
@@ -120,6 +124,7 @@ class TcpConnection final : public ClientLink, public std::enable_shared_from_th
   Hub::ClientId id_ = 0;
   std::array<std::uint8_t, 4096> buf_{};
   std::deque<SharedBytes> queue_;
+  std::size_t states_queued_ = 0;  ///< kState frames in queue_
   std::vector<SharedBytes> batch_;
   std::vector<asio::const_buffer> buffers_;
   bool writing_ = false;

@@ -20,8 +20,8 @@ struct FakeLink final : ClientLink {
   bool full = false;
   sim::FrameParser parser{sim::Sender::kServer};
 
-  bool send(SharedBytes frame) override {
-    if (full)
+  bool send(SharedBytes frame, FrameKind kind) override {
+    if (full && kind == FrameKind::kState)
       return false;
     std::span<const std::uint8_t> data(*frame);
     while (!data.empty()) {
@@ -213,6 +213,23 @@ TEST_F(HubTest, DisconnectedDriverReleasesItsVehicleWhichStops) {
   const auto idb = join(b, "bob");
   send(idb, sim::Attach{sim::Role::kDriver, 2});
   EXPECT_EQ(b.all<sim::AttachResult>().at(0).status, sim::AttachStatus::kOk);
+}
+
+// A scripted client claims all its vehicles at once, and the answers and announcements come
+// back faster than it reads them: they must not count as a stream it cannot keep up with (a
+// client of 300 vehicles was dropped while attaching, issue 33).
+TEST_F(HubTest, RepliesAreQueuedWhateverTheStateQueueHolds) {
+  FakeLink a;
+  a.full = true;
+  const auto id = join(a, "claims-all");
+  for (std::uint16_t v = 0; v < 3; ++v)
+    send(id, sim::Attach{sim::Role::kDriver, v});
+  EXPECT_FALSE(a.closed);
+  EXPECT_EQ(a.all<sim::AttachResult>().size(), 3u);
+  EXPECT_EQ(a.all<sim::DriverChanged>().size(), 3u);
+  step(1);
+  EXPECT_TRUE(a.closed) << "a state it cannot take still drops it";
+  EXPECT_EQ(hub.stats().slow_drops, 1u);
 }
 
 TEST_F(HubTest, SlowClientIsDroppedOthersKeepTheirStream) {

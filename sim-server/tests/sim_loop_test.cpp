@@ -117,7 +117,7 @@ TEST_F(SimLoopTest, StopCancelsTheNextStep) {
 /// A client link that takes every frame and counts the State frames among them.
 struct CountingLink final : ClientLink {
   std::size_t frames = 0;
-  bool send(SharedBytes) override {
+  bool send(SharedBytes, FrameKind) override {
     ++frames;
     return true;
   }

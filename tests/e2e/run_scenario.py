@@ -44,6 +44,16 @@ CASE is one of:
                    its-pki export writes (root, AA, its AT and key); the its-stations verified
                    its CAMs (status verify ok, its/<id>/in/cam/9001) and it verified theirs
                    (its summary), nobody refused a packet (unknown_signer aside)
+  frontal-pooled   scenarios/lcrw-frontal.json with black a pooled station inside a
+                   station-host (issue 33; "mqtt" and "lcrw" on): the frontal case's checks —
+                   red's full station warns about the pooled black at the geometric TTC, and
+                   black's pooled stack accepts red's DENMs as a full one would
+  pooled-scale     POOLED_FULL full and POOLED_POOLED pooled vehicles on the ring of
+                   gen_scale_scenario.py for 20 s (issue 33's CI smoke): every full station hears
+                   at least 95 % of the pooled vehicles and every other full one (its/<id>/in/cam),
+                   every pooled station heard the full ones (the hosts' status), each pooled
+                   vehicle's CAMs came from its own MAC (the medium's statistics attribute them
+                   by source address), and state → CAM on the air p99 ≤ 250 ms
   scale            20 scripted vehicles on the ring of tests/e2e/gen_scale_scenario.py for 20 s
                    with tracing (issue 21): scripts/report must find records for every stage
                    from the client's input to the CAM received by the others' LDM and LCRW
@@ -82,10 +92,17 @@ CASES = {
     "start": ("brake-at-start.json", 10),
     "scale": (None, 20),  # the scenario is generated: SCALE_STATIONS on the ring
     "foreign-root": (None, 15),  # generated: lcrw-frontal with black from another PKI
+    "frontal-pooled": (None, 40),  # generated: lcrw-frontal with black pooled
+    "pooled-scale": (None, 20),  # generated: POOLED_FULL + POOLED_POOLED on the ring
 }
+POOLED_STATION = 1002  # frontal-pooled: black, warned about by red's full station
+POOLED_FULL = 3
+POOLED_POOLED = 100
 FOREIGN_STATION = 1002
 HMI_DENM_STATION = 1002  # latency: the black car, ahead of red, gets red's LCRW DENMs
 SCALE_STATIONS = 20
+# pooled-scale: the stages every station's CAM passes (pooled stations trace no receptions).
+POOLED_STAGES = "t1,t1.send,p1,fanout,t2,p2,p4.t5,air,state_to_cam"
 # The stages a run without an HMI and without warnings has (scripts/report's ORDER).
 SCALE_STAGES = ("t1,t1.send,p1,fanout,t3.period,t2,p2,t3.gpsd,t3.uptake,t3.stack,p3,t4,p4.t5,air,"
                 "rx.ldm,rx.lcrw,fix_state_to_cam,state_to_cam")
@@ -739,6 +756,53 @@ def own_stack_signed_failures(out, probe=9001):
     return failures
 
 
+def pooled_scale_failures(out, scenario, cams):
+    """The smoke checks of pooled-scale (see the module's doc)."""
+    failures = []
+    full = [v["station_id"] for v in scenario["vehicles"]
+            if v.get("station", {}).get("kind", "full") != "pooled"]
+    pooled = [v["station_id"] for v in scenario["vehicles"]
+              if v.get("station", {}).get("kind") == "pooled"]
+    for f in full:
+        heard = {int(t.split("/")[-1]) for t in cams if t.startswith(f"its/{f}/in/cam/")}
+        got_pooled = len(heard & set(pooled))
+        got_full = heard & (set(full) - {f})
+        print(f"e2e pooled-scale: full station {f} heard {got_pooled} of {len(pooled)} pooled "
+              f"vehicles and full {sorted(got_full)}")
+        if got_pooled < 0.95 * len(pooled):
+            failures.append(f"full station {f} heard {got_pooled} of {len(pooled)} pooled "
+                            "vehicles, not >= 95 %")
+        if got_full != set(full) - {f}:
+            failures.append(f"full station {f} did not hear every other full station "
+                            f"({sorted(got_full)})")
+    runs = sorted(out.glob("run-*"))
+    statuses = sorted(runs[-1].glob("station-host-*.status.json")) if runs else []
+    if not statuses:
+        return failures + ["no station-host status file"]
+    seen = {}
+    for f in statuses:
+        for st in json.loads(f.read_text()).get("stations", []):
+            seen[st["station_id"]] = st
+    missing = sorted(set(pooled) - set(seen))
+    if missing:
+        failures.append(f"the station-hosts' status lists no pooled station {missing[:10]}")
+    deaf = [sid for sid, st in seen.items() if not set(full) <= set(st.get("neighbour_ids", []))]
+    silent = [sid for sid, st in seen.items() if st.get("cams_sent", 0) == 0]
+    if deaf:
+        failures.append(f"{len(deaf)} pooled station(s) lack a full station among their "
+                        f"neighbours, e.g. {deaf[:5]}")
+    if silent:
+        failures.append(f"{len(silent)} pooled station(s) sent no CAM, e.g. {silent[:5]}")
+    # The medium attributes frames by source address: a pooled vehicle whose frames it counts
+    # under its own id sent them with its own MAC.
+    stats = json.loads((runs[-1] / "radio-stats.json").read_text())
+    senders = {link["from"] for link in stats.get("links", []) if link.get("sent", 0) > 0}
+    unattributed = sorted(set(pooled) - senders)
+    if unattributed:
+        failures.append(f"the medium counted no frame from pooled station(s) {unattributed[:10]}")
+    return failures
+
+
 def run_case(args):
     """One run of the case. Returns (exit status, % of CPU time the host stole meanwhile)."""
     scenario, duration = CASES[args.case]
@@ -753,6 +817,20 @@ def run_case(args):
             if v["station_id"] == FOREIGN_STATION:
                 v["station"] = {"pki": "foreign"}
         scenario_file.write_text(json.dumps(doc, indent=2))
+        scenario_file.chmod(0o644)
+    elif args.case == "frontal-pooled":
+        scenario_file = out / "lcrw-frontal-pooled.json"
+        doc = json.loads((ROOT / "scenarios/lcrw-frontal.json").read_text())
+        for v in doc["vehicles"]:
+            if v["station_id"] == POOLED_STATION:
+                v["station"] = {"kind": "pooled", "mqtt": True, "lcrw": True}
+        scenario_file.write_text(json.dumps(doc, indent=2))
+        scenario_file.chmod(0o644)
+    elif args.case == "pooled-scale":
+        scenario_file = out / f"scale-{POOLED_FULL}-{POOLED_POOLED}.json"
+        subprocess.run([sys.executable, str(ROOT / "tests/e2e/gen_scale_scenario.py"),
+                        str(POOLED_FULL + POOLED_POOLED), "--full", str(POOLED_FULL),
+                        "--out", str(scenario_file), "--duration", str(duration + 60)], check=True)
         scenario_file.chmod(0o644)
     elif scenario is None:
         # Long enough to outlast the stations' start-up and the measured window.
@@ -858,13 +936,14 @@ def run_case(args):
 
     warnings = [(t, m["message"]) for t, m in messages if t.endswith("/app/lcrw")]
     cams = {t for t, _ in messages if "/in/cam/" in t}
-    print(f"e2e: {len(warnings)} LCRW message(s), CAM topics seen: {sorted(cams)}")
+    shown = sorted(cams) if len(cams) <= 20 else sorted(cams)[:20] + [f"... {len(cams)} in all"]
+    print(f"e2e: {len(warnings)} LCRW message(s), CAM topics seen: {shown}")
     for t, w in warnings[:20]:
         print(f"  {t}: {w.get('event')} {w.get('collision_case')} other={w.get('other_station_id')} "
               f"ttc={w.get('ttc_s')} d={w.get('distance_m')}")
 
-    if args.case in ("frontal", "frontal-xodr", "forward"):
-        want = "frontal" if args.case == "frontal-xodr" else args.case
+    if args.case in ("frontal", "frontal-xodr", "forward", "frontal-pooled"):
+        want = "forward" if args.case == "forward" else "frontal"
         raised = [w for _, w in warnings if w.get("event") == "raised" and
                   w.get("station_id") == 1001 and w.get("other_station_id") == 1002 and
                   w.get("collision_case") == want]
@@ -874,7 +953,7 @@ def run_case(args):
             failures.append(f"warning raised with TTC {raised[0].get('ttc_s')}, not < 3 s")
         if want == "frontal" and not any(w.get("event") == "cleared" for _, w in warnings):
             failures.append("the frontal warning was never cleared after red stopped")
-        if args.case == "frontal":
+        if args.case in ("frontal", "frontal-pooled"):
             failures += check_frontal_ttc(out, json.loads(scenario_file.read_text()))
         if args.case != "frontal-xodr":
             failures += check_denms(out, json.loads(scenario_file.read_text()), messages)
@@ -929,7 +1008,7 @@ def run_case(args):
                                 "not >= 10")
         if args.case == "own-stack-signed":
             failures += own_stack_signed_failures(out)
-    elif args.case in ("latency", "scale"):
+    elif args.case in ("latency", "scale", "pooled-scale"):
         runs = sorted(out.glob("run-*"))
         if not runs:
             failures.append("no run folder")
@@ -940,14 +1019,18 @@ def run_case(args):
                                 "--out", str(runs[-1] / "histograms"),
                                 "--require", ("all" + (",security" if args.security in
                                                        ("signed", "signed-permissive") else "")
-                                              if args.case == "latency" else SCALE_STAGES),
+                                              if args.case == "latency" else
+                                              POOLED_STAGES if args.case == "pooled-scale" else
+                                              SCALE_STAGES),
                                 "--max-p99", "state_to_cam=250"], capture_output=True, text=True)
             print(r.stdout + r.stderr)
             if r.returncode != 0:
                 failures.append("latency report failed its checks")
         if args.case == "latency":
             failures += check_denms(out, json.loads(scenario_file.read_text()), messages)
-        if args.case == "scale":
+        if args.case == "pooled-scale":
+            failures += pooled_scale_failures(out, json.loads(scenario_file.read_text()), cams)
+        elif args.case == "scale":
             heard = {t.split("/")[1] for t in cams}
             if len(heard) < SCALE_STATIONS:
                 failures.append(f"only {len(heard)} of {SCALE_STATIONS} stations received CAMs")

@@ -5,6 +5,11 @@ runs, one table.
     flock /tmp/testbed-heavy.lock tests/e2e/scale_runs.py N [--runs 3] [--duration 30]
           [--build build/release] [--radio-forwarding auto|kernel|user] [--perf DIR]
           [--station-arg=ARG ...] [--json FILE] [--keep]
+          [--full K [--hosts H]] [--gen-arg=ARG ...]
+
+With --full K only the first K vehicles are full stations (a process and a gpsd each), the
+others pooled in station-hosts (issue 33); --gen-arg passes the map and channel options on to
+gen_scale_scenario.py.
 
 Each run is `scripts/testbed run` of the generated scenario (root: network namespaces) for
 --duration seconds once every station is up (the launcher's "running" line), then
@@ -13,14 +18,19 @@ Each run is `scripts/testbed run` of the generated scenario (root: network names
 * load: the 1-minute load average at the window's start and end; steal and the machine's CPU
   split (user, system, softirq, idle) from /proc/stat;
 * CPU per station per second, by process kind (sim-server, sim-client, network-emulator,
-  radio-medium, gpsd, its-station, mosquitto): utime + stime from /proc/PID/stat of the run's
-  processes, in ms of CPU per second of wall time per station (10 = 1 % of a core);
+  radio-medium, gpsd, its-station, station-host, mosquitto): utime + stime from /proc/PID/stat
+  of the run's processes, in ms of CPU per second of wall time per station (10 = 1 % of a
+  core): per full station for its-station and gpsd, per pooled station for station-host, per
+  vehicle for the programs every vehicle shares;
 * latency (ms, scripts/report): state change → CAM on the air (state_to_cam), p4.t5 (taken in
   by the medium → decoded at a neighbour), air, t2, t3.gpsd;
 * CAMs lost: every CAM put on the air (its.cam_tx) in the window's middle (from 3 s after its
   start to 3 s before its end, so that every receiver was up) against the neighbours that
-  decoded it (its.cam_rx): expected N − 1 each on an ideal channel; and the radio medium's own
-  statistics (dropped deliveries).
+  decoded it (its.cam_rx): expected N − 1 each on an ideal channel; the same with the full
+  stations alone as receivers (pooled stations trace what they send, not what they receive);
+  the full stations' decoded CAMs against what the medium says it delivered to them (the
+  measure on a channel that culls by range); and the radio medium's own statistics (dropped
+  deliveries).
 
 The latency figures come from the window's trace records only (start-up and stop left out).
 
@@ -47,8 +57,12 @@ HZ = os.sysconf("SC_CLK_TCK")
 # /proc/PID/comm is cut to 15 characters.
 KINDS = {"sim-server": "sim", "sim-client": "client", "network-emulato": "emulator",
          "radio-medium": "medium", "gpsd": "gpsd", "its-station": "station",
-         "mosquitto": "broker"}
-KIND_ORDER = ["sim", "client", "emulator", "medium", "gpsd", "station", "broker", "other"]
+         "station-host": "host", "mosquitto": "broker"}
+KIND_ORDER = ["sim", "client", "emulator", "medium", "gpsd", "station", "host", "broker", "other"]
+# What a kind's CPU is counted per: a full station's own processes per full station, a
+# station-host's per pooled station, what every vehicle shares per vehicle.
+PER_FULL = {"gpsd", "station"}
+PER_POOLED = {"host"}
 STAGES = ["state_to_cam", "p4.t5", "air", "t2", "t3.gpsd"]
 EDGE_S = 3.0
 
@@ -98,7 +112,8 @@ def snapshot(root):
     return {"t": time.monotonic(), "load": loadavg(), "cpu": machine_cpu(), "procs": mine}
 
 
-def window(a, b, stations):
+def window(a, b, counts):
+    """@p counts: {"all": vehicles, "full": full stations, "pooled": pooled stations}."""
     wall = b["t"] - a["t"]
     per_kind = defaultdict(float)
     for pid, (_, comm, ticks) in b["procs"].items():
@@ -114,14 +129,20 @@ def window(a, b, stations):
         "machine_pct": {"user": 100 * (cpu[0] + cpu[1]) / total, "system": 100 * cpu[2] / total,
                         "softirq": 100 * (cpu[5] + cpu[6]) / total, "idle": 100 * (cpu[3] + cpu[4]) / total,
                         "steal": 100 * cpu[7] / total},
-        # ms of CPU per second per station
-        "cpu_ms_per_station_s": {k: 1000 * v / wall / stations for k, v in per_kind.items()},
+        # ms of CPU per second per station: per full station for a full station's own
+        # processes, per pooled station for the station-hosts, per vehicle for the rest
+        "cpu_ms_per_station_s": {k: 1000 * v / wall / max(1, counts[
+            "full" if k in PER_FULL else "pooled" if k in PER_POOLED else "all"])
+            for k, v in per_kind.items()},
         "cpu_total_ms_per_s": 1000 * sum(per_kind.values()) / wall,
     }
 
 
-def cam_loss(trace_dir, start_unix_ns, end_unix_ns, stations):
-    """(CAMs sent in the window's middle, deliveries expected, deliveries decoded)."""
+def cam_loss(trace_dir, start_unix_ns, end_unix_ns, stations, full_ids):
+    """(CAMs sent in the window's middle, deliveries expected, deliveries decoded), counting
+    every receiver on an ideal channel; then the same for the full stations alone as receivers
+    (pooled stations do not trace what they receive: hundreds of them would write a million
+    records a second)."""
     tx, rx = {}, defaultdict(set)
     for f in Path(trace_dir).glob("*.jsonl"):
         with open(f, errors="replace") as fh:
@@ -139,7 +160,33 @@ def cam_loss(trace_dir, start_unix_ns, end_unix_ns, stations):
     lo, hi = start_unix_ns + EDGE_S * 1e9, end_unix_ns - EDGE_S * 1e9
     sent = [k for k, ts in tx.items() if lo <= ts <= hi]
     got = sum(len(rx.get(k, ())) for k in sent)
-    return len(sent), len(sent) * (stations - 1), got
+    full_expected = sum(len(full_ids) - (k[0] in full_ids) for k in sent)
+    full_got = sum(len(rx.get(k, set()) & full_ids) for k in sent)
+    return len(sent), len(sent) * (stations - 1), got, full_expected, full_got
+
+
+def full_rx_against_medium(trace_dir, stats, full_ids):
+    """What the full stations decoded against what the medium delivered to them, over the whole
+    run, from each sender: (delivered, decoded). This is the measure on a channel that does not
+    deliver everything to everyone (range culling)."""
+    delivered = defaultdict(int)
+    for link in stats.get("links", []):
+        if link["to"] in full_ids:
+            delivered[(link["from"], link["to"])] += link["delivered"]
+    decoded = defaultdict(int)
+    for f in Path(trace_dir).glob("*.jsonl"):
+        with open(f, errors="replace") as fh:
+            for line in fh:
+                if '"its.cam_rx"' not in line:
+                    continue
+                try:
+                    r = json.loads(line)
+                except json.JSONDecodeError:
+                    continue
+                if r.get("station") in full_ids:
+                    decoded[(r["from"], r["station"])] += 1
+    return (sum(delivered.values()),
+            sum(min(decoded[k], n) for k, n in delivered.items()))
 
 
 def perf_top(data, sort, comms=None, limit=15):
@@ -158,7 +205,7 @@ def perf_report(data):
     """What the whole machine did in the window (by process), then the top symbols of the
     medium, the emulator and the stations."""
     out = ["by process:"] + perf_top(data, "comm", limit=12)
-    for comm in ("radio-medium", "network-emulato", "its-station"):
+    for comm in ("radio-medium", "network-emulato", "its-station", "station-host"):
         out += [f"{comm}:"] + perf_top(data, "dso,symbol", [comm])
     return out
 
@@ -184,6 +231,7 @@ def one_run(args, scenario, index):
     proc = subprocess.Popen(
         [sys.executable, str(ROOT / "scripts/testbed"), "run", str(scenario), "--build", args.build,
          "--duration", str(args.duration + 60), "--out", str(out)] +
+        (["--hosts", str(args.hosts)] if args.hosts else []) +
         (["--radio-forwarding", args.radio_forwarding] if args.radio_forwarding else []) +
         (["--shared-nice", str(args.shared_nice)] if args.shared_nice else []) +
         [f"--station-arg={a}" for a in args.station_arg],
@@ -222,7 +270,8 @@ def one_run(args, scenario, index):
     if a is None or b is None:
         sys.stdout.write("".join(log[-40:]))
         raise SystemExit(f"scale_runs: run {index + 1} never reached its measured window")
-    result = window(a, b, args.stations)
+    result = window(a, b, {"all": args.stations, "full": args.full_count,
+                           "pooled": args.stations - args.full_count})
     run_dir = sorted(out.glob("run-*"))[-1]
     windowed_trace(run_dir / "trace", run_dir / "trace-window", a_unix, b_unix)
     rep = subprocess.run([str(ROOT / "scripts/report"), str(run_dir / "trace-window"), "--json",
@@ -232,8 +281,10 @@ def one_run(args, scenario, index):
         raise SystemExit(f"scale_runs: scripts/report failed on {run_dir / 'trace-window'}")
     stages = json.loads((run_dir / "report.json").read_text())["stages"]
     result["stages"] = {s: stages[s] for s in STAGES if s in stages}
-    sent, expected, got = cam_loss(run_dir / "trace", a_unix, b_unix, args.stations)
-    result["cams"] = {"sent": sent, "expected": expected, "decoded": got}
+    sent, expected, got, full_expected, full_got = cam_loss(
+        run_dir / "trace", a_unix, b_unix, args.stations, args.full_ids)
+    result["cams"] = {"sent": sent, "expected": expected, "decoded": got,
+                      "full_expected": full_expected, "full_decoded": full_got}
     stats_file = run_dir / "radio-stats.json"
     if stats_file.exists():
         stats = json.loads(stats_file.read_text())
@@ -243,6 +294,10 @@ def one_run(args, scenario, index):
                             "dropped": sum(totals["dropped"].values()) +
                             sum(stats.get("kernel_dropped", {}).values()),
                             "tap_missed": stats.get("tap_missed", 0)}
+        if stats.get("links"):
+            delivered, decoded = full_rx_against_medium(run_dir / "trace", stats, args.full_ids)
+            result["cams"]["full_medium_delivered"] = delivered
+            result["cams"]["full_medium_decoded"] = decoded
     if perf is not None:
         result["perf_top"] = perf_report(Path(args.perf) / "scale.data")
     result["dir"] = str(out)
@@ -257,6 +312,15 @@ def fmt_run(i, r):
     c = r["cpu_ms_per_station_s"]
     s2c, med = st.get("state_to_cam", {}), st.get("p4.t5", {})
     lost = r["cams"]["expected"] - r["cams"]["decoded"]
+    cams = r["cams"]
+    full = ""
+    if cams.get("full_expected"):
+        full = (f"\n  full stations decoded {100 * cams['full_decoded'] / cams['full_expected']:.2f} % "
+                f"of the window's CAMs ({cams['full_decoded']} of {cams['full_expected']})")
+    if cams.get("full_medium_delivered"):
+        full += (f"; {100 * cams['full_medium_decoded'] / cams['full_medium_delivered']:.2f} % of "
+                 f"what the medium delivered to them ({cams['full_medium_decoded']} of "
+                 f"{cams['full_medium_delivered']}, whole run)")
     return (f"run {i}: load {r['load'][0]:.1f}→{r['load'][1]:.1f}, steal {m['steal']:.1f} %, "
             f"CPU user {m['user']:.0f} / sys {m['system']:.0f} / softirq {m['softirq']:.0f} / "
             f"idle {m['idle']:.0f} %\n"
@@ -264,7 +328,7 @@ def fmt_run(i, r):
             f"p99 {s2c.get('p99', float('nan')):.1f} ms (n {s2c.get('n', 0)}); medium p4.t5 "
             f"p50 {med.get('p50', float('nan')):.2f} p99 {med.get('p99', float('nan')):.2f} ms; "
             f"CAM deliveries lost {lost} of {r['cams']['expected']}"
-            + (f"; medium dropped {r['medium']['dropped']}" if "medium" in r else "") + "\n"
+            + (f"; medium dropped {r['medium']['dropped']}" if "medium" in r else "") + full + "\n"
             f"  CPU ms per station per s: " +
             ", ".join(f"{k} {c[k]:.2f}" for k in KIND_ORDER if k in c) +
             f"; all {r['cpu_total_ms_per_s'] / 10:.0f} % of a core")
@@ -290,6 +354,14 @@ def main():
                                    "(scale.data); prints the top entries")
     ap.add_argument("--station-arg", action="append", default=[], metavar="ARG",
                     help="passed to every its-station (scripts/testbed run --station-arg)")
+    ap.add_argument("--full", type=int, metavar="K",
+                    help="only the first K vehicles are full stations, the others pooled in "
+                         "station-hosts (gen_scale_scenario.py --full; default: all full)")
+    ap.add_argument("--hosts", type=int, default=0,
+                    help="station-hosts for the pooled stations (scripts/testbed run --hosts)")
+    ap.add_argument("--gen-arg", action="append", default=[], metavar="ARG",
+                    help="one more argument for gen_scale_scenario.py (repeatable; write "
+                         "--gen-arg=--radius=600)")
     ap.add_argument("--json", help="write every run's figures here")
     ap.add_argument("--keep", action="store_true", help="keep each run's folder (logs, trace)")
     args = ap.parse_args()
@@ -301,8 +373,14 @@ def main():
     # Long enough to outlast the start-up of every station and the measured window.
     subprocess.run([sys.executable, str(ROOT / "tests/e2e/gen_scale_scenario.py"),
                     str(args.stations), "--out", str(scenario),
-                    "--duration", str(args.duration + 30 + args.stations)], check=True)
+                    "--duration", str(args.duration + 30 + args.stations)] +
+                   (["--full", str(args.full)] if args.full is not None else []) + args.gen_arg,
+                   check=True)
     scenario.chmod(0o644)
+    vehicles = json.loads(scenario.read_text())["vehicles"]
+    args.full_ids = {v["station_id"] for v in vehicles
+                     if v.get("station", {}).get("kind", "full") != "pooled"}
+    args.full_count = len(args.full_ids)
     runs = []
     for i in range(args.runs):
         r = one_run(args, scenario, i)
@@ -315,7 +393,9 @@ def main():
 
     def col(f):
         return median([f(r) for r in runs])
-    print(f"\n{args.stations} stations, {args.runs} runs of {args.duration:.0f} s, medians of the runs:")
+    kinds = (f" ({args.full_count} full, {args.stations - args.full_count} pooled)"
+             if args.full_count != args.stations else "")
+    print(f"\n{args.stations} stations{kinds}, {args.runs} runs of {args.duration:.0f} s, medians of the runs:")
     print("| figure | median | runs |")
     print("|---|---|---|")
     rows = [("load 1 min (start→end)", None,
@@ -329,6 +409,12 @@ def main():
     for s in ("t2", "t3.gpsd", "air"):
         rows.append((f"{s} p99 (ms)", lambda r, s=s: r["stages"].get(s, {}).get("p99"), None))
     rows.append(("CAM deliveries lost", lambda r: r["cams"]["expected"] - r["cams"]["decoded"], None))
+    rows.append(("full stations: % of the window's CAMs decoded",
+                 lambda r: 100 * r["cams"]["full_decoded"] / r["cams"]["full_expected"]
+                 if r["cams"].get("full_expected") else None, None))
+    rows.append(("full stations: % of the medium's deliveries decoded",
+                 lambda r: 100 * r["cams"]["full_medium_decoded"] / r["cams"]["full_medium_delivered"]
+                 if r["cams"].get("full_medium_delivered") else None, None))
     for k in KIND_ORDER:
         rows.append((f"CPU {k}, ms per station per s",
                      lambda r, k=k: r["cpu_ms_per_station_s"].get(k, 0.0), None))
