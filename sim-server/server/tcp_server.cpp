@@ -122,7 +122,9 @@ class TcpConnection final : public ClientLink, public std::enable_shared_from_th
   std::size_t max_frames_;
   std::shared_ptr<std::size_t> live_;
   Hub::ClientId id_ = 0;
-  std::array<std::uint8_t, 4096> buf_{};
+  /// A client's controls for one step come in one ControlsBatch (25 bytes a vehicle): read one
+  /// in a single call.
+  std::array<std::uint8_t, 64 * 1024> buf_{};
   std::deque<SharedBytes> queue_;
   std::size_t states_queued_ = 0;  ///< kState frames in queue_
   std::vector<SharedBytes> batch_;
