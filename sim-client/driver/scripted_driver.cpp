@@ -242,7 +242,8 @@ double LaneFollowDriver::follow_speed(const wire::VehicleState& s, const Traffic
       continue;
     const double ox = o.state.position[0], oy = o.state.position[1];
     const double dx = ox - s.position[0], dy = oy - s.position[1];
-    if (std::hypot(dx, dy) > horizon + o.length)
+    const double reach = horizon + o.length;
+    if (dx * dx + dy * dy > reach * reach)
       continue;
     if (dx * c + dy * sn < -half_l)
       continue;  // behind this car: it is the one to follow
