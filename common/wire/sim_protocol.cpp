@@ -15,7 +15,7 @@ constexpr std::uint8_t kHandbrakeBit = 1u << 1;
 
 // Fixed payload sizes of the client's messages.
 constexpr std::size_t kAttachSize = 1 + 2;
-constexpr std::size_t kControlsSize = 2 + 4 * 3 + 1 + 2 + 8;
+constexpr std::size_t kControlsSize = kControlsEntrySize;
 constexpr std::size_t kDetachSize = 2;
 constexpr std::size_t kStateHeadSize = 8 + 8 + 8 + 2;
 
@@ -29,6 +29,7 @@ bool known_type(std::uint8_t t) {
     case MessageType::kAttach:
     case MessageType::kControls:
     case MessageType::kDetach:
+    case MessageType::kControlsBatch:
     case MessageType::kWelcome:
     case MessageType::kAttachResult:
     case MessageType::kState:
@@ -89,6 +90,39 @@ bool read_text(ByteReader& r, std::size_t max, std::string& out) {
   });
 }
 
+/// One Controls payload (also a ControlsBatch entry); the reader's ok() says if it was all there.
+std::optional<ProtocolError> read_controls(ByteReader& r, ControlsMsg& m) {
+  m.vehicle = r.le<std::uint16_t>();
+  m.controls.throttle = r.le<float>();
+  m.controls.brake = r.le<float>();
+  m.controls.steer = r.le<float>();
+  const auto flags = r.le<std::uint8_t>();
+  m.lights = r.le<std::uint16_t>();
+  m.input_ns = r.le<std::int64_t>();
+  if (!r.ok())
+    return ProtocolError::kBadLength;
+  if (!std::isfinite(m.controls.throttle) || !std::isfinite(m.controls.brake) ||
+      !std::isfinite(m.controls.steer)) {
+    return ProtocolError::kNotFinite;
+  }
+  if ((flags & ~(kReverseBit | kHandbrakeBit)) != 0)
+    return ProtocolError::kBadValue;
+  m.controls.reverse = (flags & kReverseBit) != 0;
+  m.controls.handbrake = (flags & kHandbrakeBit) != 0;
+  return std::nullopt;
+}
+
+void write_controls(ByteWriter& w, const ControlsMsg& m) {
+  w.le(m.vehicle);
+  w.le(m.controls.throttle);
+  w.le(m.controls.brake);
+  w.le(m.controls.steer);
+  w.le<std::uint8_t>((m.controls.reverse ? kReverseBit : 0) |
+                     (m.controls.handbrake ? kHandbrakeBit : 0));
+  w.le(m.lights);
+  w.le(m.input_ns);
+}
+
 template <typename T>
 Expected<T, ProtocolError> fail(ProtocolError e) {
   return Unexpected{e};
@@ -113,6 +147,8 @@ std::string_view to_string(MessageType t) {
       return "Controls";
     case MessageType::kDetach:
       return "Detach";
+    case MessageType::kControlsBatch:
+      return "ControlsBatch";
     case MessageType::kWelcome:
       return "Welcome";
     case MessageType::kAttachResult:
@@ -195,6 +231,8 @@ std::size_t max_payload(Sender from, MessageType type) {
       return kControlsSize;
     case MessageType::kDetach:
       return kDetachSize;
+    case MessageType::kControlsBatch:
+      return kMaxControlsBatchPayload;
     case MessageType::kWelcome:
       return kMaxWelcomePayload;
     case MessageType::kState:
@@ -304,24 +342,28 @@ Expected<ClientMessage, ProtocolError> decode_client(const Frame& f) {
     }
     case MessageType::kControls: {
       ControlsMsg m;
-      m.vehicle = r.le<std::uint16_t>();
-      m.controls.throttle = r.le<float>();
-      m.controls.brake = r.le<float>();
-      m.controls.steer = r.le<float>();
-      const auto flags = r.le<std::uint8_t>();
-      m.lights = r.le<std::uint16_t>();
-      m.input_ns = r.le<std::int64_t>();
+      const auto bad = read_controls(r, m);
       if (auto e = finished(r))
         return Unexpected{*e};
-      if (!std::isfinite(m.controls.throttle) || !std::isfinite(m.controls.brake) ||
-          !std::isfinite(m.controls.steer)) {
-        return Unexpected{ProtocolError::kNotFinite};
-      }
-      if ((flags & ~(kReverseBit | kHandbrakeBit)) != 0)
-        return Unexpected{ProtocolError::kBadValue};
-      m.controls.reverse = (flags & kReverseBit) != 0;
-      m.controls.handbrake = (flags & kHandbrakeBit) != 0;
+      if (bad)
+        return Unexpected{*bad};
       out = m;
+      break;
+    }
+    case MessageType::kControlsBatch: {
+      // The count must match the payload exactly before any entry is read.
+      const std::size_t count = r.le<std::uint16_t>();
+      if (!r.ok() || r.remaining() != count * kControlsEntrySize)
+        return Unexpected{ProtocolError::kBadLength};
+      if (count == 0 || count > kMaxVehicles)
+        return Unexpected{ProtocolError::kBadValue};
+      ControlsBatch m;
+      m.entries.resize(count);
+      for (ControlsMsg& e : m.entries) {
+        if (const auto bad = read_controls(r, e))
+          return Unexpected{*bad};
+      }
+      out = std::move(m);
       break;
     }
     case MessageType::kDetach: {
@@ -489,14 +531,16 @@ std::vector<std::uint8_t> encode(const Attach& m) {
 
 std::vector<std::uint8_t> encode(const ControlsMsg& m) {
   FrameWriter f(MessageType::kControls, kControlsSize);
-  f.w().le(m.vehicle);
-  f.w().le(m.controls.throttle);
-  f.w().le(m.controls.brake);
-  f.w().le(m.controls.steer);
-  f.w().le<std::uint8_t>((m.controls.reverse ? kReverseBit : 0) |
-                         (m.controls.handbrake ? kHandbrakeBit : 0));
-  f.w().le(m.lights);
-  f.w().le(m.input_ns);
+  write_controls(f.w(), m);
+  return f.finish();
+}
+
+std::vector<std::uint8_t> encode(const ControlsBatch& m) {
+  const std::size_t count = std::min(m.entries.size(), kMaxVehicles);
+  FrameWriter f(MessageType::kControlsBatch, 2 + count * kControlsEntrySize);
+  f.w().le(static_cast<std::uint16_t>(count));
+  for (std::size_t i = 0; i < count; ++i)
+    write_controls(f.w(), m.entries[i]);
   return f.finish();
 }
 
@@ -630,20 +674,33 @@ Expected<bool, ProtocolError> Conversation::check(const ClientMessage& m) const 
     return Unexpected{ProtocolError::kOutOfOrder};
   if (const auto* d = std::get_if<Detach>(&m); d && !drives(d->vehicle))
     return Unexpected{ProtocolError::kOutOfOrder};
+  if (const auto* b = std::get_if<ControlsBatch>(&m)) {
+    for (const ControlsMsg& e : b->entries) {
+      if (!drives(e.vehicle))
+        return Unexpected{ProtocolError::kOutOfOrder};
+    }
+  }
   return true;
 }
 
 void Conversation::on_driving(std::uint16_t vehicle) {
-  if (!drives(vehicle))
-    driven_.push_back(vehicle);
+  if (drives(vehicle))
+    return;
+  driven_.push_back(vehicle);
+  if (driving_.size() <= vehicle)
+    driving_.resize(std::size_t{vehicle} + 1, false);
+  driving_[vehicle] = true;
 }
 
 void Conversation::on_released(std::uint16_t vehicle) {
+  if (!drives(vehicle))
+    return;
   std::erase(driven_, vehicle);
+  driving_[vehicle] = false;
 }
 
 bool Conversation::drives(std::uint16_t vehicle) const {
-  return std::find(driven_.begin(), driven_.end(), vehicle) != driven_.end();
+  return vehicle < driving_.size() && driving_[vehicle];
 }
 
 }  // namespace tb::wire::sim

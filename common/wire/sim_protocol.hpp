@@ -1,5 +1,5 @@
 #pragma once
-/// @file The sim-server ⇄ sim-client protocol over TCP (sim-server/PROTOCOL.md), version 5.
+/// @file The sim-server ⇄ sim-client protocol over TCP (sim-server/PROTOCOL.md), version 6.
 ///
 /// Every message is one frame: an 8-byte header (magic "SP", protocol version, message type,
 /// payload length, little-endian) and a payload whose size is bounded per type. FrameParser is a
@@ -26,7 +26,10 @@ namespace tb::wire::sim {
 /// 4: Welcome carries the world's start time (docs/time.md: one clock for the whole world).
 /// 5: Closing's reason "scenario finished", so that a client can tell the end of the scenario
 ///    (it exits) from a server that stops (it reconnects).
-inline constexpr std::uint8_t kProtocolVersion = 5;
+/// 6: ControlsBatch, the controls of all of a client's vehicles for one step in one message
+///    (DESIGN.md: a message carries what belongs to one instant): 1000 scripted vehicles sent
+///    100,000 Controls a second, more than the server read.
+inline constexpr std::uint8_t kProtocolVersion = 6;
 inline constexpr std::uint8_t kMagic0 = 'S';
 inline constexpr std::uint8_t kMagic1 = 'P';
 inline constexpr std::size_t kHeaderSize = 8;
@@ -37,7 +40,7 @@ inline constexpr std::size_t kMaxTextLength = 255;         ///< ids, colours, re
 inline constexpr std::size_t kMaxScenarioText = 1u << 20;  ///< scenario JSON in Welcome
 inline constexpr std::size_t kMaxMapText = 32u << 20;      ///< OpenDRIVE text in Welcome
 inline constexpr std::size_t kMaxVehicles = 4096;
-inline constexpr std::size_t kMaxClientPayload = 64;        ///< any client → server message
+inline constexpr std::size_t kMaxClientPayload = 64;  ///< client → server, but ControlsBatch
 inline constexpr std::size_t kMaxServerPayload = 4u << 20;  ///< server → client but Welcome
 /// Welcome: the vehicle list (at most ~2.3 MiB), the scenario and the map.
 inline constexpr std::size_t kMaxWelcomePayload = kMaxScenarioText + kMaxMapText + (4u << 20);
@@ -48,6 +51,7 @@ enum class MessageType : std::uint8_t {
   kAttach = 0x02,
   kControls = 0x03,
   kDetach = 0x04,
+  kControlsBatch = 0x05,
   // server → client
   kWelcome = 0x81,
   kAttachResult = 0x82,
@@ -114,7 +118,20 @@ struct Detach {
   bool operator==(const Detach&) const = default;
 };
 
-using ClientMessage = std::variant<Hello, Attach, ControlsMsg, Detach>;
+/// Controls of several vehicles the connection drives, for one step: what a client driving many
+/// vehicles sends per State frame instead of one Controls each. Each entry acts as one
+/// Controls; a vehicle listed twice gets its later entry. The whole batch is refused (and the
+/// connection closed) when any entry is malformed or names a vehicle the connection does not
+/// drive, so that no part of it is applied.
+struct ControlsBatch {
+  std::vector<ControlsMsg> entries;  ///< 1 – kMaxVehicles
+  bool operator==(const ControlsBatch&) const = default;
+};
+/// Bytes of one ControlsBatch entry (a Controls payload) and the batch's payload bound.
+inline constexpr std::size_t kControlsEntrySize = 2 + 4 * 3 + 1 + 2 + 8;
+inline constexpr std::size_t kMaxControlsBatchPayload = 2 + kMaxVehicles * kControlsEntrySize;
+
+using ClientMessage = std::variant<Hello, Attach, ControlsMsg, Detach, ControlsBatch>;
 
 // ---------------------------------------------------------------------------------------------
 // Server → client.
@@ -247,6 +264,8 @@ std::vector<std::uint8_t> encode(const Hello& m);
 std::vector<std::uint8_t> encode(const Attach& m);
 std::vector<std::uint8_t> encode(const ControlsMsg& m);
 std::vector<std::uint8_t> encode(const Detach& m);
+/// At most kMaxVehicles entries are encoded (the encoder's caller owns the limit).
+std::vector<std::uint8_t> encode(const ControlsBatch& m);
 std::vector<std::uint8_t> encode(const Welcome& m);
 std::vector<std::uint8_t> encode(const AttachResult& m);
 std::vector<std::uint8_t> encode(const StateFrame& m);
@@ -266,9 +285,10 @@ std::vector<std::uint8_t> encode_state(std::uint64_t tick, std::int64_t sim_time
 /// range (the server counts them).
 int clamp(Controls& c);
 
-/// Order of a client's messages, as the server sees them: Hello first and once; Controls and
-/// Detach only for vehicles this connection drives (the server reports successful driver
-/// attachments with on_driving()).
+/// Order of a client's messages, as the server sees them: Hello first and once; Controls,
+/// ControlsBatch and Detach only for vehicles this connection drives (the server reports
+/// successful driver attachments with on_driving()). drives() is a lookup, not a search: it runs
+/// for every entry of every batch.
 class Conversation {
  public:
   Expected<bool, ProtocolError> check(const ClientMessage& m) const;
@@ -282,6 +302,7 @@ class Conversation {
  private:
   bool greeted_ = false;
   std::vector<std::uint16_t> driven_;
+  std::vector<bool> driving_;  ///< by vehicle index, grown on demand
 };
 
 }  // namespace tb::wire::sim

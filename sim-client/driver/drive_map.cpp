@@ -71,12 +71,77 @@ bool drivable(const odr::RoadNetwork& net, const odr::LanePosition& f) {
 
 }  // namespace
 
+namespace {
+
+std::int64_t cell_of(double v) {
+  return static_cast<std::int64_t>(std::floor(v / Traffic::kCell));
+}
+
+std::uint64_t cell_key(std::int64_t cx, std::int64_t cy) {
+  return (static_cast<std::uint64_t>(cx) << 32) ^ (static_cast<std::uint64_t>(cy) & 0xffffffffu);
+}
+
+}  // namespace
+
+void Traffic::index() {
+  cells_.clear();
+  stations_.clear();
+  max_length_ = 0.0;
+  for (std::size_t i = 0; i < vehicles.size(); ++i) {
+    const Observed& o = vehicles[i];
+    max_length_ = std::max(max_length_, o.length);
+    stations_.emplace_back(o.state.station_id, i);
+    // A position beyond any map (a wild value on the wire) goes in no cell: the scan finds it.
+    const double x = o.state.position[0], y = o.state.position[1];
+    if (std::isfinite(x) && std::isfinite(y) && std::abs(x) < 1e9 && std::abs(y) < 1e9)
+      cells_.emplace_back(cell_key(cell_of(x), cell_of(y)), i);
+  }
+  std::sort(cells_.begin(), cells_.end());
+  // Stable: with two vehicles of one station id, find() returns the first as the scan does.
+  std::stable_sort(stations_.begin(), stations_.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  indexed_ = cells_.size() == vehicles.size();
+  indexed_size_ = vehicles.size();
+}
+
 const Observed* Traffic::find(std::uint32_t station_id) const {
+  if (indexed_size_ == vehicles.size() && !stations_.empty()) {
+    const auto it = std::lower_bound(stations_.begin(), stations_.end(), station_id,
+                                     [](const std::pair<std::uint32_t, std::size_t>& e,
+                                        std::uint32_t id) { return e.first < id; });
+    return it != stations_.end() && it->first == station_id ? &vehicles[it->second] : nullptr;
+  }
   for (const Observed& o : vehicles) {
     if (o.state.station_id == station_id)
       return &o;
   }
   return nullptr;
+}
+
+std::vector<const Observed*> Traffic::near(double x, double y, double radius) const {
+  std::vector<const Observed*> out;
+  if (!indexed_ || indexed_size_ != vehicles.size() || !std::isfinite(x) || !std::isfinite(y) ||
+      !(radius < 1e6) || std::abs(x) >= 1e9 || std::abs(y) >= 1e9) {
+    for (const Observed& o : vehicles)
+      out.push_back(&o);
+    return out;
+  }
+  std::vector<std::size_t> found;
+  const std::int64_t x0 = cell_of(x - radius), x1 = cell_of(x + radius);
+  const std::int64_t y0 = cell_of(y - radius), y1 = cell_of(y + radius);
+  for (std::int64_t cx = x0; cx <= x1; ++cx) {
+    for (std::int64_t cy = y0; cy <= y1; ++cy) {
+      const std::uint64_t key = cell_key(cx, cy);
+      auto it = std::lower_bound(cells_.begin(), cells_.end(), std::pair{key, std::size_t{0}});
+      for (; it != cells_.end() && it->first == key; ++it)
+        found.push_back(it->second);
+    }
+  }
+  std::sort(found.begin(), found.end());
+  out.reserve(found.size());
+  for (const std::size_t i : found)
+    out.push_back(&vehicles[i]);
+  return out;
 }
 
 bool goes_before(const Observed& a, const Observed& b) {
@@ -255,19 +320,25 @@ Traffic DriveMap::observe(std::span<const wire::VehicleState> states,
                           std::span<const VehicleSize> sizes) const {
   Traffic t;
   t.vehicles.reserve(states.size());
-  for (const wire::VehicleState& s : states) {
+  for (std::size_t i = 0; i < states.size(); ++i) {
+    const wire::VehicleState& s = states[i];
     Observed o;
     o.state = s;
-    for (const VehicleSize& v : sizes) {
-      if (v.station_id == s.station_id) {
-        o.length = v.length;
-        o.width = v.width;
-        break;
-      }
+    // The sizes come in the frame's order (the scenario's); a search only when they do not.
+    const VehicleSize* size =
+        i < sizes.size() && sizes[i].station_id == s.station_id ? &sizes[i] : nullptr;
+    for (std::size_t k = 0; size == nullptr && k < sizes.size(); ++k) {
+      if (sizes[k].station_id == s.station_id)
+        size = &sizes[k];
+    }
+    if (size != nullptr) {
+      o.length = size->length;
+      o.width = size->width;
     }
     observe_one(o);
     t.vehicles.push_back(std::move(o));
   }
+  t.index();
   return t;
 }
 

@@ -237,19 +237,20 @@ LanePath::Projection LanePath::project(double x, double y, double hint) const {
     const Point& a = points_[i];
     const Point& b = points_[i + 1];
     const double dx = b.x - a.x, dy = b.y - a.y;
-    const double len = std::hypot(dx, dy);
-    if (len < 1e-9)
+    // Squared lengths: the nearest segment is the same, without a square root per segment.
+    const double len2 = dx * dx + dy * dy;
+    if (len2 < 1e-18)
       continue;
-    double u = ((x - a.x) * dx + (y - a.y) * dy) / (len * len);
+    double u = ((x - a.x) * dx + (y - a.y) * dy) / len2;
     // Beyond the ends of the path the end segments go on.
     const double lo = i == 0 ? -1e9 : 0.0, hi = i + 2 == points_.size() ? 1e9 : 1.0;
     u = std::clamp(u, lo, hi);
     const double px = a.x + u * dx, py = a.y + u * dy;
-    const double dist = std::hypot(x - px, y - py);
-    if (dist < best_dist) {
-      best_dist = dist;
+    const double dist2 = (x - px) * (x - px) + (y - py) * (y - py);
+    if (dist2 < best_dist) {
+      best_dist = dist2;
       best.d = a.d + u * (b.d - a.d);
-      best.lateral = (dx * (y - a.y) - dy * (x - a.x)) / len;
+      best.lateral = (dx * (y - a.y) - dy * (x - a.x)) / std::sqrt(len2);
     }
   }
   return best;

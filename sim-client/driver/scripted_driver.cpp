@@ -235,12 +235,15 @@ double LaneFollowDriver::follow_speed(const wire::VehicleState& s, const Traffic
   const std::size_t i0 = path_.index_at(d_);
   double gap = std::numeric_limits<double>::infinity();
   double lead_speed = 0.0;
-  for (const Observed& o : traffic.vehicles) {
+  for (const Observed* po :
+       traffic.near(s.position[0], s.position[1], horizon + traffic.max_length())) {
+    const Observed& o = *po;
     if (&o == me || o.state.station_id == s.station_id)
       continue;
     const double ox = o.state.position[0], oy = o.state.position[1];
     const double dx = ox - s.position[0], dy = oy - s.position[1];
-    if (std::hypot(dx, dy) > horizon + o.length)
+    const double reach = horizon + o.length;
+    if (dx * dx + dy * dy > reach * reach)
       continue;
     if (dx * c + dy * sn < -half_l)
       continue;  // behind this car: it is the one to follow

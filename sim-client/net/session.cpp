@@ -289,6 +289,9 @@ void SimSession::on_state(const sim::StateFrame& f) {
   }
   // Where every vehicle is, located once for all scripted drivers of this frame.
   std::optional<Traffic> traffic;
+  // The controls of every vehicle this client drives leave in one message, as the states came.
+  batch_.entries.clear();
+  const bool tracing = tracer_.enabled();
   for (auto& [i, d] : driven_) {
     if (!d.attached || i >= f.vehicles.size())
       continue;
@@ -309,11 +312,17 @@ void SimSession::on_state(const sim::StateFrame& f) {
     }
     ++d.seq;
     // Start of t1 (docs/tracing.md): the server traces the same input_ns when a step applies it.
-    tracer_.record("client.input", {{"station", d.station_id},
-                                    {"seq", static_cast<unsigned long long>(d.seq)},
-                                    {"input_ns", c.input_ns}});
-    send_(sim::encode(c));
+    if (tracing) {
+      tracer_.record("client.input", {{"station", d.station_id},
+                                      {"seq", static_cast<unsigned long long>(d.seq)},
+                                      {"input_ns", c.input_ns}});
+    }
+    batch_.entries.push_back(c);
   }
+  if (batch_.entries.size() == 1)
+    send_(sim::encode(batch_.entries.front()));
+  else if (!batch_.entries.empty())
+    send_(sim::encode(batch_));
   // After the forwarded states and the controls: a view never delays t1 or t2.
   if (frame_observer_)
     frame_observer_(f);

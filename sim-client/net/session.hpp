@@ -133,6 +133,7 @@ class SimSession {
   Send send_;
   StateForwarder* forwarder_;
   std::vector<wire::VehicleState> tick_states_;  ///< the driven vehicles' states of one frame
+  wire::sim::ControlsBatch batch_;               ///< the driven vehicles' controls of one frame
   trace::Tracer& tracer_;
   Phase phase_ = Phase::kDisconnected;
   wire::sim::FrameParser parser_{wire::sim::Sender::kServer};

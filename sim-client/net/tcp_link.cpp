@@ -89,6 +89,7 @@ void TcpLink::on_connected() {
   status_ = fmt::format("connected to {}:{}", host_, port_);
   spdlog::info("connected to sim-server {}:{}", host_, port_);
   queue_.clear();
+  queued_bytes_ = 0;
   writing_ = false;
   read();
   session_.on_connected();
@@ -126,11 +127,12 @@ void TcpLink::read() {
 void TcpLink::send(std::vector<std::uint8_t> frame) {
   if (!connected_)
     return;
-  if (queue_.size() >= kMaxQueued) {
+  if (queued_bytes_ + frame.size() > kMaxQueuedBytes) {
     if (dropped_++ % 1000 == 0)
       spdlog::warn("sim-server is not reading: dropped {} messages", dropped_);
     return;
   }
+  queued_bytes_ += frame.size();
   queue_.push_back(std::move(frame));
   if (!writing_)
     write();
@@ -139,7 +141,16 @@ void TcpLink::send(std::vector<std::uint8_t> frame) {
 void TcpLink::write() {
   writing_ = true;
   const std::uint64_t gen = generation_;
-  asio::async_write(*socket_, asio::buffer(queue_.front()),
+  // Everything queued goes out in one gathered write: one system call, not one per message.
+  batch_.clear();
+  buffers_.clear();
+  for (auto& m : queue_)
+    batch_.push_back(std::move(m));
+  queue_.clear();
+  queued_bytes_ = 0;
+  for (const auto& m : batch_)
+    buffers_.push_back(asio::buffer(m));
+  asio::async_write(*socket_, buffers_,
                     [this, gen](const boost::system::error_code& ec, std::size_t) {
                       if (gen != generation_ || stopped_)
                         return;
@@ -147,7 +158,7 @@ void TcpLink::write() {
                         lost(ec.message());
                         return;
                       }
-                      queue_.pop_front();
+                      batch_.clear();
                       if (queue_.empty()) {
                         writing_ = false;
                       } else {
@@ -165,6 +176,7 @@ void TcpLink::lost(const std::string& why) {
   const bool was_connected = connected_;
   connected_ = false;
   queue_.clear();
+  queued_bytes_ = 0;
   writing_ = false;
   if (was_connected)
     session_.on_disconnected();

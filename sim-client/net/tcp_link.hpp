@@ -31,9 +31,11 @@ class Backoff {
 
 class TcpLink {
  public:
-  /// Writes queued beyond this are dropped: a server that does not read gets the latest
-  /// controls soon enough once it does, and the client's memory stays bounded.
-  static constexpr std::size_t kMaxQueued = 1024;
+  /// Bytes queued beyond this are dropped: a server that does not read gets the latest
+  /// controls soon enough once it does, and the client's memory stays bounded. In bytes, not
+  /// messages: a client attaching 4096 vehicles queues 4096 small Attach messages at once, and
+  /// a second of 1000 vehicles' controls is 100 batches of 25 kB.
+  static constexpr std::size_t kMaxQueuedBytes = 4u << 20;
 
   TcpLink(boost::asio::io_context& io, clock::Runtime& runtime, std::string host,
           std::uint16_t port, SimSession& session);
@@ -63,6 +65,10 @@ class TcpLink {
   std::unique_ptr<boost::asio::ip::tcp::socket> socket_;
   std::vector<std::uint8_t> read_buffer_;
   std::deque<std::vector<std::uint8_t>> queue_;
+  std::size_t queued_bytes_ = 0;
+  /// The messages being written (all that was queued when the write began) and their buffers.
+  std::vector<std::vector<std::uint8_t>> batch_;
+  std::vector<boost::asio::const_buffer> buffers_;
   bool writing_ = false;
   bool connected_ = false;
   bool stopped_ = false;

@@ -115,7 +115,8 @@ class Hub {
     std::string name;
     wire::sim::FrameParser parser{wire::sim::Sender::kClient};
     wire::sim::Conversation conversation;
-    bool streaming = false;  ///< attached as watcher or driver
+    bool streaming = false;           ///< attached as watcher or driver
+    clock::SteadyTime last_attach{};  ///< its latest successful driver Attach
   };
   struct VehicleSlot {
     ClientId driver = 0;
@@ -131,6 +132,10 @@ class Hub {
 
   void handle(ClientId id, Client& c, const wire::sim::ClientMessage& m);
   void attach(ClientId id, Client& c, const wire::sim::Attach& a);
+  /// Applies one vehicle's controls (a Controls or a batch entry) that arrived at @p now;
+  /// true when they answer the latest State frame for that vehicle for the first time.
+  bool apply(ClientId id, const Client& c, const wire::sim::ControlsMsg& in, clock::SteadyTime now,
+             std::int64_t arrival_ns);
   void release(std::size_t vehicle, std::string_view why);
   void close_client(ClientId id, wire::sim::CloseReason reason, const std::string& text);
   void broadcast(const SharedBytes& frame, FrameKind kind);

@@ -1,6 +1,7 @@
 #include "sim-server/server/tcp_server.hpp"
 
 #include <spdlog/spdlog.h>
+#include <boost/asio/steady_timer.hpp>
 #include <boost/asio/write.hpp>
 
 #include <array>
@@ -17,7 +18,11 @@ class TcpConnection final : public ClientLink, public std::enable_shared_from_th
  public:
   TcpConnection(tcp::socket socket, Hub& hub, std::size_t max_frames,
                 std::shared_ptr<std::size_t> live)
-      : socket_(std::move(socket)), hub_(hub), max_frames_(max_frames), live_(std::move(live)) {
+      : socket_(std::move(socket)),
+        hub_(hub),
+        max_frames_(max_frames),
+        live_(std::move(live)),
+        linger_(socket_.get_executor()) {
     ++*live_;
   }
   ~TcpConnection() override { --*live_; }
@@ -54,7 +59,7 @@ class TcpConnection final : public ClientLink, public std::enable_shared_from_th
     closing_ = true;
     in_hub_ = false;
     if (!writing_)
-      shut();
+      finish_sending();
   }
 
  private:
@@ -67,7 +72,8 @@ class TcpConnection final : public ClientLink, public std::enable_shared_from_th
       }
       if (in_hub_)
         hub_.receive(id_, std::span<const std::uint8_t>(buf_.data(), n));
-      if (!closing_)
+      // Closing, the client's bytes are read and dropped until it closes too (finish_sending).
+      if (!shut_)
         read();
     });
   }
@@ -92,7 +98,7 @@ class TcpConnection final : public ClientLink, public std::enable_shared_from_th
                         if (!queue_.empty())
                           write();
                         else if (closing_)
-                          shut();
+                          finish_sending();
                       });
   }
 
@@ -108,7 +114,28 @@ class TcpConnection final : public ClientLink, public std::enable_shared_from_th
     shut();
   }
 
+  /// Everything queued (Closing last) is out: half-close, and close once the client has closed
+  /// its end or after kLinger. Closing at once would reset the connection whenever the client's
+  /// bytes are still unread (a client driving 1000 vehicles always has controls in flight), and
+  /// a reset discards what the client has not read yet: Closing(scenario finished) with it.
+  void finish_sending() {
+    if (shut_ || half_closed_)
+      return;
+    half_closed_ = true;
+    boost::system::error_code ignored;
+    socket_.shutdown(tcp::socket::shutdown_send, ignored);
+    linger_.expires_after(kLinger);
+    linger_.async_wait([this, self = shared_from_this()](boost::system::error_code ec) {
+      if (!ec)
+        shut();
+    });
+  }
+
   void shut() {
+    if (shut_)
+      return;
+    shut_ = true;
+    linger_.cancel();
     // Dropping self_ may release the last reference: hold it until the function returns.
     const std::shared_ptr<TcpConnection> keep = std::move(self_);
     boost::system::error_code ignored;
@@ -122,13 +149,19 @@ class TcpConnection final : public ClientLink, public std::enable_shared_from_th
   std::size_t max_frames_;
   std::shared_ptr<std::size_t> live_;
   Hub::ClientId id_ = 0;
-  std::array<std::uint8_t, 4096> buf_{};
+  /// A client's controls for one step come in one ControlsBatch (25 bytes a vehicle): read one
+  /// in a single call.
+  std::array<std::uint8_t, 64 * 1024> buf_{};
   std::deque<SharedBytes> queue_;
   std::size_t states_queued_ = 0;  ///< kState frames in queue_
   std::vector<SharedBytes> batch_;
   std::vector<asio::const_buffer> buffers_;
   bool writing_ = false;
   bool closing_ = false;
+  bool half_closed_ = false;
+  bool shut_ = false;
+  static constexpr std::chrono::seconds kLinger{2};
+  boost::asio::steady_timer linger_;
   bool in_hub_ = true;
   /// Keeps the connection alive while the hub knows it, even between I/O operations.
   std::shared_ptr<TcpConnection> self_;

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <deque>
 
 #include "common/clock/runtime.hpp"
@@ -187,6 +188,80 @@ TEST_F(HubTest, SilentDriverBrakesToAStopAndResumesWithControls) {
   send(id, sim::ControlsMsg{0, {0.5f, 0, 0, false, false}, 0});
   step();
   EXPECT_EQ(world.controls(0).throttle, 0.5f);
+}
+
+TEST_F(HubTest, ControlsBatchDrivesEachOfItsVehicles) {
+  FakeLink a;
+  const auto id = join(a, "alice");
+  send(id, sim::Attach{sim::Role::kDriver, 0});
+  send(id, sim::Attach{sim::Role::kDriver, 2});
+  send(id, sim::ControlsBatch{{
+               sim::ControlsMsg{2, {0.3f, 0, -0.2f, false, false}, wire::kFogLight},
+               sim::ControlsMsg{0, {2.0f, 0, 0, false, false}, 0},  // clamped, counted
+           }});
+  EXPECT_FALSE(a.closed);
+  EXPECT_EQ(world.controls(0).throttle, 1.0f);
+  EXPECT_EQ(world.controls(2).throttle, 0.3f);
+  EXPECT_EQ(world.controls(2).steer, -0.2f);
+  EXPECT_EQ(hub.stats().clamped_values, 1u);
+  // A vehicle listed twice gets its later entry.
+  send(id, sim::ControlsBatch{{sim::ControlsMsg{0, {0.1f, 0, 0, false, false}, 0},
+                               sim::ControlsMsg{0, {0.4f, 0, 0, false, false}, 0}}});
+  EXPECT_EQ(world.controls(0).throttle, 0.4f);
+  step();
+  const auto s = a.all<sim::StateFrame>().back().vehicles;
+  EXPECT_EQ(s[2].controls.throttle, 0.3f);
+  EXPECT_TRUE(s[2].lights & wire::kFogLight);
+  // Vehicle 1 nobody drives: still braking.
+  EXPECT_GE(world.controls(1).brake, Hub::kStopBrake);
+  EXPECT_EQ(world.controls(1).throttle, 0.0f);
+}
+
+TEST_F(HubTest, BatchNamingAVehicleNotDrivenIsRefusedWhole) {
+  FakeLink a, b;
+  const auto ida = join(a, "alice");
+  const auto idb = join(b, "bob");
+  send(ida, sim::Attach{sim::Role::kDriver, 0});
+  send(idb, sim::Attach{sim::Role::kDriver, 1});
+  // Bob's vehicle in alice's batch, after one of her own: nothing of it is applied, and only
+  // alice is closed, as with a single Controls for a vehicle she does not drive.
+  send(ida, sim::ControlsBatch{{sim::ControlsMsg{0, {0.9f, 0, 0, false, false}, 0},
+                                sim::ControlsMsg{1, {0.9f, 0, 0, false, false}, 0}}});
+  EXPECT_TRUE(a.closed);
+  ASSERT_FALSE(a.all<sim::Closing>().empty());
+  EXPECT_EQ(a.all<sim::Closing>().back().reason, sim::CloseReason::kProtocolError);
+  EXPECT_NE(a.all<sim::Closing>().back().text.find("ControlsBatch"), std::string::npos)
+      << a.all<sim::Closing>().back().text;
+  EXPECT_EQ(hub.stats().protocol_errors, 1u);
+  EXPECT_NE(world.controls(0).throttle, 0.9f);
+  EXPECT_NE(world.controls(1).throttle, 0.9f);
+  EXPECT_FALSE(b.closed);
+  EXPECT_EQ(hub.driver_of(1), idb);
+  // A malformed batch (an entry with NaN) closes the connection too.
+  send(idb, sim::ControlsBatch{{sim::ControlsMsg{1, {NAN, 0, 0, false, false}, 0}}});
+  EXPECT_TRUE(b.closed);
+  EXPECT_EQ(hub.stats().protocol_errors, 2u);
+}
+
+TEST_F(HubTest, WatchdogWaitsForAClientStillAttachingItsVehicles) {
+  FakeLink a;
+  const auto id = join(a, "alice");
+  send(id, sim::Attach{sim::Role::kDriver, 0});
+  send(id, sim::ControlsMsg{0, {0.6f, 0, 0, false, false}, 0});
+  step();
+  // Vehicle 0 falls silent while its client takes 900 ms to attach the others, one every
+  // 300 ms: no stop while the attachments come, then one after 500 ms without either.
+  for (std::uint16_t v : {1, 2, 1}) {
+    step(30);
+    send(id, sim::Attach{sim::Role::kDriver, v});
+  }
+  EXPECT_EQ(hub.stats().watchdog_stops, 0u);
+  EXPECT_EQ(world.controls(0).throttle, 0.6f);
+  step(49);
+  EXPECT_EQ(hub.stats().watchdog_stops, 0u);
+  step(3);
+  EXPECT_EQ(world.controls(0).brake, Hub::kStopBrake);
+  EXPECT_EQ(hub.stats().watchdog_stops, 1u);  // 1 and 2 never drove: braking all along
 }
 
 TEST_F(HubTest, DisconnectedDriverReleasesItsVehicleWhichStops) {

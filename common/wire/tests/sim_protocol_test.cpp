@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -108,6 +109,8 @@ TEST(SimProtocol, ClientMessagesRoundTrip) {
       ControlsMsg{3, Controls{0.75f, 0.1f, -0.5f, true, true}, kLowBeam, 1'795'312'926'004'965'889},
       ControlsMsg{0, {}, 0, -1},  // the input time is only traced: any value decodes
       Detach{3},
+      ControlsBatch{{ControlsMsg{0, Controls{0.5f, 0.0f, 0.25f, false, false}, kLowBeam, 11},
+                     ControlsMsg{4095, Controls{0.0f, 1.0f, -1.0f, true, true}, 0, -7}}},
   };
   for (const auto& m : msgs)
     EXPECT_EQ(client_roundtrip(m), m);
@@ -118,7 +121,7 @@ TEST(SimProtocol, ControlsLayout) {
   const auto b = encode(
       ControlsMsg{0x0102, Controls{1.0f, 0.0f, 0.0f, true, false}, 0x0304, 0x1122334455667788});
   ASSERT_EQ(b.size(), kHeaderSize + 25);
-  EXPECT_EQ(b[2], 5);          // version
+  EXPECT_EQ(b[2], 6);          // version
   EXPECT_EQ(b[4], 25);         // payload length
   EXPECT_EQ(b[8], 0x02);       // vehicle, little-endian
   EXPECT_EQ(b[8 + 14], 0x01);  // flags: reverse
@@ -289,7 +292,13 @@ TEST(SimProtocol, RejectsUnknownTypeBadMagicAndVersion) {
   EXPECT_EQ(*feed(d, Bytes{'G', 'E', 'T', ' ', '/', ' ', 'H', 'T'}, 64).error,
             ProtocolError::kBadMagic);
   FrameParser e(Sender::kClient);
-  EXPECT_EQ(*feed(e, header(0x01, 1, 6), 64).error, ProtocolError::kUnsupportedVersion);
+  EXPECT_EQ(*feed(e, header(0x01, 1, 7), 64).error, ProtocolError::kUnsupportedVersion);
+  // Version 5 (no ControlsBatch) is refused: a version-5 server would close on the batch.
+  FrameParser e5(Sender::kClient);
+  EXPECT_EQ(*feed(e5, header(0x01, 1, 5), 64).error, ProtocolError::kUnsupportedVersion);
+  // A batch coming from the server is a type it may not send.
+  FrameParser s5(Sender::kServer);
+  EXPECT_EQ(*feed(s5, header(0x05, 27), 64).error, ProtocolError::kUnknownType);
   // Version 4 (no "scenario finished" reason) is refused too.
   FrameParser e4(Sender::kServer);
   EXPECT_EQ(*feed(e4, header(0x85, 2, 4), 64).error, ProtocolError::kUnsupportedVersion);
@@ -345,6 +354,95 @@ TEST(SimProtocol, RejectsMalformedPayloads) {
   // Trailing bytes after the name.
   EXPECT_EQ(decode_client(frame(MessageType::kHello, Bytes{1, 'a', 'b'})).error(),
             ProtocolError::kBadLength);
+}
+
+TEST(SimProtocol, ControlsBatchLayout) {
+  // PROTOCOL.md: u16 count, then count Controls payloads.
+  ControlsBatch m;
+  for (std::uint16_t v = 0; v < 3; ++v)
+    m.entries.push_back(ControlsMsg{static_cast<std::uint16_t>(0x0100 + v),
+                                    Controls{1.0f, 0.0f, 0.0f, false, true}, 0x0304,
+                                    0x1122334455667788});
+  const auto b = encode(m);
+  ASSERT_EQ(b.size(), kHeaderSize + 2 + 3 * 25);
+  EXPECT_EQ(b[3], 0x05);  // type
+  EXPECT_EQ(b[4], 2 + 3 * 25);
+  EXPECT_EQ(b[8], 3);  // count, little-endian
+  EXPECT_EQ(b[9], 0);
+  for (std::size_t i = 0; i < 3; ++i) {
+    const std::size_t at = kHeaderSize + 2 + i * 25;
+    EXPECT_EQ(b[at], i);  // vehicle, little-endian
+    EXPECT_EQ(b[at + 1], 0x01);
+    EXPECT_EQ(b[at + 14], 0x02);  // flags: handbrake
+    EXPECT_EQ(b[at + 24], 0x11);  // last byte of input_ns
+  }
+}
+
+TEST(SimProtocol, ControlsBatchOfEveryVehicleFitsItsBound) {
+  ControlsBatch m;
+  for (std::size_t v = 0; v < kMaxVehicles; ++v)
+    m.entries.push_back(ControlsMsg{static_cast<std::uint16_t>(v), {}, 0, 1});
+  const auto b = encode(m);
+  EXPECT_EQ(b.size(), kHeaderSize + kMaxControlsBatchPayload);
+  EXPECT_EQ(client_roundtrip(m), ClientMessage{m});
+  // The encoder keeps to the limit rather than writing a frame the server refuses.
+  m.entries.push_back(ControlsMsg{});
+  EXPECT_EQ(encode(m).size(), kHeaderSize + kMaxControlsBatchPayload);
+  // A header announcing one byte more than the bound is refused before any payload.
+  Bytes h = encode(ControlsBatch{{ControlsMsg{}}});
+  h.resize(kHeaderSize);
+  const auto big = static_cast<std::uint32_t>(kMaxControlsBatchPayload + 1);
+  std::memcpy(h.data() + 4, &big, 4);
+  FrameParser p(Sender::kClient);
+  const auto f = feed(p, h, 64);
+  ASSERT_TRUE(f.error);
+  EXPECT_EQ(*f.error, ProtocolError::kOversized);
+}
+
+TEST(SimProtocol, RejectsMalformedControlsBatches) {
+  const auto payload = [](const ControlsBatch& m) {
+    const auto b = encode(m);
+    return Bytes(b.begin() + kHeaderSize, b.end());
+  };
+  const ControlsBatch two{{ControlsMsg{0, {}, 0, 1}, ControlsMsg{1, {}, 0, 2}}};
+  const Bytes good = payload(two);
+  ASSERT_TRUE(decode_client(frame(MessageType::kControlsBatch, good)));
+  // Every length but the right one: a count that does not match the entries, a cut entry,
+  // a trailing byte, no count at all.
+  for (std::size_t n = 0; n < good.size(); ++n) {
+    EXPECT_EQ(
+        decode_client(frame(MessageType::kControlsBatch, Bytes(good.begin(), good.begin() + n)))
+            .error(),
+        ProtocolError::kBadLength)
+        << n << " bytes";
+  }
+  Bytes longer = good;
+  longer.push_back(0);
+  EXPECT_EQ(decode_client(frame(MessageType::kControlsBatch, longer)).error(),
+            ProtocolError::kBadLength);
+  Bytes miscount = good;
+  miscount[0] = 3;
+  EXPECT_EQ(decode_client(frame(MessageType::kControlsBatch, miscount)).error(),
+            ProtocolError::kBadLength);
+  // An empty batch says nothing: malformed.
+  EXPECT_EQ(decode_client(frame(MessageType::kControlsBatch, Bytes{0, 0})).error(),
+            ProtocolError::kBadValue);
+  // One bad entry spoils the batch: a NaN in the second, unknown flags in the first.
+  ControlsBatch nan = two;
+  nan.entries[1].controls.steer = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(decode_client(frame(MessageType::kControlsBatch, payload(nan))).error(),
+            ProtocolError::kNotFinite);
+  Bytes flags = good;
+  flags[2 + 14] = 0x04;
+  EXPECT_EQ(decode_client(frame(MessageType::kControlsBatch, flags)).error(),
+            ProtocolError::kBadValue);
+  // More entries than the protocol has vehicles, with a payload that matches the count.
+  const std::size_t over = kMaxVehicles + 1;
+  Bytes too_many(2 + over * kControlsEntrySize, 0);
+  too_many[0] = static_cast<std::uint8_t>(over & 0xff);
+  too_many[1] = static_cast<std::uint8_t>(over >> 8);
+  EXPECT_EQ(decode_client(frame(MessageType::kControlsBatch, too_many)).error(),
+            ProtocolError::kOversized);
 }
 
 TEST(SimProtocol, RejectsStateWithWrongCountOrBadRecord) {
@@ -431,6 +529,29 @@ TEST(SimProtocol, ConversationRequiresHelloFirstAndAttachBeforeControls) {
   EXPECT_TRUE(c.check(Detach{0}));
   c.on_released(0);
   EXPECT_EQ(c.check(controls).error(), ProtocolError::kOutOfOrder);
+}
+
+ControlsMsg entry(std::uint16_t vehicle) {
+  return ControlsMsg{vehicle, {}, 0, 0};
+}
+
+TEST(SimProtocol, ConversationRefusesABatchWithAnyVehicleNotDriven) {
+  Conversation c;
+  c.on_hello();
+  for (std::uint16_t v : {2, 3, 4000})
+    c.on_driving(v);
+  c.on_driving(3);  // twice: still driven once
+  EXPECT_EQ(c.driven(), (std::vector<std::uint16_t>{2, 3, 4000}));
+  EXPECT_TRUE(c.check(ControlsBatch{{entry(2), entry(4000), entry(3)}}));
+  // One vehicle the connection does not drive refuses the whole batch, wherever it is.
+  EXPECT_EQ(c.check(ControlsBatch{{entry(2), entry(5)}}).error(), ProtocolError::kOutOfOrder);
+  EXPECT_EQ(c.check(ControlsBatch{{entry(65535), entry(2)}}).error(), ProtocolError::kOutOfOrder);
+  c.on_released(3);
+  c.on_released(7);  // never driven: nothing changes
+  EXPECT_FALSE(c.drives(3));
+  EXPECT_TRUE(c.drives(4000));
+  EXPECT_EQ(c.check(ControlsBatch{{entry(2), entry(3)}}).error(), ProtocolError::kOutOfOrder);
+  EXPECT_EQ(c.driven(), (std::vector<std::uint16_t>{2, 4000}));
 }
 
 TEST(SimProtocol, ErrorsHaveNames) {

@@ -113,6 +113,10 @@ class FakeSimServer {
       received_.push_back(m);
       if (const auto* c = std::get_if<wire::sim::ControlsMsg>(&m))
         controls_[c->vehicle] = *c;
+      if (const auto* b = std::get_if<wire::sim::ControlsBatch>(&m)) {
+        for (const auto& c : b->entries)
+          controls_[c.vehicle] = c;
+      }
     }
     if (std::holds_alternative<wire::sim::Hello>(m))
       send(wire::sim::encode(welcome()));

@@ -200,6 +200,55 @@ class Traffic {
   double planned_lateral_accel_ = 0.0;
 };
 
+TEST(TrafficIndex, FindsAndNearsAsTheScanDoes) {
+  // 400 vehicles scattered over 3 km, some on cell borders and below zero, two sharing a
+  // station id: the index gives what the scan of every vehicle gives.
+  using Frame = ::tb::client::Traffic;  // this file's Traffic is the simulation
+  Frame t;
+  std::srand(7);
+  for (std::uint32_t i = 0; i < 400; ++i) {
+    Observed o;
+    o.state.station_id = i == 399 ? 17 : 1000 + i;
+    o.state.position = {std::rand() % 3000 - 1500.0, std::rand() % 3000 - 1500.0, 0.0};
+    if (i % 50 == 0)
+      o.state.position = {Frame::kCell * (static_cast<double>(i) / 50 - 4), -Frame::kCell, 0.0};
+    o.length = i % 7 == 0 ? 12.0 : 4.5;
+    t.vehicles.push_back(o);
+  }
+  t.vehicles[3].state.station_id = 17;
+  const Frame scan = t;  // not indexed
+  t.index();
+  EXPECT_EQ(t.max_length(), 12.0);
+  EXPECT_EQ(t.find(17), &t.vehicles[3]);  // the first of two, as the scan finds it
+  EXPECT_EQ(scan.find(17), &scan.vehicles[3]);
+  EXPECT_EQ(t.find(1005), &t.vehicles[5]);
+  EXPECT_EQ(t.find(99), nullptr);
+  for (const auto& o : scan.vehicles) {
+    for (const double r : {0.0, 10.0, 49.9, 50.0, 180.0}) {
+      const double x = o.state.position[0] + 3.0, y = o.state.position[1] - 2.0;
+      std::vector<std::size_t> want, got;
+      for (std::size_t i = 0; i < scan.vehicles.size(); ++i) {
+        const auto& p = scan.vehicles[i].state.position;
+        if (std::hypot(p[0] - x, p[1] - y) <= r)
+          want.push_back(i);
+      }
+      for (const Observed* n : t.near(x, y, r)) {
+        const auto i = static_cast<std::size_t>(n - t.vehicles.data());
+        const auto& p = n->state.position;
+        if (std::hypot(p[0] - x, p[1] - y) <= r)
+          got.push_back(i);
+      }
+      EXPECT_EQ(got, want) << "around " << x << ", " << y << " within " << r;
+      EXPECT_LT(t.near(x, y, r).size(), scan.vehicles.size() / 2);
+    }
+  }
+  // A hand-built Traffic, or one changed since index(), is scanned whole.
+  EXPECT_EQ(scan.near(0, 0, 1).size(), scan.vehicles.size());
+  t.vehicles.push_back(Observed{});
+  EXPECT_EQ(t.near(0, 0, 1).size(), t.vehicles.size());
+  EXPECT_EQ(t.find(17), &t.vehicles[3]);
+}
+
 TEST(LaneFollowTraffic, RandomRoutesThroughTheFourWayJunction) {
   // Two cars on each arm's inbound lane, 10 m/s, random routes: they meet at the junction,
   // give way, queue on the arms they leave by and stop before the arms' open ends.

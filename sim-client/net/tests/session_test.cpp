@@ -87,20 +87,24 @@ TEST_F(SessionTest, HelloAttachControlsAndForwarding) {
   clk.advance(std::chrono::milliseconds(1));
   ASSERT_TRUE(feed(s, testing::frame(5)));
   msgs = take();
-  ASSERT_EQ(msgs.size(), 3u);
-  const auto& c0 = std::get<sim::ControlsMsg>(msgs[0]);
+  // The three vehicles' controls for this step leave in one ControlsBatch, in vehicle order.
+  ASSERT_EQ(msgs.size(), 1u);
+  const auto& batch = std::get<sim::ControlsBatch>(msgs[0]).entries;
+  ASSERT_EQ(batch.size(), 3u);
+  const auto& c0 = batch[0];
   EXPECT_EQ(c0.vehicle, 0);
   EXPECT_EQ(c0.controls, human.controls);
   EXPECT_EQ(c0.lights, wire::kIndicatorRight);
   // t1 starts when the input was read: the controller sample for the human, now for a script.
   EXPECT_EQ(c0.input_ns, clock::to_unix_ns(sampled));
-  const auto& c1 = std::get<sim::ControlsMsg>(msgs[1]);
+  const auto& c1 = batch[1];
+  EXPECT_EQ(c1.vehicle, 1);
   EXPECT_FLOAT_EQ(c1.controls.throttle, 0.25f);  // the timeline's step
   EXPECT_FLOAT_EQ(c1.controls.steer, 0.5f);
   // A scripted vehicle's lights are the scenario's switches: this one's light bar and siren.
   EXPECT_EQ(c1.lights, wire::kLightBar | wire::kSiren);
   EXPECT_EQ(c1.input_ns, clock::to_unix_ns(clk.wall_now()));
-  const auto& c2 = std::get<sim::ControlsMsg>(msgs[2]);
+  const auto& c2 = batch[2];
   EXPECT_EQ(c2.vehicle, 2);
   EXPECT_GT(c2.controls.throttle, 0.0f);  // lane follower speeds up from 5 towards 10 m/s
 
