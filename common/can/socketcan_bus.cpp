@@ -91,6 +91,28 @@ void SocketCanBus::start_receive(FrameHandler handler) {
   wait_next();
 }
 
+void SocketCanBus::start_on_demand(FrameHandler handler, std::chrono::milliseconds backstop) {
+  handler_ = std::move(handler);
+  on_demand_ = true;
+  backstop_period_ = backstop;
+  backstop_ = std::make_unique<boost::asio::steady_timer>(descriptor_.get_executor());
+  arm_backstop();
+}
+
+void SocketCanBus::arm_backstop() {
+  backstop_->expires_after(backstop_period_);
+  backstop_->async_wait([this](const boost::system::error_code& ec) {
+    if (ec == boost::asio::error::operation_aborted)
+      return;
+    read_all();
+    arm_backstop();
+  });
+}
+
+std::size_t SocketCanBus::poll() {
+  return on_demand_ ? read_all() : 0;
+}
+
 void SocketCanBus::wait_next() {
   descriptor_.async_wait(boost::asio::posix::stream_descriptor::wait_read,
                          [this](const boost::system::error_code& ec) {
@@ -102,7 +124,8 @@ void SocketCanBus::wait_next() {
                          });
 }
 
-void SocketCanBus::read_all() {
+std::size_t SocketCanBus::read_all() {
+  std::size_t frames = 0;
   for (;;) {
     can_frame in{};
     iovec iov{&in, sizeof in};
@@ -114,7 +137,7 @@ void SocketCanBus::read_all() {
     msg.msg_controllen = sizeof control;
     const ssize_t n = ::recvmsg(descriptor_.native_handle(), &msg, MSG_DONTWAIT);
     if (n < static_cast<ssize_t>(sizeof in))
-      return;  // EAGAIN: drained (or a short read, which CAN_RAW never produces)
+      return frames;  // EAGAIN: drained (or a short read, which CAN_RAW never produces)
     std::int64_t rx_ns = 0;
     for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c; c = CMSG_NXTHDR(&msg, c)) {
       if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SO_TIMESTAMP) {
@@ -131,6 +154,7 @@ void SocketCanBus::read_all() {
     f.can_id = in.can_id;
     f.len = std::min<std::uint8_t>(in.can_dlc, CAN_MAX_DLEN);
     std::memcpy(f.data.data(), in.data, f.len);
+    ++frames;
     if (handler_)
       handler_(f, rx_ns);
   }

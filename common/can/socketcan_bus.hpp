@@ -7,6 +7,7 @@
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/posix/stream_descriptor.hpp>
+#include <boost/asio/steady_timer.hpp>
 
 #include "common/can/can_bus.hpp"
 #include "common/util/expected.hpp"
@@ -28,16 +29,23 @@ class SocketCanBus final : public CanBus {
   std::string_view kind() const override { return "vcan"; }
   std::error_code send(std::span<const CanFrame> frames) override;
   void start_receive(FrameHandler handler) override;
+  void start_on_demand(FrameHandler handler, std::chrono::milliseconds backstop) override;
+  std::size_t poll() override;
 
   std::uint64_t dropped_by_kernel() const { return dropped_; }
 
  private:
   SocketCanBus(boost::asio::io_context& io, int fd);
   void wait_next();
-  void read_all();
+  void arm_backstop();
+  /// Hands every queued frame to the handler; returns how many.
+  std::size_t read_all();
 
   boost::asio::posix::stream_descriptor descriptor_;
   FrameHandler handler_;
+  bool on_demand_ = false;
+  std::chrono::milliseconds backstop_period_{};
+  std::unique_ptr<boost::asio::steady_timer> backstop_;  ///< on demand only
   std::uint64_t dropped_ = 0;
 };
 

@@ -57,6 +57,41 @@ void UdpCanBus::start_receive(FrameHandler handler) {
   receive_next();
 }
 
+void UdpCanBus::start_on_demand(FrameHandler handler, std::chrono::milliseconds backstop) {
+  handler_ = std::move(handler);
+  on_demand_ = true;
+  socket_.non_blocking(true);
+  backstop_period_ = backstop;
+  backstop_ = std::make_unique<boost::asio::steady_timer>(socket_.get_executor());
+  arm_backstop();
+}
+
+void UdpCanBus::arm_backstop() {
+  backstop_->expires_after(backstop_period_);
+  backstop_->async_wait([this](const boost::system::error_code& ec) {
+    if (ec == boost::asio::error::operation_aborted)
+      return;
+    poll();
+    arm_backstop();
+  });
+}
+
+std::size_t UdpCanBus::poll() {
+  if (!on_demand_)
+    return 0;
+  std::size_t packets = 0;
+  for (;;) {
+    boost::system::error_code ec;
+    const std::size_t n = socket_.receive_from(boost::asio::buffer(rx_buffer_), rx_from_, 0, ec);
+    // would_block: all read. Any other error (an ICMP error queued on the socket) is consumed
+    // by the failed read; the next poll reads on.
+    if (ec)
+      return packets;
+    on_packet(n);
+    ++packets;
+  }
+}
+
 void UdpCanBus::receive_next() {
   socket_.async_receive_from(boost::asio::buffer(rx_buffer_), rx_from_,
                              [this](const boost::system::error_code& ec, std::size_t n) {

@@ -9,6 +9,7 @@
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/udp.hpp>
+#include <boost/asio/steady_timer.hpp>
 
 #include "common/can/can_bus.hpp"
 #include "common/can/cannelloni.hpp"
@@ -41,6 +42,8 @@ class UdpCanBus final : public CanBus {
   /// up by one per datagram.
   std::error_code send(std::span<const CanFrame> frames) override;
   void start_receive(FrameHandler handler) override;
+  void start_on_demand(FrameHandler handler, std::chrono::milliseconds backstop) override;
+  std::size_t poll() override;
 
   udp::endpoint local_endpoint() const { return socket_.local_endpoint(); }
   const UdpCanStats& stats() const { return stats_; }
@@ -51,6 +54,7 @@ class UdpCanBus final : public CanBus {
  private:
   explicit UdpCanBus(udp::socket socket) : socket_(std::move(socket)) {}
   void receive_next();
+  void arm_backstop();
   void on_packet(std::size_t n);
 
   udp::socket socket_;
@@ -59,6 +63,9 @@ class UdpCanBus final : public CanBus {
   std::vector<std::uint8_t> rx_buffer_ = std::vector<std::uint8_t>(65536);
   udp::endpoint rx_from_;
   FrameHandler handler_;
+  bool on_demand_ = false;
+  std::chrono::milliseconds backstop_period_{};
+  std::unique_ptr<boost::asio::steady_timer> backstop_;  ///< on demand only
   std::optional<std::uint8_t> rx_last_sequence_;
   UdpCanStats stats_;
 };

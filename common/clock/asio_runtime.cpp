@@ -4,13 +4,18 @@ namespace tb::clock {
 
 TimerId AsioRuntime::schedule_at(SteadyTime when, TimerCallback cb) {
   const TimerId id = queue_.push(when, std::move(cb));
-  if (!armed_ || when < armed_for_)
+  // Armed for an instant whose timer was cancelled (earlier than every timer left): a timer
+  // moved later — cancelled and scheduled again, as the CA service's check timer at every fix
+  // — would wake the thread for nothing; re-arming costs a timerfd update instead of a wake-up
+  // (issue 33).
+  if (!armed_ || when < armed_for_ || armed_for_ < queue_.next_due())
     rearm();
   return id;
 }
 
 void AsioRuntime::cancel(TimerId id) {
-  // A timer armed for a cancelled callback fires harmlessly and re-arms for the next one.
+  // A timer armed for a cancelled callback that nothing replaces fires harmlessly and
+  // re-arms for the next one; schedule_at() re-arms when something does.
   queue_.cancel(id);
 }
 
@@ -29,6 +34,7 @@ void AsioRuntime::rearm() {
 }
 
 void AsioRuntime::on_timer() {
+  ++wakeups_;
   while (!queue_.empty() && queue_.next_due() <= SteadyClock::now()) {
     queue_.pop()();
   }

@@ -1,6 +1,8 @@
 #pragma once
 /// @file The real-time Runtime of the programs, driven by a Boost.Asio io_context.
 
+#include <cstdint>
+
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/steady_timer.hpp>
 
@@ -16,6 +18,9 @@ class AsioRuntime final : public Runtime {
   WallTime wall_now() const override { return WallClock::now(); }
   TimerId schedule_at(SteadyTime when, TimerCallback cb) override;
   void cancel(TimerId id) override;
+  /// How often the armed timer woke the thread (for tests: a wake-up for a cancelled timer
+  /// that was replaced by a later one is one too many).
+  std::uint64_t wakeups() const { return wakeups_; }
 
  private:
   void rearm();
@@ -25,6 +30,7 @@ class AsioRuntime final : public Runtime {
   TimerQueue queue_;
   bool armed_ = false;
   SteadyTime armed_for_{};
+  std::uint64_t wakeups_ = 0;
 };
 
 }  // namespace tb::clock

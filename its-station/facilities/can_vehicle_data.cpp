@@ -180,16 +180,32 @@ CanVehicleDataProvider::CanVehicleDataProvider(can::CanBus& bus, CanVehicleDecod
     : bus_(bus), decoder_(std::move(decoder)), clock_(clock) {}
 
 void CanVehicleDataProvider::start() {
-  bus_.start_receive([this](const can::CanFrame& frame, std::int64_t) {
-    const auto r = decoder_.apply(frame, clock_.steady_now());
-    if (r == CanFrameResult::kAccepted) {
-      publish(decoder_.state());
-    } else if (r != CanFrameResult::kUnknownId && !warned_bad_) {
-      spdlog::warn("CAN: dropped frame 0x{:x}: {} (further drops are only counted)", frame.id(),
-                   to_string(r));
-      warned_bad_ = true;
-    }
-  });
+  bus_.start_on_demand([this](const can::CanFrame& frame, std::int64_t) { on_frame(frame); },
+                       kBackstop);
+}
+
+void CanVehicleDataProvider::take_in() const {
+  const clock::SteadyTime now = clock_.steady_now();
+  // Not again from inside a read (a listener that asks for current()).
+  if (polling_ || (last_poll_ && now - *last_poll_ < kPollInterval))
+    return;
+  last_poll_ = now;
+  ++polls_;
+  polling_ = true;
+  // The bus hands the frames to on_frame() through the handler given in start().
+  bus_.poll();
+  polling_ = false;
+}
+
+void CanVehicleDataProvider::on_frame(const can::CanFrame& frame) {
+  const auto r = decoder_.apply(frame, clock_.steady_now());
+  if (r == CanFrameResult::kAccepted) {
+    publish(decoder_.state());
+  } else if (r != CanFrameResult::kUnknownId && !warned_bad_) {
+    spdlog::warn("CAN: dropped frame 0x{:x}: {} (further drops are only counted)", frame.id(),
+                 to_string(r));
+    warned_bad_ = true;
+  }
 }
 
 }  // namespace tb::its::facilities

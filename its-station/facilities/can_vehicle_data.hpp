@@ -3,8 +3,10 @@
 /// (common/can/vehicle.dbc), with alive-counter and checksum checks.
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string_view>
 
 #include "common/can/can_bus.hpp"
@@ -76,19 +78,39 @@ class CanVehicleDecoder {
   Counters counters_;
 };
 
-/// VehicleDataProvider over a CanBus (SocketCAN or the UDP stand-in): every accepted frame
-/// updates the state and notifies the listeners at once.
+/// VehicleDataProvider over a CanBus (SocketCAN or the UDP stand-in). The bus is read on
+/// demand (CanBus::start_on_demand): current() takes in every frame queued since the last
+/// read, at most once per kPollInterval, and the bus reads by itself every kBackstop. The
+/// station needs its vehicle data only when it makes a CAM or evaluates LCRW (a few times per
+/// fix), so it is no longer woken by each of the 100 frames a second (issue 33). Each accepted
+/// frame updates the state and notifies the listeners when it is taken in.
 class CanVehicleDataProvider final : public VehicleDataProvider {
  public:
+  /// Reads closer together than this mostly find no new frame (they come every 10 ms at
+  /// 100 Hz, and a read that finds none is a wasted system call); it bounds the reads of a
+  /// burst of LCRW evaluations, one per received CAM, to a few per burst. The state is then
+  /// at most this much older than the newest frame, against a CAM every 100 ms or more.
+  static constexpr clock::Duration kPollInterval = std::chrono::milliseconds{5};
+  /// The longest a frame waits in the socket when nobody asks (before the first fix, say).
+  static constexpr std::chrono::milliseconds kBackstop{250};
+
   CanVehicleDataProvider(can::CanBus& bus, CanVehicleDecoder decoder, const clock::Clock& clock);
   void start();
   const CanVehicleDecoder& decoder() const { return decoder_; }
+  /// Reads of the bus made by current() so far.
+  std::uint64_t polls() const { return polls_; }
 
  private:
+  void take_in() const override;
+  void on_frame(const can::CanFrame& frame);
+
   can::CanBus& bus_;
   CanVehicleDecoder decoder_;
   const clock::Clock& clock_;
   bool warned_bad_ = false;
+  mutable std::optional<clock::SteadyTime> last_poll_;
+  mutable std::uint64_t polls_ = 0;
+  mutable bool polling_ = false;
 };
 
 }  // namespace tb::its::facilities

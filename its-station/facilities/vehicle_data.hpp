@@ -46,10 +46,22 @@ class VehicleDataProvider {
  public:
   using Listener = std::function<void(const VehicleData&)>;
   virtual ~VehicleDataProvider() = default;
-  const std::optional<VehicleData>& current() const { return current_; }
+  /// The newest vehicle data. A provider that reads its source on demand takes in what the
+  /// source has received first (take_in), so the answer is as fresh as at arrival.
+  const std::optional<VehicleData>& current() const {
+    take_in();
+    return current_;
+  }
+  /// Listeners of a provider that reads on demand hear of updates when current() or the
+  /// provider's own schedule takes them in, not at their arrival.
   void on_update(Listener l) { listeners_.push_back(std::move(l)); }
 
  protected:
+  /// Reads what the source has received and publish()es it; called by current(). A provider
+  /// whose source is read this way (CanVehicleDataProvider) is not woken for each update.
+  /// Logically const: current() answers the source's newest state either way.
+  virtual void take_in() const {}
+
   void publish(const VehicleData& d) {
     current_ = d;
     for (auto& l : listeners_)

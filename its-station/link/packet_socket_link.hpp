@@ -9,6 +9,8 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
+#include <span>
 #include <string>
 
 #include <boost/asio/io_context.hpp>
@@ -44,6 +46,17 @@ struct PacketSocketStats {
   std::uint64_t truncated = 0;           ///< larger than the receive buffer
   std::uint64_t receive_errors = 0;
 };
+
+/// What becomes of one frame the socket read (before its Ethernet header is parsed).
+enum class RxVerdict { kDeliver, kOutgoing, kOtherHost, kTruncated };
+/// @p pkttype the sockaddr_ll's sll_pkttype, @p length the frame's real length (MSG_TRUNC),
+/// @p truncated whether the kernel cut it to @p capacity bytes.
+RxVerdict classify_received(unsigned char pkttype, std::size_t length, bool truncated,
+                            std::size_t capacity);
+/// The Ethernet II frame in @p bytes (header and payload, the payload pointing into @p bytes);
+/// empty when shorter than a header.
+std::optional<ReceivedFrame> parse_ethernet(std::span<const std::uint8_t> bytes,
+                                            clock::WallTime rx_time);
 
 class PacketSocketLink final : public LinkLayer {
  public:
@@ -82,8 +95,13 @@ class PacketSocketLink final : public LinkLayer {
   std::string driver_;
   ReceiveHandler handler_;
   PacketSocketStats stats_;
+  /// Frames read per system call: a burst of up to this many costs one recvmmsg, and a
+  /// shorter one needs no further call to find the socket empty (issue 33: a station hears
+  /// its neighbours' CAMs in bursts around each GNSS epoch).
+  static constexpr std::size_t kBatch = 16;
   // An Ethernet II header and a full MTU, plus one byte to detect oversized frames.
-  std::array<std::uint8_t, 14 + kMaxPayload + 1> rx_buffer_{};
+  static constexpr std::size_t kRxFrameSize = 14 + kMaxPayload + 1;
+  std::array<std::array<std::uint8_t, kRxFrameSize>, kBatch> rx_buffers_{};
   std::array<std::uint8_t, 14 + kMaxPayload> tx_buffer_{};
 };
 

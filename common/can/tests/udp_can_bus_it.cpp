@@ -57,6 +57,33 @@ TEST(UdpCanBus, DeliversFramesOnLoopbackAndSplitsLargeBatches) {
   EXPECT_EQ(rx->stats().sequence_gaps, 0u);
 }
 
+TEST(UdpCanBus, OnDemandHoldsFramesUntilPolledOrTheBackstop) {
+  boost::asio::io_context io;
+  auto rx = UdpCanBus::bind(io, {boost::asio::ip::make_address("127.0.0.1"), 0});
+  std::vector<CanFrame> got;
+  rx->start_on_demand([&](const CanFrame& f, std::int64_t) { got.push_back(f); },
+                      std::chrono::hours{1});
+  auto tx = UdpCanBus::connect(io, rx->local_endpoint());
+  const auto frames = sample_frames(200);  // two datagrams
+  ASSERT_FALSE(tx->send(frames));
+  io.run_for(std::chrono::milliseconds(100));
+  EXPECT_TRUE(got.empty()) << "no read before poll()";
+  EXPECT_EQ(rx->poll(), rx->stats().packets);
+  EXPECT_GE(rx->stats().packets, 2u);
+  EXPECT_EQ(got, frames);
+  EXPECT_EQ(rx->poll(), 0u);
+
+  // Nobody polls: the backstop reads.
+  auto rx2 = UdpCanBus::bind(io, {boost::asio::ip::make_address("127.0.0.1"), 0});
+  std::vector<CanFrame> got2;
+  rx2->start_on_demand([&](const CanFrame& f, std::int64_t) { got2.push_back(f); },
+                       std::chrono::milliseconds{20});
+  auto tx2 = UdpCanBus::connect(io, rx2->local_endpoint());
+  ASSERT_FALSE(tx2->send(sample_frames(3)));
+  run_until(io, [&] { return got2.size() >= 3; });
+  EXPECT_EQ(got2, sample_frames(3));
+}
+
 TEST(UdpCanBus, CountsMalformedPacketsAndKeepsReceiving) {
   boost::asio::io_context io;
   auto rx = UdpCanBus::bind(io, {boost::asio::ip::make_address("127.0.0.1"), 0});

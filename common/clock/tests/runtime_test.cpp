@@ -84,5 +84,19 @@ TEST(AsioRuntime, FiresInOrderAndHonoursCancel) {
   EXPECT_EQ(order, (std::vector<int>{1, 2}));
 }
 
+// A timer moved later (cancelled and scheduled again) must not wake the thread at its old
+// instant. Real time again, at most a few tens of milliseconds.
+TEST(AsioRuntime, ATimerMovedLaterDoesNotWakeAtItsOldInstant) {
+  boost::asio::io_context io;
+  AsioRuntime rt(io);
+  int fired = 0;
+  const TimerId first = rt.schedule_in(5ms, [&] { ++fired; });
+  rt.cancel(first);
+  rt.schedule_in(30ms, [&] { ++fired; });
+  io.run_for(2s);
+  EXPECT_EQ(fired, 1);
+  EXPECT_EQ(rt.wakeups(), 1u) << "woken at the cancelled timer's instant";
+}
+
 }  // namespace
 }  // namespace tb::clock

@@ -3,7 +3,9 @@
 #include <fstream>
 
 #include <map>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "common/can/checksum.hpp"
 #include "common/can/dbc.hpp"
@@ -164,6 +166,116 @@ TEST(CanVehicleDecoder, MissingSignalsInTheDbcAreNamed) {
   auto d = CanVehicleDecoder::create(*db);
   ASSERT_FALSE(d);
   EXPECT_NE(d.error().detail.find("VehicleSpeed"), std::string::npos) << d.error().detail;
+}
+
+/// A bus whose frames wait until poll(), as a socket read on demand; or, with push set, one
+/// that can only deliver at arrival (the CanBus default).
+class QueueBus final : public can::CanBus {
+ public:
+  explicit QueueBus(bool push = false) : push_(push) {}
+  std::string_view kind() const override { return "test"; }
+  std::error_code send(std::span<const can::CanFrame>) override { return {}; }
+  void start_receive(FrameHandler handler) override { handler_ = std::move(handler); }
+  void start_on_demand(FrameHandler handler, std::chrono::milliseconds backstop) override {
+    if (push_) {
+      CanBus::start_on_demand(std::move(handler), backstop);
+      return;
+    }
+    handler_ = std::move(handler);
+    backstop_ = backstop;
+  }
+  std::size_t poll() override {
+    ++polls;
+    const std::size_t n = queued_.size();
+    for (const auto& f : queued_)
+      handler_(f, 0);
+    queued_.clear();
+    return n;
+  }
+  /// A frame arrives: queued, or handed over at once on a push bus.
+  void arrive(const can::CanFrame& f) {
+    if (push_)
+      handler_(f, 0);
+    else
+      queued_.push_back(f);
+  }
+  std::chrono::milliseconds backstop_{};
+  int polls = 0;
+
+ private:
+  bool push_;
+  FrameHandler handler_;
+  std::vector<can::CanFrame> queued_;
+};
+
+can::CanFrame speed_frame(double kmh, int counter) {
+  return frame("VehicleSpeed", {{"VehicleSpeed", kmh}, {"DrivingDirection", 1}}, counter);
+}
+
+TEST(CanVehicleDataProvider, ReadsTheBusWhenAskedNotAtEachFrame) {
+  QueueBus bus;
+  clock::ManualClock clock;
+  CanVehicleDataProvider provider(bus, decoder(), clock);
+  int updates = 0;
+  provider.on_update([&](const VehicleData&) { ++updates; });
+  provider.start();
+  EXPECT_EQ(bus.backstop_, CanVehicleDataProvider::kBackstop);
+  bus.arrive(speed_frame(36.0, 0));
+  bus.arrive(speed_frame(54.0, 1));
+  EXPECT_EQ(updates, 0) << "a frame is taken in when asked for, not at arrival";
+  const auto& now = provider.current();
+  ASSERT_TRUE(now && now->speed_mps);
+  EXPECT_NEAR(*now->speed_mps, 15.0, 0.01) << "the newest frame";
+  EXPECT_EQ(updates, 2);
+  EXPECT_EQ(provider.polls(), 1u);
+  EXPECT_EQ(provider.decoder().counters().lost, 0u) << "queued frames are not lost frames";
+}
+
+TEST(CanVehicleDataProvider, ReadsAtMostOncePerPollInterval) {
+  QueueBus bus;
+  clock::ManualClock clock;
+  CanVehicleDataProvider provider(bus, decoder(), clock);
+  provider.start();
+  bus.arrive(speed_frame(36.0, 0));
+  ASSERT_TRUE(provider.current());
+  bus.arrive(speed_frame(72.0, 1));
+  clock.advance(CanVehicleDataProvider::kPollInterval / 2);
+  EXPECT_NEAR(*provider.current()->speed_mps, 10.0, 0.01) << "asked again within the interval";
+  EXPECT_EQ(bus.polls, 1);
+  clock.advance(CanVehicleDataProvider::kPollInterval / 2);
+  EXPECT_NEAR(*provider.current()->speed_mps, 20.0, 0.01);
+  EXPECT_EQ(bus.polls, 2);
+}
+
+TEST(CanVehicleDataProvider, AListenerAskingForCurrentDoesNotReadAgain) {
+  QueueBus bus;
+  clock::ManualClock clock;
+  CanVehicleDataProvider provider(bus, decoder(), clock);
+  std::vector<double> seen;
+  provider.on_update([&](const VehicleData&) {
+    clock.advance(CanVehicleDataProvider::kPollInterval);
+    seen.push_back(*provider.current()->speed_mps);
+  });
+  provider.start();
+  bus.arrive(speed_frame(36.0, 0));
+  bus.arrive(speed_frame(72.0, 1));
+  ASSERT_TRUE(provider.current());
+  EXPECT_EQ(bus.polls, 1);
+  ASSERT_EQ(seen.size(), 2u);
+  EXPECT_NEAR(seen[0], 10.0, 0.01);
+  EXPECT_NEAR(seen[1], 20.0, 0.01);
+}
+
+TEST(CanVehicleDataProvider, ABusThatDeliversAtArrivalStillWorks) {
+  QueueBus bus(/*push=*/true);
+  clock::ManualClock clock;
+  CanVehicleDataProvider provider(bus, decoder(), clock);
+  int updates = 0;
+  provider.on_update([&](const VehicleData&) { ++updates; });
+  provider.start();
+  bus.arrive(speed_frame(36.0, 0));
+  EXPECT_EQ(updates, 1);
+  EXPECT_NEAR(*provider.current()->speed_mps, 10.0, 0.01);
 }
 
 }  // namespace

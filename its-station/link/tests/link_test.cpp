@@ -4,6 +4,8 @@
 #include <fstream>
 #include <iterator>
 
+#include <linux/if_packet.h>
+
 #include <boost/asio/io_context.hpp>
 
 #include "its-station/link/capturing_link.hpp"
@@ -67,6 +69,35 @@ TEST(PacketSocketLink, OverlongInterfaceNameIsRejectedBeforeAnySyscall) {
   ASSERT_FALSE(link);
   EXPECT_EQ(link.error().kind, OpenErrorKind::kNoSuchInterface);
   EXPECT_NE(link.error().message().find("Invalid argument"), std::string::npos);
+}
+
+TEST(PacketSocketLink, ClassifiesEachReceivedFrame) {
+  constexpr std::size_t kCapacity = 14 + kMaxPayload + 1;
+  EXPECT_EQ(classify_received(PACKET_HOST, 100, false, kCapacity), RxVerdict::kDeliver);
+  EXPECT_EQ(classify_received(PACKET_BROADCAST, 14 + kMaxPayload, false, kCapacity),
+            RxVerdict::kDeliver);
+  EXPECT_EQ(classify_received(PACKET_OUTGOING, 100, false, kCapacity), RxVerdict::kOutgoing);
+  EXPECT_EQ(classify_received(PACKET_OTHERHOST, 100, false, kCapacity), RxVerdict::kOtherHost);
+  // A frame that fills the spare byte, or that the kernel cut, is larger than an MTU.
+  EXPECT_EQ(classify_received(PACKET_BROADCAST, kCapacity, false, kCapacity),
+            RxVerdict::kTruncated);
+  EXPECT_EQ(classify_received(PACKET_BROADCAST, 9000, true, kCapacity), RxVerdict::kTruncated);
+}
+
+TEST(PacketSocketLink, ParsesTheEthernetHeaderAndRefusesAShorterFrame) {
+  const std::vector<std::uint8_t> bytes = {0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0x02, 0x00,
+                                           0x00, 0x00, 0x03, 0xe9, 0x89, 0x47, 0x11, 0x22};
+  const clock::WallTime t{std::chrono::seconds{1'700'000'000}};
+  const auto f = parse_ethernet(bytes, t);
+  ASSERT_TRUE(f);
+  EXPECT_EQ(f->destination, kBroadcastMac);
+  EXPECT_EQ(f->source, (MacAddress{0x02, 0x00, 0x00, 0x00, 0x03, 0xe9}));
+  EXPECT_EQ(f->ethertype, kEtherTypeGeoNetworking);
+  ASSERT_EQ(f->payload.size(), 2u);
+  EXPECT_EQ(f->payload.data(), bytes.data() + 14) << "the payload points into the buffer";
+  EXPECT_EQ(f->rx_time, t);
+  EXPECT_FALSE(parse_ethernet(std::span(bytes).first(13), t));
+  EXPECT_TRUE(parse_ethernet(std::span(bytes).first(14), t));
 }
 
 }  // namespace
