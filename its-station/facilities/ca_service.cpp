@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 
 #include <spdlog/spdlog.h>
 
@@ -291,10 +292,11 @@ void CaService::generate(CamTrigger why, const PositionFix& fix) {
 
 void CaService::receive(std::span<const std::uint8_t> payload, clock::WallTime rx_time,
                         std::optional<std::span<const std::uint8_t>> ssp) {
-  auto cam = messages::decode_cam(payload);
-  if (!cam) {
+  // Decoded once into the object the LDM keeps: the station copies no CAM (issue 33).
+  auto cam = std::make_shared<messages::Cam>();
+  if (const auto decoded = messages::decode(payload, *cam); !decoded) {
     ++counters_.decode_errors;
-    spdlog::debug("CA service: dropped undecodable CAM: {}", asn1::to_string(cam.error()));
+    spdlog::debug("CA service: dropped undecodable CAM: {}", asn1::to_string(decoded.error()));
     return;
   }
   if (cam->header.stationID == config_.station_id) {
@@ -310,13 +312,15 @@ void CaService::receive(std::span<const std::uint8_t> payload, clock::WallTime r
     }
   }
   ++counters_.received;
-  trace::global().record("its.cam_rx", {{"station", config_.station_id},
-                                        {"from", cam->header.stationID},
-                                        {"gdt", unsigned{cam->cam.generationDeltaTime}}});
-  ldm_.add_cam(*cam, rx_time);
-  trace::global().record("its.ldm", {{"station", config_.station_id},
-                                     {"from", cam->header.stationID},
-                                     {"gdt", unsigned{cam->cam.generationDeltaTime}}});
+  const auto from = cam->header.stationID;
+  const unsigned gdt = cam->cam.generationDeltaTime;
+  if (config_.trace_receptions)
+    trace::global().record("its.cam_rx",
+                           {{"station", config_.station_id}, {"from", from}, {"gdt", gdt}});
+  ldm_.add_cam(std::move(cam), rx_time);
+  if (config_.trace_receptions)
+    trace::global().record("its.ldm",
+                           {{"station", config_.station_id}, {"from", from}, {"gdt", gdt}});
 }
 
 }  // namespace tb::its::facilities

@@ -29,6 +29,10 @@ struct CaConfig {
   messages::VehicleRole vehicle_role = messages::VehicleRole::default_;
   /// What a dangerousGoods vehicle carries (its DangerousGoodsContainer).
   std::optional<messages::DangerousGoodsBasic> dangerous_goods;
+  /// Whether received CAMs are traced (its.cam_rx, its.ldm; docs/tracing.md). Off for a pooled
+  /// station: 300 of them in range would write 300 × 800 records a second (issue 33). The
+  /// records of the station's own CAMs stay.
+  bool trace_receptions = true;
 };
 
 /// The special-vehicle container of @p config's role (EN 302 637-2 B.2.x): publicTransport,
