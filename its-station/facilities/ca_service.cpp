@@ -292,13 +292,14 @@ void CaService::generate(CamTrigger why, const PositionFix& fix) {
 
 void CaService::receive(std::span<const std::uint8_t> payload, clock::WallTime rx_time,
                         std::optional<std::span<const std::uint8_t>> ssp) {
-  // Decoded once into the object the LDM keeps: the station copies no CAM (issue 33).
-  auto cam = std::make_shared<messages::Cam>();
-  if (const auto decoded = messages::decode(payload, *cam); !decoded) {
+  // Decoded into the object the LDM keeps (issue 33: no copy per station).
+  auto decoded = decoder_ ? decoder_->decode(payload) : decode_shared_cam(payload);
+  if (!decoded) {
     ++counters_.decode_errors;
     spdlog::debug("CA service: dropped undecodable CAM: {}", asn1::to_string(decoded.error()));
     return;
   }
+  std::shared_ptr<const messages::Cam> cam = std::move(*decoded);
   if (cam->header.stationID == config_.station_id) {
     ++counters_.own_dropped;
     return;

@@ -11,6 +11,7 @@
 #include "its-station/facilities/ldm.hpp"
 #include "its-station/facilities/path_history.hpp"
 #include "its-station/facilities/position.hpp"
+#include "its-station/facilities/shared_cam_decoder.hpp"
 #include "its-station/facilities/transport.hpp"
 #include "its-station/facilities/vehicle_data.hpp"
 #include "its-station/messages/cam.hpp"
@@ -83,6 +84,10 @@ class CaService {
   void receive(std::span<const std::uint8_t> payload, clock::WallTime rx_time,
                std::optional<std::span<const std::uint8_t>> ssp = std::nullopt);
 
+  /// Decode received CAMs through @p decoder (shared by the services of one thread, which then
+  /// keep one decoded CAM per frame between them); null: each CAM decoded on its own.
+  void set_shared_decoder(SharedCamDecoder* decoder) { decoder_ = decoder; }
+
   void on_sent(SentListener l) { sent_listeners_.push_back(std::move(l)); }
   const Counters& counters() const { return counters_; }
   const CamRules& rules() const { return rules_; }
@@ -108,6 +113,7 @@ class CaService {
   PathHistoryRecorder path_;
   Counters counters_;
   std::vector<SentListener> sent_listeners_;
+  SharedCamDecoder* decoder_ = nullptr;
   clock::TimerId check_timer_ = 0;
   bool running_ = false;
   bool reported_no_fix_ = false;

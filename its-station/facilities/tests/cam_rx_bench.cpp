@@ -166,7 +166,9 @@ tb::its::link::MacAddress pooled_mac(std::uint32_t id) {
 /// (`per_station_cam`), the receive path plus its share of the timers.
 void BM_CamToPooledStations(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
+  const bool share_decoder = state.range(1) != 0;
   tb::clock::ManualRuntime rt;
+  fac::SharedCamDecoder decoder;
   gn::StaticPositionProvider own;
   own.set({rt.wall_now(), gn::testing::kOriginLat, gn::testing::kOriginLon, 10.0, 90.0, true});
   fac::InjectedPositionProvider position;
@@ -177,6 +179,8 @@ void BM_CamToPooledStations(benchmark::State& state) {
     const auto id = 1000 + static_cast<std::uint32_t>(i);
     stations.push_back(
         std::make_unique<PooledReceiver>(rt, own, position, sender, pooled_mac(id), id));
+    if (share_decoder)
+      stations.back()->ca.set_shared_decoder(&decoder);
     gn::testing::PacketSpec s;
     s.source =
         gn::testing::remote_pv(0, gn::testing::at(10.0 * i, 5), gn::to_timestamp(rt.wall_now()));
@@ -221,7 +225,12 @@ void BM_CamToPooledStations(benchmark::State& state) {
       static_cast<double>(deliveries), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.counters["neighbours"] = static_cast<double>(neighbours) / n;
 }
-BENCHMARK(BM_CamToPooledStations)->Arg(300)->Unit(benchmark::kMicrosecond);
+// Second argument 1: the stations share one SharedCamDecoder (one decoded CAM per frame).
+BENCHMARK(BM_CamToPooledStations)
+    ->ArgNames({"stations", "shared_decoder"})
+    ->Args({300, 0})
+    ->Args({300, 1})
+    ->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 
