@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 
 #include <spdlog/spdlog.h>
 
@@ -291,12 +292,14 @@ void CaService::generate(CamTrigger why, const PositionFix& fix) {
 
 void CaService::receive(std::span<const std::uint8_t> payload, clock::WallTime rx_time,
                         std::optional<std::span<const std::uint8_t>> ssp) {
-  auto cam = messages::decode_cam(payload);
-  if (!cam) {
+  // Decoded into the object the LDM keeps (issue 33: no copy per station).
+  auto decoded = decoder_ ? decoder_->decode(payload) : decode_shared_cam(payload);
+  if (!decoded) {
     ++counters_.decode_errors;
-    spdlog::debug("CA service: dropped undecodable CAM: {}", asn1::to_string(cam.error()));
+    spdlog::debug("CA service: dropped undecodable CAM: {}", asn1::to_string(decoded.error()));
     return;
   }
+  std::shared_ptr<const messages::Cam> cam = std::move(*decoded);
   if (cam->header.stationID == config_.station_id) {
     ++counters_.own_dropped;
     return;
@@ -310,13 +313,15 @@ void CaService::receive(std::span<const std::uint8_t> payload, clock::WallTime r
     }
   }
   ++counters_.received;
-  trace::global().record("its.cam_rx", {{"station", config_.station_id},
-                                        {"from", cam->header.stationID},
-                                        {"gdt", unsigned{cam->cam.generationDeltaTime}}});
-  ldm_.add_cam(*cam, rx_time);
-  trace::global().record("its.ldm", {{"station", config_.station_id},
-                                     {"from", cam->header.stationID},
-                                     {"gdt", unsigned{cam->cam.generationDeltaTime}}});
+  const auto from = cam->header.stationID;
+  const unsigned gdt = cam->cam.generationDeltaTime;
+  if (config_.trace_receptions)
+    trace::global().record("its.cam_rx",
+                           {{"station", config_.station_id}, {"from", from}, {"gdt", gdt}});
+  ldm_.add_cam(std::move(cam), rx_time);
+  if (config_.trace_receptions)
+    trace::global().record("its.ldm",
+                           {{"station", config_.station_id}, {"from", from}, {"gdt", gdt}});
 }
 
 }  // namespace tb::its::facilities

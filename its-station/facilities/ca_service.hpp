@@ -11,6 +11,7 @@
 #include "its-station/facilities/ldm.hpp"
 #include "its-station/facilities/path_history.hpp"
 #include "its-station/facilities/position.hpp"
+#include "its-station/facilities/shared_cam_decoder.hpp"
 #include "its-station/facilities/transport.hpp"
 #include "its-station/facilities/vehicle_data.hpp"
 #include "its-station/messages/cam.hpp"
@@ -29,6 +30,10 @@ struct CaConfig {
   messages::VehicleRole vehicle_role = messages::VehicleRole::default_;
   /// What a dangerousGoods vehicle carries (its DangerousGoodsContainer).
   std::optional<messages::DangerousGoodsBasic> dangerous_goods;
+  /// Whether received CAMs are traced (its.cam_rx, its.ldm; docs/tracing.md). Off for a pooled
+  /// station: 300 of them in range would write 300 × 800 records a second (issue 33). The
+  /// records of the station's own CAMs stay.
+  bool trace_receptions = true;
 };
 
 /// The special-vehicle container of @p config's role (EN 302 637-2 B.2.x): publicTransport,
@@ -79,6 +84,10 @@ class CaService {
   void receive(std::span<const std::uint8_t> payload, clock::WallTime rx_time,
                std::optional<std::span<const std::uint8_t>> ssp = std::nullopt);
 
+  /// Decode received CAMs through @p decoder (shared by the services of one thread, which then
+  /// keep one decoded CAM per frame between them); null: each CAM decoded on its own.
+  void set_shared_decoder(SharedCamDecoder* decoder) { decoder_ = decoder; }
+
   void on_sent(SentListener l) { sent_listeners_.push_back(std::move(l)); }
   const Counters& counters() const { return counters_; }
   const CamRules& rules() const { return rules_; }
@@ -104,6 +113,7 @@ class CaService {
   PathHistoryRecorder path_;
   Counters counters_;
   std::vector<SentListener> sent_listeners_;
+  SharedCamDecoder* decoder_ = nullptr;
   clock::TimerId check_timer_ = 0;
   bool running_ = false;
   bool reported_no_fix_ = false;

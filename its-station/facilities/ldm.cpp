@@ -48,7 +48,8 @@ std::int64_t Ldm::now_its() const {
   return timestamp_its(runtime_.wall_now());
 }
 
-void Ldm::add_cam(const messages::Cam& cam, clock::WallTime rx_wall) {
+void Ldm::add_cam(std::shared_ptr<const messages::Cam> shared, clock::WallTime rx_wall) {
+  const messages::Cam& cam = *shared;
   const auto& basic = cam.cam.camParameters.basicContainer;
   const auto lat = cdd::latitude_deg(basic.referencePosition.latitude);
   const auto lon = cdd::longitude_deg(basic.referencePosition.longitude);
@@ -70,10 +71,20 @@ void Ldm::add_cam(const messages::Cam& cam, clock::WallTime rx_wall) {
       s.speed_mps = -*s.speed_mps;
   }
 
-  auto& n = neighbours_[cam.header.stationID];
+  const auto id = cam.header.stationID;
+  auto [slot, is_new] = by_id_.try_emplace(id, nullptr);
+  if (is_new) {
+    Neighbour& added = neighbours_[id];
+    added.expiry_pos_ = expiry_order_.emplace(expiry_order_.end(), s.received, id);
+    slot->second = &added;
+  } else {
+    slot->second->expiry_pos_->first = s.received;
+    expiry_order_.splice(expiry_order_.end(), expiry_order_, slot->second->expiry_pos_);
+  }
+  auto& n = *slot->second;
   n.station_id = cam.header.stationID;
   n.station_type = basic.stationType;
-  n.last_cam = cam;
+  n.last_cam = std::move(shared);
   n.history.push_front(s);
   while (n.history.size() > config_.history_length)
     n.history.pop_back();
@@ -129,15 +140,14 @@ DenmOutcome Ldm::add_denm(const messages::Denm& denm) {
 
 void Ldm::expire() {
   const auto now = runtime_.steady_now();
-  for (auto it = neighbours_.begin(); it != neighbours_.end();) {
-    if (now - it->second.latest().received > config_.neighbour_timeout) {
-      const auto id = it->first;
-      it = neighbours_.erase(it);
-      for (auto& l : gone_listeners_)
-        l(id);
-    } else {
-      ++it;
-    }
+  // The steady clock only moves on, so the order of receptions is the order of expiry.
+  while (!expiry_order_.empty() && now - expiry_order_.front().first > config_.neighbour_timeout) {
+    const auto id = expiry_order_.front().second;
+    expiry_order_.pop_front();
+    neighbours_.erase(id);
+    by_id_.erase(id);
+    for (auto& l : gone_listeners_)
+      l(id);
   }
   const auto its = now_its();
   for (auto it = events_.begin(); it != events_.end();) {
@@ -149,8 +159,8 @@ void Ldm::expire() {
 }
 
 const Neighbour* Ldm::neighbour(messages::StationID id) const {
-  auto it = neighbours_.find(id);
-  return it == neighbours_.end() ? nullptr : &it->second;
+  auto it = by_id_.find(id);
+  return it == by_id_.end() ? nullptr : it->second;
 }
 
 std::vector<const Event*> Ldm::active_events() const {

@@ -5,9 +5,12 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <list>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 #include "common/clock/runtime.hpp"
@@ -28,12 +31,22 @@ struct NeighbourSample {
   std::optional<double> speed_mps;  ///< signed: negative when driving backward
 };
 
+class Ldm;
+
 struct Neighbour {
   messages::StationID station_id = 0;
   messages::StationType station_type = 0;
-  messages::Cam last_cam;               ///< the newest CAM, as received
+  /// The newest CAM, as received and decoded: shared and immutable, so that a station keeps it
+  /// without copying its 1.6 kB (issue 33: the copy was a third of a pooled station's reception
+  /// cost). Set for every neighbour the LDM holds.
+  std::shared_ptr<const messages::Cam> last_cam;
   std::deque<NeighbourSample> history;  ///< newest first
   const NeighbourSample& latest() const { return history.front(); }
+
+ private:
+  friend class Ldm;
+  /// The LDM's place of this neighbour in its reception order (Ldm::expiry_order_).
+  std::list<std::pair<clock::SteadyTime, messages::StationID>>::iterator expiry_pos_;
 };
 
 /// An event from a DENM, keyed by its action ID.
@@ -84,8 +97,9 @@ class Ldm {
   Ldm(const Ldm&) = delete;
   Ldm& operator=(const Ldm&) = delete;
 
-  /// A CAM from another station arrived (decoded). Ignores CAMs without a position.
-  void add_cam(const messages::Cam& cam, clock::WallTime rx_wall);
+  /// A CAM from another station arrived (decoded); the neighbour keeps @p cam (not a copy).
+  /// Ignores CAMs without a position.
+  void add_cam(std::shared_ptr<const messages::Cam> cam, clock::WallTime rx_wall);
   /// A DENM arrived; applies the receiving rules and says what became of it:
   /// - validity over (detectionTime + validityDuration ≤ now): kExpired;
   /// - unknown action ID: kNew, or kUnknownTermination for a termination;
@@ -99,7 +113,8 @@ class Ldm {
   ///   the one the negation named).
   DenmOutcome add_denm(const messages::Denm& denm);
 
-  /// Removes expired neighbours and events now (also done by the periodic sweep).
+  /// Removes expired neighbours and events now (also done by the periodic sweep). Costs the
+  /// neighbours it removes, not the ones it keeps.
   void expire();
 
   // Queries for applications.
@@ -124,6 +139,13 @@ class Ldm {
   clock::Runtime& runtime_;
   LdmConfig config_;
   std::map<messages::StationID, Neighbour> neighbours_;
+  /// neighbours_ by hash: a CAM finds its sender in one or two cache lines, not down a tree of
+  /// hundreds of neighbours (issue 33: the tree walk was most of a pooled station's add_cam).
+  std::unordered_map<messages::StationID, Neighbour*> by_id_;
+  /// Every neighbour once, by the time of its latest CAM, oldest first: a CAM moves its sender
+  /// to the back, so expiry looks at the front only instead of walking all neighbours (issue
+  /// 33: the walk at every sweep was a fifth of a pooled station's reception cost).
+  std::list<std::pair<clock::SteadyTime, messages::StationID>> expiry_order_;
   std::map<ActionKey, Event> events_;
   std::vector<NeighbourListener> neighbour_listeners_;
   std::vector<NeighbourGoneListener> gone_listeners_;

@@ -28,6 +28,7 @@ LocationTableEntry& LocationTable::find_or_create(const GnAddress& address, cloc
     e = LocationTableEntry{};
     e.address = address;
     e.expires = now + lifetime_;
+    earliest_expiry_ = std::min(earliest_expiry_, e.expires);
   }
   return e;
 }
@@ -55,7 +56,17 @@ bool LocationTable::is_duplicate_sequence_number(LocationTableEntry& entry, std:
 }
 
 std::size_t LocationTable::purge(clock::SteadyTime now) {
-  return std::erase_if(entries_, [now](const auto& kv) { return kv.second.expires <= now; });
+  if (now < earliest_expiry_)
+    return 0;
+  clock::SteadyTime earliest = clock::SteadyTime::max();
+  const auto removed = std::erase_if(entries_, [&](const auto& kv) {
+    if (kv.second.expires <= now)
+      return true;
+    earliest = std::min(earliest, kv.second.expires);
+    return false;
+  });
+  earliest_expiry_ = earliest;
+  return removed;
 }
 
 }  // namespace tb::its::geonet

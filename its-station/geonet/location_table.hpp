@@ -56,7 +56,8 @@ class LocationTable {
   /// Annex A.2: true if @p sn is in the entry's duplicate packet list; otherwise records it.
   static bool is_duplicate_sequence_number(LocationTableEntry& entry, std::uint16_t sn);
 
-  /// Removes expired entries; returns how many.
+  /// Removes expired entries; returns how many. Walks the table only once its earliest expiry
+  /// has come (issue 33: a pooled station walked its hundreds of entries every second).
   std::size_t purge(clock::SteadyTime now);
   /// Entries held, live or not yet purged.
   std::size_t size() const { return entries_.size(); }
@@ -73,6 +74,9 @@ class LocationTable {
  private:
   clock::Duration lifetime_;
   std::unordered_map<std::uint64_t, LocationTableEntry> entries_;
+  /// No entry expires before this. Every expiry is set to the then steady now + lifetime_, so
+  /// none moves earlier: the earliest one a purge left stays a bound, lowered by new entries.
+  clock::SteadyTime earliest_expiry_ = clock::SteadyTime::max();
 };
 
 }  // namespace tb::its::geonet

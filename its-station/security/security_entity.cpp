@@ -72,16 +72,17 @@ std::vector<SecuredIndication> SecurityEntity::decapsulate(std::span<const std::
   const std::int64_t start_ns = trace::Tracer::now_ns();
   Verification v = verifier_.verify(secured, now);
   const std::int64_t end_ns = trace::Tracer::now_ns();
-  trace::global().record_at(
-      start_ns, "its.verify",
-      {{"station", trace_station_},
-       {"psid", v.result != VerifyResult::kMalformed &&
-                        v.data.content == Ieee1609Dot2Data::Content::kSignedData
-                    ? v.data.signed_data.tbs.header.psid
-                    : Psid{0}},
-       {"result", to_string(v.result)},
-       {"certificate", v.signer_certificate_included},
-       {"end_ns", end_ns}});
+  const Psid psid = v.result != VerifyResult::kMalformed &&
+                            v.data.content == Ieee1609Dot2Data::Content::kSignedData
+                        ? v.data.signed_data.tbs.header.psid
+                        : Psid{0};
+  if (trace_cam_receptions_ || psid != kPsidCam)
+    trace::global().record_at(start_ns, "its.verify",
+                              {{"station", trace_station_},
+                               {"psid", psid},
+                               {"result", to_string(v.result)},
+                               {"certificate", v.signer_certificate_included},
+                               {"end_ns", end_ns}});
   if (v.result != VerifyResult::kMalformed &&
       v.data.content == Ieee1609Dot2Data::Content::kSignedData) {
     const auto& h = v.data.signed_data.tbs.header;

@@ -53,6 +53,9 @@ class SecurityEntity {
   /// The station id its trace records (its.sign, its.verify) carry, for the latency report to
   /// join them to the station's CAMs.
   void set_trace_station(std::uint32_t id) { trace_station_ = id; }
+  /// Whether received CAMs' its.verify records are written (the other services' are, rare as
+  /// they are); off for a pooled station, as its CA service's reception records (issue 33).
+  void set_trace_cam_receptions(bool on) { trace_cam_receptions_ = on; }
 
   /// The signed data for @p payload of service @p psid (CAM and DENM after their profiles;
   /// @p where is the DENM's generationLocation).
@@ -94,6 +97,7 @@ class SecurityEntity {
   std::deque<Held> held_;
   std::uint64_t passed_unverified_ = 0;
   std::uint32_t trace_station_ = 0;
+  bool trace_cam_receptions_ = true;
 };
 
 }  // namespace tb::its::security

@@ -183,7 +183,9 @@ apps::mqtt::Kinematics neighbour_kinematics(const facilities::Neighbour& n) {
   const auto& s = n.latest();
   k.latitude_deg = s.latitude_deg;
   k.longitude_deg = s.longitude_deg;
-  const auto& p = n.last_cam.cam.camParameters;
+  if (!n.last_cam)
+    return k;  // not from the LDM, which keeps every neighbour's CAM
+  const auto& p = n.last_cam->cam.camParameters;
   if (p.basicContainer.referencePosition.altitude.altitudeValue !=
       messages::kAltitudeValueUnavailable)
     k.altitude_m = p.basicContainer.referencePosition.altitude.altitudeValue / 100.0;
@@ -202,7 +204,7 @@ apps::mqtt::Kinematics neighbour_kinematics(const facilities::Neighbour& n) {
     k.yaw_rate_dps = hf.yawRate.yawRateValue / 100.0;
   // CDD CurvatureValue: 1/10000 m⁻¹ with ±1023 out of range / unavailable; protocolVersion 1
   // 1/30000 m⁻¹ with 30001 unavailable.
-  const bool v1 = n.last_cam.header.protocolVersion == messages::kProtocolVersion1;
+  const bool v1 = n.last_cam->header.protocolVersion == messages::kProtocolVersion1;
   const int c = hf.curvature.curvatureValue;
   if (v1 ? c != messages::kCurvatureValueUnavailableV1 && std::abs(c) < 30000
          : std::abs(c) < messages::kCurvatureValueUnavailable)

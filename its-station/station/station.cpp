@@ -79,8 +79,10 @@ Station::Station(const StationPorts& ports, StationConfig config)
       den_(its_clock_, sender_, ldm_, den_config(config_), &den_locator_),
       den_port_(den_, config_.denm_repetition_interval, config_.denm_repetition_duration) {
   router_.set_security(security_);
-  if (security_)
+  if (security_) {
     security_->set_trace_station(config_.station_id);
+    security_->set_trace_cam_receptions(config_.ca.trace_receptions);
+  }
 
   btp_.register_port(fac::kBtpPortCam,
                      [this](const btp::Indication& ind, std::span<const std::uint8_t> payload) {

@@ -78,6 +78,12 @@ class Station {
   /// Stops sending CAMs and evaluating LCRW at predicted onsets.
   void stop();
 
+  /// Decode received CAMs through @p decoder, shared with the other stations of this thread
+  /// (station-host's pooled stations): one decoded CAM per frame for all of them (issue 33).
+  void share_cam_decoder(facilities::SharedCamDecoder& decoder) {
+    ca_.set_shared_decoder(&decoder);
+  }
+
   /// The LDM as the station sees it, its counters and, when it verifies, what it refused:
   /// what its-station writes to --status-file. A refusal the station had not reported before is
   /// also said once in the log (a station of another PKI: untrusted_root).

@@ -23,6 +23,10 @@ StationConfig make_station_config(std::uint32_t station_id, const scenario::Scen
     if (vehicle->dangerous_goods)
       ca.dangerous_goods = static_cast<messages::DangerousGoodsBasic>(*vehicle->dangerous_goods);
   }
+  // A pooled station traces what it sends, not every CAM it hears: 300 in range would write
+  // 300 × 800 reception records a second (issue 33, docs/tracing.md).
+  ca.trace_receptions =
+      vehicle == nullptr || vehicle->station_kind != scenario::StationKind::kPooled;
   if (o.cam_policy == "fixed") {
     ca.policy.kind = scenario::CamPolicy::Kind::kFixed;
   } else if (o.cam_policy == "etsi") {

@@ -537,6 +537,57 @@ TEST(CaService, ReceivedCamsReachTheLdmButOwnAreDropped) {
   EXPECT_EQ(c.counters().decode_errors, 1u);
 }
 
+// Stations of one thread that share a decoder keep one decoded CAM per frame between them; a
+// different frame, or one after an undecodable one, is decoded anew.
+TEST(CaService, StationsSharingADecoderKeepOneCamPerFrame) {
+  clock::ManualRuntime rt;
+  RecordingSender sender;
+  InjectedPositionProvider pos;
+  SharedCamDecoder decoder;
+  Ldm ldm_a(rt);
+  Ldm ldm_b(rt);
+  CaConfig cfg;
+  cfg.station_id = 2002;
+  CaService a(rt, pos, nullptr, sender, ldm_a, cfg);
+  cfg.station_id = 2003;
+  CaService b(rt, pos, nullptr, sender, ldm_b, cfg);
+  a.set_shared_decoder(&decoder);
+  b.set_shared_decoder(&decoder);
+
+  auto encoded = [](messages::Cam cam, messages::StationID from) {
+    cam.header.stationID = from;
+    auto bytes = messages::encode(cam);
+    EXPECT_TRUE(bytes);
+    return *bytes;
+  };
+  const auto samples = messages::samples::cams_special_vehicle();
+  const auto first = encoded(samples[0], 77);
+  const auto second = encoded(samples[1], 77);
+  a.receive(first, rt.wall_now());
+  b.receive(first, rt.wall_now());
+  ASSERT_NE(ldm_a.neighbour(77), nullptr);
+  ASSERT_NE(ldm_b.neighbour(77), nullptr);
+  EXPECT_EQ(ldm_a.neighbour(77)->last_cam.get(), ldm_b.neighbour(77)->last_cam.get());
+  EXPECT_EQ(*ldm_a.neighbour(77)->last_cam, *messages::decode_cam(first));
+  EXPECT_EQ(decoder.decoded(), 1u);
+  EXPECT_EQ(decoder.reused(), 1u);
+
+  a.receive(second, rt.wall_now());
+  EXPECT_NE(ldm_a.neighbour(77)->last_cam.get(), ldm_b.neighbour(77)->last_cam.get());
+  EXPECT_EQ(*ldm_a.neighbour(77)->last_cam, *messages::decode_cam(second));
+  EXPECT_EQ(decoder.decoded(), 2u);
+
+  const std::vector<std::uint8_t> junk{0x02, 0x02, 0xff};
+  a.receive(junk, rt.wall_now());
+  b.receive(junk, rt.wall_now());
+  EXPECT_EQ(a.counters().decode_errors, 1u);
+  EXPECT_EQ(b.counters().decode_errors, 1u);
+  b.receive(second, rt.wall_now());
+  EXPECT_EQ(*ldm_b.neighbour(77)->last_cam, *messages::decode_cam(second));
+  EXPECT_EQ(decoder.decoded(), 3u);
+  EXPECT_EQ(decoder.reused(), 1u);
+}
+
 TEST(CaService, ASignedCamIsCheckedAgainstItsSignersSsp) {
   CaHarness b;
   InjectedPositionProvider pos;

@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <memory>
+#include <vector>
+
 #include "its-station/facilities/cdd_convert.hpp"
 #include "its-station/facilities/its_time.hpp"
 #include "its-station/facilities/ldm.hpp"
@@ -9,15 +12,17 @@ namespace {
 
 using namespace std::chrono_literals;
 
-messages::Cam cam_from(messages::StationID id, double lat, double lon, double speed) {
-  messages::Cam c;
+std::shared_ptr<messages::Cam> cam_from(messages::StationID id, double lat, double lon,
+                                        double speed) {
+  auto shared = std::make_shared<messages::Cam>();
+  messages::Cam& c = *shared;
   c.header.stationID = id;
   auto& rp = c.cam.camParameters.basicContainer.referencePosition;
   rp.latitude = cdd::latitude(lat);
   rp.longitude = cdd::longitude(lon);
   (*messages::vehicle_hf(c.cam.camParameters)).speed.speedValue = cdd::speed_value(speed);
   (*messages::vehicle_hf(c.cam.camParameters)).heading.headingValue = 450;
-  return c;
+  return shared;
 }
 
 messages::Denm denm_from(clock::ManualRuntime& rt, messages::StationID origin, int seq,
@@ -59,11 +64,53 @@ TEST(Ldm, NeighboursKeepHistoryAndExpire) {
   EXPECT_EQ(gone, (std::vector<messages::StationID>{7, 8}));
 }
 
+// Expiry goes by the latest CAM of each neighbour, whatever the order they were first heard in.
+TEST(Ldm, ANeighbourHeardAgainOutlivesOneHeardAfterIt) {
+  clock::ManualRuntime rt;
+  Ldm ldm(rt, LdmConfig{3000ms, 3, 50ms});
+  std::vector<messages::StationID> gone;
+  ldm.on_neighbour_gone([&](messages::StationID id) { gone.push_back(id); });
+  ldm.add_cam(cam_from(7, 48.0, 11.0, 1.0), rt.wall_now());  // 0 ms
+  rt.advance(100ms);
+  ldm.add_cam(cam_from(8, 48.1, 11.0, 1.0), rt.wall_now());  // 100 ms
+  rt.advance(100ms);
+  ldm.add_cam(cam_from(9, 48.2, 11.0, 1.0), rt.wall_now());  // 200 ms
+  rt.advance(800ms);
+  ldm.add_cam(cam_from(7, 48.0, 11.0, 1.0), rt.wall_now());  // 1000 ms
+  rt.advance(2150ms);                                        // 3150 ms
+  EXPECT_EQ(gone, (std::vector<messages::StationID>{8}));
+  EXPECT_NE(ldm.neighbour(7), nullptr);
+  EXPECT_NE(ldm.neighbour(9), nullptr);
+  rt.advance(100ms);  // 3250 ms
+  EXPECT_EQ(gone, (std::vector<messages::StationID>{8, 9}));
+  rt.advance(800ms);  // 4050 ms
+  EXPECT_EQ(gone, (std::vector<messages::StationID>{8, 9, 7}));
+  EXPECT_TRUE(ldm.neighbours().empty());
+  // Heard again after it was forgotten: a new neighbour, forgotten again in its turn.
+  ldm.add_cam(cam_from(8, 48.1, 11.0, 1.0), rt.wall_now());
+  EXPECT_NE(ldm.neighbour(8), nullptr);
+  rt.advance(3100ms);
+  EXPECT_EQ(gone, (std::vector<messages::StationID>{8, 9, 7, 8}));
+}
+
+// The neighbour keeps the CAM handed over, not a copy of it.
+TEST(Ldm, KeepsTheReceivedCamItself) {
+  clock::ManualRuntime rt;
+  Ldm ldm(rt);
+  const auto first = cam_from(7, 48.0, 11.0, 1.0);
+  ldm.add_cam(first, rt.wall_now());
+  EXPECT_EQ(ldm.neighbour(7)->last_cam.get(), first.get());
+  const auto second = cam_from(7, 48.0, 11.0, 2.0);
+  ldm.add_cam(second, rt.wall_now());
+  EXPECT_EQ(ldm.neighbour(7)->last_cam.get(), second.get());
+  EXPECT_EQ(first.use_count(), 1) << "the older CAM is let go";
+}
+
 TEST(Ldm, CamWithoutPositionIsIgnored) {
   clock::ManualRuntime rt;
   Ldm ldm(rt);
-  messages::Cam c;
-  c.header.stationID = 9;
+  auto c = std::make_shared<messages::Cam>();
+  c->header.stationID = 9;
   ldm.add_cam(c, rt.wall_now());
   EXPECT_TRUE(ldm.neighbours().empty());
 }
@@ -72,7 +119,7 @@ TEST(Ldm, ReverseDriveGivesNegativeSpeed) {
   clock::ManualRuntime rt;
   Ldm ldm(rt);
   auto c = cam_from(7, 48.0, 11.0, 2.0);
-  (*messages::vehicle_hf(c.cam.camParameters)).driveDirection = messages::DriveDirection::backward;
+  (*messages::vehicle_hf(c->cam.camParameters)).driveDirection = messages::DriveDirection::backward;
   ldm.add_cam(c, rt.wall_now());
   EXPECT_NEAR(*ldm.neighbour(7)->latest().speed_mps, -2.0, 1e-9);
 }

@@ -37,6 +37,30 @@ TEST(LocationTable, EntriesExpireAfterTheirLifetimeSinceTheLastUpdate) {
   EXPECT_EQ(table.size(), 0u);
 }
 
+// Purge skips the walk until the earliest expiry, which refreshes only move later; an entry
+// made after the table emptied is purged in its turn.
+TEST(LocationTable, PurgeRemovesEachEntryOnceItsLifetimeEnds) {
+  LocationTable table{20s};
+  const clock::SteadyTime t0{};
+  bool created = false;
+  table.update_position(table.find_or_create(addr(1), t0, created), pv(1, 1000), t0);
+  table.update_position(table.find_or_create(addr(2), t0 + 5s, created), pv(2, 1000), t0 + 5s);
+  // 1 heard again at 10 s: it now outlives 2.
+  table.refresh(*table.find(addr(1).mid_key(), t0 + 10s), t0 + 10s);
+  EXPECT_EQ(table.purge(t0 + 20s), 0u);
+  EXPECT_EQ(table.purge(t0 + 25s), 1u);
+  EXPECT_EQ(table.find(addr(2).mid_key(), t0 + 25s), nullptr);
+  EXPECT_NE(table.find(addr(1).mid_key(), t0 + 25s), nullptr);
+  EXPECT_EQ(table.purge(t0 + 29s), 0u);
+  EXPECT_EQ(table.purge(t0 + 30s), 1u);
+  EXPECT_EQ(table.size(), 0u);
+  table.find_or_create(addr(3), t0 + 40s, created);
+  EXPECT_EQ(table.purge(t0 + 59s), 0u);
+  EXPECT_EQ(table.size(), 1u);
+  EXPECT_EQ(table.purge(t0 + 60s), 1u);
+  EXPECT_EQ(table.size(), 0u);
+}
+
 TEST(LocationTable, AnExpiredEntryIsRecreatedEmpty) {
   LocationTable table{20s};
   bool created = false;

@@ -1,6 +1,14 @@
 #include "its-station/security/security_entity.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "common/trace/tracer.hpp"
 
 #include "its-station/security/pki.hpp"
 #include "its-station/security/tests/socktap_capture.hpp"
@@ -53,6 +61,44 @@ TEST(SecurityEntity, SignedStationsExchangeCams) {
   ASSERT_TRUE(first && second);
   EXPECT_EQ(first->signed_data.signer.kind, SignerIdentifier::Kind::kCertificate);
   EXPECT_EQ(second->signed_data.signer.kind, SignerIdentifier::Kind::kDigest);
+}
+
+// A pooled station writes no its.verify for the CAMs it hears (300 in range: 240 000 a second,
+// issue 33); those of DENMs, rare, stay.
+TEST(SecurityEntity, CamVerificationsAreTracedUnlessTurnedOff) {
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("security-verify-trace-" + std::to_string(::getpid()) + ".jsonl");
+  std::filesystem::remove(path);
+  // The entity writes to the process's tracer, as in its-station; it stays on for this test
+  // binary's later tests (their records go to the file removed below).
+  trace::configure(path.string(), "its-station");
+  Fixture f;
+  auto a = f.station(SecurityMode::kSigned);
+  auto full = f.station(SecurityMode::kSigned);
+  auto pooled = f.station(SecurityMode::kSigned);
+  full.set_trace_station(1001);
+  pooled.set_trace_station(2002);
+  pooled.set_trace_cam_receptions(false);
+  const Bytes cam = a.encapsulate(kPsidCam, kPayload, kNow);
+  const Bytes denm = a.encapsulate(kPsidDenm, kPayload, kNow, ThreeDLocation{481'500'000, 0, 0});
+  for (auto* s : {&full, &pooled}) {
+    ASSERT_EQ(s->decapsulate(cam, kNow).size(), 1u);
+    ASSERT_EQ(s->decapsulate(denm, kNow).size(), 1u);
+  }
+  trace::global().flush();
+  std::vector<std::string> verified;  // "station/psid"
+  std::ifstream in(path);
+  for (std::string line; std::getline(in, line);) {
+    if (line.find("\"ev\":\"its.verify\"") == std::string::npos)
+      continue;
+    auto field = [&](const std::string& name) {
+      const auto at = line.find("\"" + name + "\":") + name.size() + 3;
+      return line.substr(at, line.find_first_of(",}", at) - at);
+    };
+    verified.push_back(field("station") + "/" + field("psid"));
+  }
+  std::filesystem::remove(path);
+  EXPECT_EQ(verified, (std::vector<std::string>{"1001/36", "1001/37", "2002/37"}));
 }
 
 TEST(SecurityEntity, UnknownDigestIsHeldRequestedAndReleasedByTheCertificate) {

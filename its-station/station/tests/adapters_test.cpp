@@ -215,7 +215,9 @@ namespace {
 TEST(Adapters, NeighbourYawRateAndCurvatureFromTheCam) {
   facilities::Neighbour n;
   n.history.emplace_back();
-  auto& hf = (*messages::vehicle_hf(n.last_cam.cam.camParameters));
+  auto cam = std::make_shared<messages::Cam>();
+  n.last_cam = cam;
+  auto& hf = (*messages::vehicle_hf(cam->cam.camParameters));
   hf.yawRate.yawRateValue = 764;     // 7.64 °/s
   hf.curvature.curvatureValue = 67;  // 0.0067 m⁻¹, radius 149 m
   auto k = neighbour_kinematics(n);
@@ -223,7 +225,7 @@ TEST(Adapters, NeighbourYawRateAndCurvatureFromTheCam) {
   EXPECT_DOUBLE_EQ(*k.yaw_rate_dps, 7.64);
   ASSERT_TRUE(k.curvature_per_m);
   EXPECT_DOUBLE_EQ(*k.curvature_per_m, 0.0067);
-  n.last_cam.header.protocolVersion = messages::kProtocolVersion1;
+  cam->header.protocolVersion = messages::kProtocolVersion1;
   hf.curvature.curvatureValue = 200;  // 200 / 30000 m⁻¹, radius 150 m
   k = neighbour_kinematics(n);
   EXPECT_DOUBLE_EQ(*k.curvature_per_m, 200.0 / 30000.0);
@@ -232,7 +234,7 @@ TEST(Adapters, NeighbourYawRateAndCurvatureFromTheCam) {
   k = neighbour_kinematics(n);
   EXPECT_FALSE(k.curvature_per_m);
   EXPECT_FALSE(k.yaw_rate_dps);
-  n.last_cam.header.protocolVersion = messages::kProtocolVersion;
+  cam->header.protocolVersion = messages::kProtocolVersion;
   hf.curvature.curvatureValue = messages::kCurvatureValueUnavailable;
   EXPECT_FALSE(neighbour_kinematics(n).curvature_per_m);
   // Into LCRW's kinematics unchanged.

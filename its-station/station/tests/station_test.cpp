@@ -6,16 +6,21 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include "common/clock/gnss_disciplined_runtime.hpp"
 #include "common/clock/runtime.hpp"
 #include "common/geodesy/local_frame.hpp"
 #include "common/mqtt/sink.hpp"
+#include "common/trace/tracer.hpp"
 #include "its-station/btp/header.hpp"
 #include "its-station/geonet/packet.hpp"
 #include "its-station/link/test_link.hpp"
@@ -66,18 +71,20 @@ class RecordingSink final : public tb::mqtt::MqttSink {
 
 /// A scripted vehicle as the scenario describes it: the default car (4.255 m × 1.799 m), its
 /// GNSS antenna at the centre of its bounding box.
-scenario::Vehicle car(std::uint32_t id) {
+scenario::Vehicle car(std::uint32_t id, scenario::StationKind kind = scenario::StationKind::kFull) {
   scenario::Vehicle v;
   v.id = "v" + std::to_string(id);
   v.station_id = id;
+  v.station_kind = kind;
   return v;
 }
 
 /// One station over fake ports. Every station of a test shares the host runtime, as the pooled
 /// stations of a station-host share its io thread.
 struct FakeStation {
-  FakeStation(clock::ManualRuntime& host, std::uint32_t id, bool with_mqtt)
-      : vehicle(car(id)),
+  FakeStation(clock::ManualRuntime& host, std::uint32_t id, bool with_mqtt,
+              scenario::StationKind kind = scenario::StationKind::kFull)
+      : vehicle(car(id, kind)),
         its_clock(host),
         link(mac_of(id)),
         station(StationPorts{host, its_clock, gnss, nullptr, link, nullptr,
@@ -309,6 +316,51 @@ TEST(Station, APooledStationRunsNoLcrwUnlessAsked) {
   StationOverrides no_lcrw;
   no_lcrw.no_lcrw = true;
   EXPECT_FALSE(make_station_config(3003, nullptr, &v, no_lcrw).lcrw);
+}
+
+// A pooled station traces what it sends but not what it hears (docs/tracing.md): 300 in range
+// would write 300 × 800 reception records a second (issue 33). A full one traces both.
+TEST(Station, APooledStationTracesNoReceptions) {
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("station-rx-trace-" + std::to_string(::getpid()) + ".jsonl");
+  std::filesystem::remove(path);
+  // The services write to the process's tracer, as in its-station and station-host; it stays
+  // on for this test binary's later tests (records of their own, in a file removed below).
+  trace::configure(path.string(), "its-station");
+  clock::ManualRuntime host;
+  FakeStation full(host, 1001, /*with_mqtt=*/false);
+  FakeStation pooled(host, 2002, /*with_mqtt=*/false, scenario::StationKind::kPooled);
+  EXPECT_TRUE(full.station.config().ca.trace_receptions);
+  EXPECT_FALSE(pooled.station.config().ca.trace_receptions);
+  full.station.start();
+  pooled.station.start();
+  full.fix(host, 0.0, 0.0, 0.0, 10.0);
+  pooled.fix(host, 0.0, 50.0, 180.0, 10.0);
+  for (const auto& f : pooled.link.sent())
+    full.link.inject(pooled.link.address(), f.destination, f.ethertype, f.payload, host.wall_now());
+  for (const auto& f : full.link.sent())
+    pooled.link.inject(full.link.address(), f.destination, f.ethertype, f.payload, host.wall_now());
+  ASSERT_TRUE(full.station.ldm().neighbour(2002));
+  ASSERT_TRUE(pooled.station.ldm().neighbour(1001)) << "the pooled station hears, untraced";
+  trace::global().flush();
+
+  std::map<std::pair<std::string, std::uint32_t>, int> records;  // (event, station) → count
+  std::ifstream in(path);
+  for (std::string line; std::getline(in, line);) {
+    const auto r = nlohmann::json::parse(line);
+    if (r.contains("station"))
+      ++records[{r["ev"].get<std::string>(), r["station"].get<std::uint32_t>()}];
+  }
+  std::filesystem::remove(path);
+  EXPECT_EQ((records[{"its.cam_rx", 1001}]), 1);
+  EXPECT_EQ((records[{"its.ldm", 1001}]), 1);
+  EXPECT_EQ((records[{"its.cam_rx", 2002}]), 0);
+  EXPECT_EQ((records[{"its.ldm", 2002}]), 0);
+  // What a pooled station sends is traced as a full one's.
+  EXPECT_EQ((records[{"its.cam_tx", 2002}]), 1);
+  EXPECT_EQ((records[{"its.cam_tx", 1001}]), 1);
+  full.station.stop();
+  pooled.station.stop();
 }
 
 }  // namespace
