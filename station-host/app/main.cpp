@@ -25,6 +25,7 @@
 #include "common/mqtt/mosquitto_client.hpp"
 #include "common/scenario/loader.hpp"
 #include "common/trace/tracer.hpp"
+#include "its-station/facilities/shared_cam_decoder.hpp"
 #include "its-station/station/station.hpp"
 #include "network-emulator/radio/bridge_medium.hpp"
 #include "station-host/app/host_config.hpp"
@@ -147,6 +148,10 @@ int run(const Options& o) {
     spdlog::info("MQTT: one login for the stations that mirror to {}:{}", o.mqtt_host, o.mqtt_port);
   }
 
+  // The stations hear each frame one after the other: one decoded CAM for all of them
+  // (its-station/facilities/README.md: 1.21 → 0.55 µs per station and CAM at 300). Declared
+  // before the stations, which hold it.
+  tb::its::facilities::SharedCamDecoder cam_decoder;
   std::vector<PooledStation> pooled;
   pooled.reserve(ids.size());
   tb::its::station::StationOverrides overrides;
@@ -167,6 +172,7 @@ int run(const Options& o) {
                                                p.security.get(),
                                                config.mqtt ? mqtt.get() : nullptr};
     p.station = std::make_unique<tb::its::station::Station>(ports, std::move(config));
+    p.station->share_cam_decoder(cam_decoder);
     pooled.push_back(std::move(p));
   }
 
