@@ -79,8 +79,12 @@ Station::Station(const StationPorts& ports, StationConfig config)
       den_(its_clock_, sender_, ldm_, den_config(config_), &den_locator_),
       den_port_(den_, config_.denm_repetition_interval, config_.denm_repetition_duration) {
   router_.set_security(security_);
-  if (security_)
+  if (security_) {
     security_->set_trace_station(config_.station_id);
+    // LCRW is the application that consumes received CAMs (their positions and dynamics).
+    security_->set_verify_policy(config_.verify_policy);
+    security_->set_cam_consumer(config_.lcrw);
+  }
 
   btp_.register_port(fac::kBtpPortCam,
                      [this](const btp::Indication& ind, std::span<const std::uint8_t> payload) {
@@ -331,6 +335,7 @@ nlohmann::json Station::status() {
     }
     j["security"] = {
         {"mode", security::to_string(security_->mode())},
+        {"verify_policy", security::to_string(security_->verify_policy())},
         {"verify", v},
         {"passed_unverified", security_->passed_unverified()},
         {"held", security_->held()},
