@@ -25,6 +25,10 @@ std::optional<SecurityMode> parse_security_mode(std::string_view s) {
   return std::nullopt;
 }
 
+std::string_view to_string(VerifyPolicy p) {
+  return p == VerifyPolicy::kEvery ? "every" : "on-demand";
+}
+
 SecurityEntity::SecurityEntity(SecurityMode mode, Signer signer, Verifier verifier)
     : mode_(mode), signer_(std::move(signer)), verifier_(std::move(verifier)) {}
 
@@ -56,13 +60,34 @@ SecuredIndication SecurityEntity::outcome(Verification& v, std::uint64_t ticket)
     ind.psid = v.data.signed_data.tbs.header.psid;
   const auto p = v.payload();
   const bool ok = v.result == VerifyResult::kOk;
-  ind.pass_up = !p.empty() && (ok || mode_ == SecurityMode::kSignedPermissive);
+  // Not verified is not a failure: it was not asked for (verification on demand).
+  ind.pass_up = !p.empty() && (ok || v.result == VerifyResult::kNotVerified ||
+                               mode_ == SecurityMode::kSignedPermissive);
   if (ind.pass_up) {
     ind.payload.assign(p.begin(), p.end());
-    if (!ok)
+    if (!ok && v.result != VerifyResult::kNotVerified)
       ++passed_unverified_;
   }
   return ind;
+}
+
+bool SecurityEntity::verifies(Psid psid) const {
+  if (policy_ == VerifyPolicy::kEvery)
+    return true;
+  if (psid == kPsidCam)
+    return cam_consumer_;
+  return psid != kPsidGnMgmt;  // beacons feed only the location table
+}
+
+Verification SecurityEntity::check(std::span<const std::uint8_t> secured, Time64 now) {
+  Verification v = verifier_.decode(secured);
+  // Unsecured data goes through verify_decoded(), which names it not_signed.
+  if (v.data.content == Ieee1609Dot2Data::Content::kSignedData &&
+      !verifies(v.data.signed_data.tbs.header.psid))
+    verifier_.accept_unverified(v, now);
+  else
+    verifier_.verify_decoded(v, now);
+  return v;
 }
 
 std::vector<SecuredIndication> SecurityEntity::decapsulate(std::span<const std::uint8_t> secured,
@@ -70,7 +95,7 @@ std::vector<SecuredIndication> SecurityEntity::decapsulate(std::span<const std::
   std::vector<SecuredIndication> out = expire(now);
   // Tracing: the verify stage of the receive path (decode included).
   const std::int64_t start_ns = trace::Tracer::now_ns();
-  Verification v = verifier_.verify(secured, now);
+  Verification v = check(secured, now);
   const std::int64_t end_ns = trace::Tracer::now_ns();
   const Psid psid = v.result != VerifyResult::kMalformed &&
                             v.data.content == Ieee1609Dot2Data::Content::kSignedData
@@ -109,12 +134,17 @@ std::vector<SecuredIndication> SecurityEntity::decapsulate(std::span<const std::
     held_.push_back(Held{*v.signer, now + kHoldUs, Bytes(secured.begin(), secured.end()), ticket});
     return out;
   }
-  if (v.result == VerifyResult::kUnknownSigner && v.signer) {
+  // A packet passed up unverified whose digest names an AT we do not know: ask for the AT all
+  // the same, so that the sender's DENMs signed with that digest verify without waiting.
+  const bool unknown_digest = v.result == VerifyResult::kNotVerified && v.signer &&
+                              !v.signer_certificate_included && !verifier_.knows(*v.signer);
+  if ((v.result == VerifyResult::kUnknownSigner || unknown_digest) && v.signer) {
     signer_.request_certificate(*v.signer);
     signer_.on_unknown_station();
   }
   out.push_back(outcome(v, ticket));
-  if (v.result == VerifyResult::kOk && v.signer_learned) {
+  if ((v.result == VerifyResult::kOk || v.result == VerifyResult::kNotVerified) &&
+      v.signer_learned) {
     signer_.on_unknown_station();  // TS 103 097 7.1.1: a new station hears our AT next
     // Its held packets can be verified now.
     const HashedId8 id = *v.signer;

@@ -27,6 +27,17 @@ enum class SecurityMode : std::uint8_t { kNone, kSigned, kSignedPermissive };
 std::string_view to_string(SecurityMode m);
 std::optional<SecurityMode> parse_security_mode(std::string_view s);
 
+/// Which received packets get their signature verified (issue 33; the rule and its source in
+/// security/README.md, "Verification on demand").
+/// kEvery: all of them (a full station). kOnDemand: only those whose content the station uses
+/// in a way that needs trust (a pooled station, as the C2C-CC Basic System Profile allows):
+/// DENMs and any ITS-AID other than CAM and GN-MGMT, and CAMs when an application that consumes
+/// them runs (set_cam_consumer). The others are parsed and passed up as kNotVerified, without
+/// SSP.
+enum class VerifyPolicy : std::uint8_t { kEvery, kOnDemand };
+
+std::string_view to_string(VerifyPolicy p);
+
 /// One incoming packet's outcome.
 struct SecuredIndication {
   bool pass_up = false;
@@ -50,6 +61,13 @@ class SecurityEntity {
   SecurityEntity(SecurityMode mode, Signer signer, Verifier verifier);
 
   SecurityMode mode() const { return mode_; }
+  void set_verify_policy(VerifyPolicy p) { policy_ = p; }
+  VerifyPolicy verify_policy() const { return policy_; }
+  /// Whether an application that consumes received CAMs runs (LCRW): then kOnDemand verifies
+  /// CAMs too.
+  void set_cam_consumer(bool consumer) { cam_consumer_ = consumer; }
+  /// Whether a received packet of @p psid gets its signature verified under the policy.
+  bool verifies(Psid psid) const;
   /// The station id its trace records (its.sign, its.verify) carry, for the latency report to
   /// join them to the station's CAMs.
   void set_trace_station(std::uint32_t id) { trace_station_ = id; }
@@ -90,8 +108,12 @@ class SecurityEntity {
     std::uint64_t ticket = 0;
   };
   SecuredIndication outcome(Verification& v, std::uint64_t ticket);
+  /// Decodes @p secured and verifies it, or only parses it when the policy does not need it.
+  Verification check(std::span<const std::uint8_t> secured, Time64 now);
 
   SecurityMode mode_;
+  VerifyPolicy policy_ = VerifyPolicy::kEvery;
+  bool cam_consumer_ = false;
   Signer signer_;
   Verifier verifier_;
   std::deque<Held> held_;

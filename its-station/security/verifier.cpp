@@ -48,6 +48,8 @@ std::string_view to_string(VerifyResult r) {
       return "signature_invalid";
     case VerifyResult::kReplay:
       return "replay";
+    case VerifyResult::kNotVerified:
+      return "not_verified";
     case VerifyResult::kCount:
       break;
   }
@@ -227,6 +229,7 @@ VerifyResult Verifier::check_issued(const Certificate& c, const Entry& issuer, T
     return VerifyResult::kCertificateNotValid;
   // 1609.2 6.4.3, 5.3.1: over toBeSigned as received (COER, canonical by the decoder's rules),
   // not a re-encoding of what the decoder understood: extension additions it skips count.
+  ++ecdsa_verifications_;
   if (!issuer.key.verify(signed_digest(canonical_tbs(c), issuer.hash), *c.signature))
     return VerifyResult::kCertificateSignature;
   return VerifyResult::kOk;
@@ -312,7 +315,8 @@ VerifyResult Verifier::ticket_entry(const Certificate& c, Psid psid, Time64 at, 
   return VerifyResult::kOk;
 }
 
-VerifyResult Verifier::check(Verification& v, std::optional<Psid> expected, Time64 now) {
+VerifyResult Verifier::check_header(Verification& v, std::optional<Psid> expected, Time64 now,
+                                    Time64& at) {
   const auto& d = v.data;
   if (d.content != Ieee1609Dot2Data::Content::kSignedData)
     return VerifyResult::kNotSigned;
@@ -346,46 +350,58 @@ VerifyResult Verifier::check(Verification& v, std::optional<Psid> expected, Time
   if (psid == kPsidDenm && !h.generation_location)
     return VerifyResult::kGenerationLocationMissing;
   // Certificate validity is checked at the generation time, on TAI (1609.2 5.2.4.2.3).
-  const Time64 at = *v.time_base == TimeBase::kTai ? *h.generation_time : *h.generation_time + leap;
+  at = *v.time_base == TimeBase::kTai ? *h.generation_time : *h.generation_time + leap;
+  if (s.signer.kind == SignerIdentifier::Kind::kSelf)
+    return VerifyResult::kSelfSigned;
+  return VerifyResult::kOk;
+}
+
+VerifyResult Verifier::included_ticket(Verification& v, Psid psid, Time64 at, const Entry** out) {
+  // TS 103 097 5.2: exactly one certificate, the AT.
+  const auto& at_cert = v.data.signed_data.signer.certificates.front();
+  v.signer_certificate_included = true;
+  v.signer = certificate_id(at_cert);
+  const bool known = entries_.contains(*v.signer);
+  if (const auto r = ticket_entry(at_cert, psid, at, out); r != VerifyResult::kOk) {
+    if (r == VerifyResult::kUnknownIssuer &&
+        at_cert.issuer.kind == IssuerIdentifier::Kind::kSha256AndDigest)
+      v.missing_issuer = at_cert.issuer.digest;
+    return r;
+  }
+  v.signer_learned = !known && entries_.contains(*v.signer);
+  if (!within_validity((*out)->cert, at) || !within_validity((*out)->issuer->cert, at))
+    return VerifyResult::kCertificateNotValid;
+  return VerifyResult::kOk;
+}
+
+VerifyResult Verifier::check(Verification& v, std::optional<Psid> expected, Time64 now) {
+  Time64 at = 0;
+  if (const auto r = check_header(v, expected, now, at); r != VerifyResult::kOk)
+    return r;
+  const auto& s = v.data.signed_data;
+  const auto& h = s.tbs.header;
+  const Psid psid = h.psid;
+  const TimePolicy policy = config_.policy(psid);
 
   const Entry* signer = nullptr;
-  switch (s.signer.kind) {
-    case SignerIdentifier::Kind::kSelf:
-      return VerifyResult::kSelfSigned;
-    case SignerIdentifier::Kind::kDigest: {
-      v.signer = s.signer.digest;
-      auto it = entries_.find(s.signer.digest);
-      if (it == entries_.end() || it->second.issuer == nullptr ||
-          it->second.issuer->issuer == nullptr)
-        return VerifyResult::kUnknownSigner;  // roots and AAs do not sign CAMs or DENMs
-      signer = &it->second;
-      if (!within_validity(signer->cert, at) || !within_validity(signer->issuer->cert, at))
-        return VerifyResult::kCertificateNotValid;
-      break;
-    }
-    case SignerIdentifier::Kind::kCertificate: {
-      // TS 103 097 5.2: exactly one certificate, the AT.
-      const auto& at_cert = s.signer.certificates.front();
-      v.signer_certificate_included = true;
-      v.signer = certificate_id(at_cert);
-      const bool known = entries_.contains(*v.signer);
-      if (const auto r = ticket_entry(at_cert, psid, at, &signer); r != VerifyResult::kOk) {
-        if (r == VerifyResult::kUnknownIssuer &&
-            at_cert.issuer.kind == IssuerIdentifier::Kind::kSha256AndDigest)
-          v.missing_issuer = at_cert.issuer.digest;
-        return r;
-      }
-      v.signer_learned = !known && entries_.contains(*v.signer);
-      if (!within_validity(signer->cert, at) || !within_validity(signer->issuer->cert, at))
-        return VerifyResult::kCertificateNotValid;
-      break;
-    }
+  if (s.signer.kind == SignerIdentifier::Kind::kDigest) {
+    v.signer = s.signer.digest;
+    auto it = entries_.find(s.signer.digest);
+    if (it == entries_.end() || it->second.issuer == nullptr ||
+        it->second.issuer->issuer == nullptr)
+      return VerifyResult::kUnknownSigner;  // roots and AAs do not sign CAMs or DENMs
+    signer = &it->second;
+    if (!within_validity(signer->cert, at) || !within_validity(signer->issuer->cert, at))
+      return VerifyResult::kCertificateNotValid;
+  } else if (const auto r = included_ticket(v, psid, at, &signer); r != VerifyResult::kOk) {
+    return r;
   }
   if (const auto r = ticket_permits(signer->cert, psid, v.ssp); r != VerifyResult::kOk)
     return r;
   if (!issuer_permits(signer->issuer->cert, psid))
     return VerifyResult::kIssuerNotPermitted;
   const Bytes& tbs = s.tbs_encoding.empty() ? encode(s.tbs) : s.tbs_encoding;
+  ++ecdsa_verifications_;
   if (!signer->key.verify(signed_digest(tbs, signer->hash), s.signature))
     return VerifyResult::kSignatureInvalid;
   // Replay: checked on packets that verified, so that only the signer's own packets count. An
@@ -395,6 +411,47 @@ VerifyResult Verifier::check(Verification& v, std::optional<Psid> expected, Time
                                              at + static_cast<Time64>(policy.past.count()), now))
     return VerifyResult::kReplay;
   return VerifyResult::kOk;
+}
+
+Verification Verifier::decode(std::span<const std::uint8_t> secured) {
+  Verification v;
+  auto d = decode_data(secured);
+  if (!d) {
+    v.decode_error = d.error();
+    v.result = VerifyResult::kMalformed;
+    ++counts_[static_cast<std::size_t>(v.result)];
+  } else {
+    v.data = std::move(*d);
+    v.result = VerifyResult::kNotVerified;
+  }
+  return v;
+}
+
+void Verifier::verify_decoded(Verification& v, Time64 now) {
+  if (v.result == VerifyResult::kMalformed)
+    return;
+  v.result = check(v, std::nullopt, now);
+  ++counts_[static_cast<std::size_t>(v.result)];
+}
+
+void Verifier::accept_unverified(Verification& v, Time64 now) {
+  if (v.result == VerifyResult::kMalformed)
+    return;
+  v.result = [&] {
+    Time64 at = 0;
+    if (const auto r = check_header(v, std::nullopt, now, at); r != VerifyResult::kOk)
+      return r;
+    const auto& s = v.data.signed_data;
+    if (s.signer.kind == SignerIdentifier::Kind::kDigest) {
+      v.signer = s.signer.digest;  // known or not: nothing is checked against it
+      return VerifyResult::kNotVerified;
+    }
+    const Entry* signer = nullptr;
+    if (const auto r = included_ticket(v, s.tbs.header.psid, at, &signer); r != VerifyResult::kOk)
+      return r;
+    return VerifyResult::kNotVerified;
+  }();
+  ++counts_[static_cast<std::size_t>(v.result)];
 }
 
 Verification Verifier::verify_for(std::span<const std::uint8_t> secured, std::optional<Psid> psid,

@@ -49,6 +49,9 @@ enum class VerifyResult : std::uint8_t {
   /// accepted within the window (1609.2 5.2.4.2.3 replay detection; see
   /// VerifierConfig::time_policy).
   kReplay,
+  /// Parsed and passed up without the packet's signature checked: a station that verifies on
+  /// demand (SecurityEntity, VerifyPolicy::kOnDemand) for a packet nothing of it trusts.
+  kNotVerified,
   kCount
 };
 
@@ -143,6 +146,22 @@ class Verifier {
     return verify_for(secured, std::nullopt, now);
   }
 
+  /// The steps of verify(), for a caller that decides after the header whether to check the
+  /// signature (SecurityEntity's verification on demand). decode(): result kMalformed (counted)
+  /// when @p secured does not decode, else kNotVerified until verify_decoded() or
+  /// accept_unverified() sets it.
+  Verification decode(std::span<const std::uint8_t> secured);
+  /// Every check of verify() on a decoded packet.
+  void verify_decoded(Verification& v, Time64 now);
+  /// The checks of the header only (signed data, sha256, payload, generationTime in its window,
+  /// DENM generationLocation) and who signed it, without the packet's signature, permissions or
+  /// replay detection: kNotVerified when they pass, and `ssp` stays empty. An AT that comes in
+  /// the packet and is not known yet is verified against its AA and cached, as verify() does
+  /// (once per AT: a later DENM signed with its digest verifies without waiting for it); one
+  /// that fails is refused with its reason. A digest that names no known AT is kNotVerified
+  /// with `signer` set, so that the caller can ask for the AT.
+  void accept_unverified(Verification& v, Time64 now);
+
   /// A known certificate (root, AA or verified AT) by its HashedId3 (P2PCD requests).
   const Certificate* find(const HashedId3& id) const;
   bool knows(const HashedId8& id) const { return entries_.contains(id); }
@@ -152,6 +171,9 @@ class Verifier {
     return counts_;
   }
   std::size_t known_certificates() const { return entries_.size(); }
+  /// ECDSA verifications done so far (packets' and certificates' signatures; the trusted roots'
+  /// self-signatures not included): the cost verification on demand saves.
+  std::uint64_t ecdsa_verifications() const { return ecdsa_verifications_; }
   /// (signer, generationTime) pairs remembered for replay detection.
   std::size_t replay_entries() const { return replay_.size(); }
   const VerifierConfig& config() const { return config_; }
@@ -185,6 +207,12 @@ class Verifier {
   VerifyResult check_issued(const Certificate& c, const Entry& issuer, Time64 at) const;
   /// The entry of the AT @p c (verified against its AA and cached when new).
   VerifyResult ticket_entry(const Certificate& c, Psid psid, Time64 at, const Entry** out);
+  /// The checks of the header, common to verify() and accept_unverified(): sets v.time_base
+  /// and @p at (the generation time on TAI) when they pass.
+  VerifyResult check_header(Verification& v, std::optional<Psid> psid, Time64 now, Time64& at);
+  /// The AT of a certificate signer, verified and cached when new (v.signer, v.missing_issuer,
+  /// v.signer_learned set).
+  VerifyResult included_ticket(Verification& v, Psid psid, Time64 at, const Entry** out);
   VerifyResult check(Verification& v, std::optional<Psid> psid, Time64 now);
   Verification verify_for(std::span<const std::uint8_t> secured, std::optional<Psid> psid,
                           Time64 now);
@@ -195,6 +223,7 @@ class Verifier {
   std::unordered_map<ReplayKey, Time64, ReplayKeyHash> replay_;  ///< key -> forget at (TAI)
   std::multimap<Time64, ReplayKey> replay_expiry_;               ///< forget at -> key
   std::array<std::uint64_t, static_cast<std::size_t>(VerifyResult::kCount)> counts_{};
+  mutable std::uint64_t ecdsa_verifications_ = 0;
 };
 
 }  // namespace tb::its::security

@@ -82,6 +82,9 @@ Station::Station(const StationPorts& ports, StationConfig config)
   if (security_) {
     security_->set_trace_station(config_.station_id);
     security_->set_trace_cam_receptions(config_.ca.trace_receptions);
+    // LCRW is the application that consumes received CAMs (their positions and dynamics).
+    security_->set_verify_policy(config_.verify_policy);
+    security_->set_cam_consumer(config_.lcrw);
   }
 
   btp_.register_port(fac::kBtpPortCam,
@@ -333,6 +336,7 @@ nlohmann::json Station::status() {
     }
     j["security"] = {
         {"mode", security::to_string(security_->mode())},
+        {"verify_policy", security::to_string(security_->verify_policy())},
         {"verify", v},
         {"passed_unverified", security_->passed_unverified()},
         {"held", security_->held()},

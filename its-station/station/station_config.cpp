@@ -51,6 +51,8 @@ StationConfig make_station_config(std::uint32_t station_id, const scenario::Scen
 
   c.lcrw = !o.no_lcrw && (vehicle == nullptr || vehicle->station_lcrw);
   c.mqtt = vehicle == nullptr || vehicle->station_mqtt;
+  if (vehicle && vehicle->station_kind == scenario::StationKind::kPooled)
+    c.verify_policy = security::VerifyPolicy::kOnDemand;
   // LCRW computes in an East-North-Up frame; with a scenario it is anchored where the map's
   // (0, 0, 0) lies (the map's geoReference, or the scenario's origin: common/map's ScenarioMap).
   if (scenario)

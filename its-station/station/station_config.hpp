@@ -13,6 +13,7 @@
 #include "its-station/apps/mqtt/publisher.hpp"
 #include "its-station/facilities/ca_service.hpp"
 #include "its-station/facilities/reference_position.hpp"
+#include "its-station/security/security_entity.hpp"
 
 namespace tb::its::station {
 
@@ -42,6 +43,9 @@ struct StationConfig {
   clock::Duration denm_repetition_duration = std::chrono::seconds{10};
   /// Run LCRW (the vehicle's station.lcrw, unless --no-lcrw).
   bool lcrw = true;
+  /// Which received packets the security entity verifies (issue 33): on demand for a pooled
+  /// station, every one for a full station (security/README.md, "Verification on demand").
+  security::VerifyPolicy verify_policy = security::VerifyPolicy::kEvery;
   /// Mirror the station to MQTT (the vehicle's station.mqtt): the caller gives a sink only then.
   bool mqtt = true;
   /// Where LCRW's East-North-Up frame is anchored: the map's (0, 0, 0) (its geoReference or

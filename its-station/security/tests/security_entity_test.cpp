@@ -207,5 +207,137 @@ TEST(SecurityEntity, ForeignRootStationIsIgnoredAndNamedUntrustedRoot) {
   EXPECT_EQ(a.verifier().count(VerifyResult::kUntrustedRoot), 1u);
 }
 
+// Verification on demand (issue 33, README "Verification on demand").
+const ThreeDLocation kWhere{487000000, 110000000, 5000};
+
+Bytes tamper(Bytes packet) {
+  packet.back() ^= 0x01;  // the signature's s ends the packet: it still decodes
+  return packet;
+}
+
+TEST(VerifyOnDemand, PassesCamsUpUnverifiedAndCachesTheirCertificate) {
+  Fixture f;
+  auto a = f.station(SecurityMode::kSigned);
+  auto b = f.station(SecurityMode::kSigned);
+  const auto base = b.verifier().ecdsa_verifications();  // the AA, checked at the start
+  b.set_verify_policy(VerifyPolicy::kOnDemand);
+  EXPECT_FALSE(b.verifies(kPsidCam));
+  EXPECT_FALSE(b.verifies(kPsidGnMgmt));
+  EXPECT_TRUE(b.verifies(kPsidDenm));
+  // a's first CAM carries its AT: checked once against the AA (one ECDSA verification) and
+  // cached; the CAM's own signature is not.
+  auto out = b.decapsulate(a.encapsulate(kPsidCam, kPayload, kNow), kNow);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_TRUE(out[0].pass_up);
+  EXPECT_EQ(out[0].reason, VerifyResult::kNotVerified);
+  EXPECT_EQ(out[0].psid, kPsidCam);
+  EXPECT_EQ(out[0].payload, kPayload);
+  EXPECT_TRUE(out[0].ssp.empty());  // SSP only from a verified packet
+  EXPECT_EQ(b.verifier().ecdsa_verifications() - base, 1u);
+  EXPECT_TRUE(b.verifier().knows(a.signer().id()));
+  // Digest-signed CAMs, a forged signature too: passed up, no ECDSA verification.
+  out = b.decapsulate(a.encapsulate(kPsidCam, kPayload, kNow + 100'000), kNow + 100'000);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].reason, VerifyResult::kNotVerified);
+  out = b.decapsulate(tamper(a.encapsulate(kPsidCam, kPayload, kNow + 200'000)), kNow + 200'000);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_TRUE(out[0].pass_up);
+  EXPECT_EQ(out[0].reason, VerifyResult::kNotVerified);
+  EXPECT_EQ(b.verifier().ecdsa_verifications() - base, 1u);
+  EXPECT_EQ(b.verifier().count(VerifyResult::kNotVerified), 3u);
+  EXPECT_EQ(b.passed_unverified(), 0u);  // not a failure passed up by a permissive station
+  // What can be told without the signature still counts: a CAM out of its time window.
+  out = b.decapsulate(a.encapsulate(kPsidCam, kPayload, kNow), kNow + 3'000'000);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_FALSE(out[0].pass_up);
+  EXPECT_EQ(out[0].reason, VerifyResult::kGenerationTimeOutOfWindow);
+}
+
+TEST(VerifyOnDemand, VerifiesDenmsAndDropsATamperedOne) {
+  Fixture f;
+  auto a = f.station(SecurityMode::kSigned);
+  auto b = f.station(SecurityMode::kSigned);
+  const auto base = b.verifier().ecdsa_verifications();  // the AA, checked at the start
+  b.set_verify_policy(VerifyPolicy::kOnDemand);
+  b.decapsulate(a.encapsulate(kPsidCam, kPayload, kNow), kNow);  // a's AT, cached
+  const auto before = b.verifier().ecdsa_verifications() - base;
+  auto out = b.decapsulate(a.encapsulate(kPsidDenm, kPayload, kNow + 1000, kWhere), kNow + 1000);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_TRUE(out[0].pass_up);
+  EXPECT_EQ(out[0].reason, VerifyResult::kOk);
+  EXPECT_FALSE(out[0].ssp.empty());  // the DEN service checks the cause code against it
+  EXPECT_EQ(b.verifier().ecdsa_verifications() - base, before + 1);
+  out = b.decapsulate(tamper(a.encapsulate(kPsidDenm, kPayload, kNow + 2000, kWhere)), kNow + 2000);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_FALSE(out[0].pass_up);
+  EXPECT_EQ(out[0].reason, VerifyResult::kSignatureInvalid);
+}
+
+TEST(VerifyOnDemand, DenmOfAnUnknownDigestIsHeldUntilACamBringsTheCertificate) {
+  Fixture f;
+  // Another stack's signer, which may sign a DENM with its AT's digest.
+  EcKey k = EcKey::generate(EccCurve::kNistP256);
+  Certificate at = make_ticket(k, {kNowS - 60, DurationUnit::kHours, 10}, f.aa, f.aa_key);
+  Signer a(std::move(at), std::move(k), f.aa);
+  auto b = f.station(SecurityMode::kSigned);
+  b.set_verify_policy(VerifyPolicy::kOnDemand);
+  a.sign_cam(kPayload, kNow);  // a's AT, lost
+  // A digest-signed CAM of an unknown AT goes up unverified, and b asks for the AT.
+  auto out = b.decapsulate(a.sign_cam(kPayload, kNow + 1000), kNow + 1000);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].reason, VerifyResult::kNotVerified);
+  EXPECT_TRUE(out[0].pass_up);
+  const auto ask = decode_data(b.encapsulate(kPsidCam, kPayload, kNow + 2000));
+  ASSERT_TRUE(ask && ask->signed_data.tbs.header.inline_p2pcd_request);
+  EXPECT_EQ(ask->signed_data.tbs.header.inline_p2pcd_request->front(), hashed_id3(a.id()));
+  // A DENM signed with the digest waits; a's next CAM, which carries the AT, releases it.
+  out = b.decapsulate(a.sign(kPsidDenm, kPayload, kNow + 3000, kWhere, false), kNow + 3000, 7);
+  EXPECT_TRUE(out.empty());
+  EXPECT_EQ(b.held(), 1u);
+  a.on_unknown_station();
+  out = b.decapsulate(a.sign_cam(kPayload, kNow + 4000), kNow + 4000, 8);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(out[0].reason, VerifyResult::kNotVerified);
+  EXPECT_EQ(out[1].ticket, 7u);
+  EXPECT_TRUE(out[1].pass_up);
+  EXPECT_EQ(out[1].reason, VerifyResult::kOk);
+  // From then on a digest-signed DENM verifies at once.
+  out = b.decapsulate(a.sign(kPsidDenm, kPayload, kNow + 5000, kWhere, false), kNow + 5000);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].reason, VerifyResult::kOk);
+}
+
+TEST(VerifyOnDemand, VerifiesCamsWhenAConsumerRuns) {
+  Fixture f;
+  auto a = f.station(SecurityMode::kSigned);
+  auto b = f.station(SecurityMode::kSigned);
+  const auto base = b.verifier().ecdsa_verifications();  // the AA, checked at the start
+  b.set_verify_policy(VerifyPolicy::kOnDemand);
+  b.set_cam_consumer(true);
+  EXPECT_TRUE(b.verifies(kPsidCam));
+  EXPECT_FALSE(b.verifies(kPsidGnMgmt));
+  auto out = b.decapsulate(a.encapsulate(kPsidCam, kPayload, kNow), kNow);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].reason, VerifyResult::kOk);
+  EXPECT_EQ(b.verifier().ecdsa_verifications() - base, 2u);  // the AT, then the CAM
+  out = b.decapsulate(tamper(a.encapsulate(kPsidCam, kPayload, kNow + 1000)), kNow + 1000);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_FALSE(out[0].pass_up);
+  EXPECT_EQ(out[0].reason, VerifyResult::kSignatureInvalid);
+}
+
+TEST(VerifyOnDemand, EveryIsTheDefaultAndVerifiesEachPacket) {
+  Fixture f;
+  auto a = f.station(SecurityMode::kSigned);
+  auto b = f.station(SecurityMode::kSigned);
+  const auto base = b.verifier().ecdsa_verifications();  // the AA, checked at the start
+  EXPECT_EQ(b.verify_policy(), VerifyPolicy::kEvery);
+  EXPECT_TRUE(b.verifies(kPsidCam) && b.verifies(kPsidGnMgmt));
+  b.decapsulate(a.encapsulate(kPsidCam, kPayload, kNow), kNow);
+  b.decapsulate(a.encapsulate(kPsidCam, kPayload, kNow + 1000), kNow + 1000);
+  EXPECT_EQ(b.verifier().ecdsa_verifications() - base, 3u);
+  EXPECT_EQ(b.verifier().count(VerifyResult::kOk), 2u);
+}
+
 }  // namespace
 }  // namespace tb::its::security

@@ -26,6 +26,7 @@
 #include "its-station/link/test_link.hpp"
 #include "its-station/messages/cam.hpp"
 #include "its-station/messages/denm.hpp"
+#include "its-station/security/tests/test_pki.hpp"
 #include "its-station/station/station.hpp"
 
 namespace tb::its::station {
@@ -79,15 +80,26 @@ scenario::Vehicle car(std::uint32_t id, scenario::StationKind kind = scenario::S
   return v;
 }
 
+/// A pooled station's vehicle as the scenario's defaults make it: no LCRW, no MQTT.
+scenario::Vehicle pooled_car(std::uint32_t id) {
+  scenario::Vehicle v = car(id);
+  v.station_kind = scenario::StationKind::kPooled;
+  v.station_lcrw = false;
+  v.station_mqtt = false;
+  return v;
+}
+
 /// One station over fake ports. Every station of a test shares the host runtime, as the pooled
 /// stations of a station-host share its io thread.
 struct FakeStation {
+  /// @p security: signs and verifies (null: unsecured); @p pooled: the vehicle's station is a
+  /// pooled one, without LCRW.
   FakeStation(clock::ManualRuntime& host, std::uint32_t id, bool with_mqtt,
-              scenario::StationKind kind = scenario::StationKind::kFull)
-      : vehicle(car(id, kind)),
+              security::SecurityEntity* security = nullptr, bool pooled = false)
+      : vehicle(pooled ? pooled_car(id) : car(id)),
         its_clock(host),
         link(mac_of(id)),
-        station(StationPorts{host, its_clock, gnss, nullptr, link, nullptr,
+        station(StationPorts{host, its_clock, gnss, nullptr, link, security,
                              with_mqtt ? &sink : nullptr},
                 make_station_config(id, nullptr, &vehicle, StationOverrides{})) {}
 
@@ -329,7 +341,7 @@ TEST(Station, APooledStationTracesNoReceptions) {
   trace::configure(path.string(), "its-station");
   clock::ManualRuntime host;
   FakeStation full(host, 1001, /*with_mqtt=*/false);
-  FakeStation pooled(host, 2002, /*with_mqtt=*/false, scenario::StationKind::kPooled);
+  FakeStation pooled(host, 2002, /*with_mqtt=*/false, nullptr, /*pooled=*/true);
   EXPECT_TRUE(full.station.config().ca.trace_receptions);
   EXPECT_FALSE(pooled.station.config().ca.trace_receptions);
   full.station.start();
@@ -361,6 +373,47 @@ TEST(Station, APooledStationTracesNoReceptions) {
   EXPECT_EQ((records[{"its.cam_tx", 1001}]), 1);
   full.station.stop();
   pooled.station.stop();
+}
+
+TEST(Station, APooledStationWithoutLcrwTakesSignedCamsWithoutVerifyingThem) {
+  clock::ManualRuntime host;
+  security::testing::TestPki pki{host.wall_now() - kWorldBehindHost};
+  const auto sender_security = pki.entity(security::SecurityMode::kSigned);
+  const auto full_security = pki.entity(security::SecurityMode::kSigned);
+  const auto pooled_security = pki.entity(security::SecurityMode::kSigned);
+  // Each checked the AA when it was made.
+  const auto full_base = full_security->verifier().ecdsa_verifications();
+  const auto pooled_base = pooled_security->verifier().ecdsa_verifications();
+  FakeStation sender(host, 1001, false, sender_security.get());
+  FakeStation full(host, 2002, false, full_security.get());
+  FakeStation pooled(host, 3003, false, pooled_security.get(), /*pooled=*/true);
+  EXPECT_EQ(full.station.config().verify_policy, security::VerifyPolicy::kEvery);
+  EXPECT_EQ(pooled.station.config().verify_policy, security::VerifyPolicy::kOnDemand);
+  for (auto* s : {&sender, &full, &pooled})
+    s->station.start();
+  // Every ITS clock on the world's time, then the sender's first CAM (its AT in it).
+  full.fix(host, 0.0, 50.0, 0.0, 10.0);
+  pooled.fix(host, 0.0, 100.0, 0.0, 10.0);
+  sender.fix(host, 0.0, 0.0, 0.0, 10.0);
+  ASSERT_FALSE(sender.link.sent().empty());
+  for (auto* r : {&full, &pooled})
+    for (const auto& f : sender.link.sent())
+      r->link.inject(sender.link.address(), f.destination, f.ethertype, f.payload, host.wall_now());
+
+  // Both know the sender; the full station checked the AT and the CAM, the pooled one the AT
+  // only (cached for the DENMs it would verify).
+  EXPECT_TRUE(full.station.ldm().neighbours().contains(1001));
+  EXPECT_TRUE(pooled.station.ldm().neighbours().contains(1001));
+  EXPECT_EQ(full_security->verifier().count(security::VerifyResult::kOk), 1u);
+  EXPECT_EQ(full_security->verifier().ecdsa_verifications() - full_base, 2u);
+  EXPECT_EQ(pooled_security->verifier().count(security::VerifyResult::kOk), 0u);
+  EXPECT_EQ(pooled_security->verifier().count(security::VerifyResult::kNotVerified), 1u);
+  EXPECT_EQ(pooled_security->verifier().ecdsa_verifications() - pooled_base, 1u);
+  const auto status = pooled.station.status();
+  EXPECT_EQ(status["security"]["verify_policy"], "on-demand");
+  EXPECT_EQ(status["security"]["verify"]["not_verified"], 1);
+  for (auto* s : {&sender, &full, &pooled})
+    s->station.stop();
 }
 
 }  // namespace
