@@ -331,8 +331,11 @@ int run(const Options& o) {
   status_tick();
   io.run();
 
-  if (mqtt)
+  if (mqtt) {
     mqtt->stop();
+    spdlog::info("MQTT: {} message(s) mirrored in {} batch(es)", mqtt->batched_messages(),
+                 mqtt->batches());
+  }
   tb::trace::global().flush();
   station.log_totals();
   return exit_code;
