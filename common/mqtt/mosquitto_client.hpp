@@ -20,10 +20,10 @@
 ///
 /// Batching: with set_flush_request(), QoS 0 messages are held and written together at flush(),
 /// which the owner runs once its thread has done what one wake-up brought (its-station posts it
-/// onto its io_context): the socket is corked for the batch, so a burst of received CAMs
-/// leaves as one TCP segment and wakes the broker once, not once per message (issue 33,
-/// docs/latency.md). A QoS 1 message first writes what is held, so that messages leave in the
-/// order they were published.
+/// onto its io_context). A batch of four or more is written corked, as one TCP segment that
+/// wakes the broker once. libmosquitto still makes one write (and one byte to its socket pair)
+/// per message (issue 33, docs/latency.md). A QoS 1 message first writes what is held, so that
+/// messages leave in the order they were published.
 ///
 /// Subscriptions: the topic filters in ClientConfig::subscriptions are (re)subscribed on every
 /// connection (the broker keeps no session for a clean client), and each message is handed to
