@@ -18,6 +18,13 @@
 /// messages are libmosquitto's to retransmit after a reconnect. QoS 0 messages (state, CAMs)
 /// are sent only while connected and otherwise discarded: a stale position is worth nothing.
 ///
+/// Batching: with set_flush_request(), QoS 0 messages are held and written together at flush(),
+/// which the owner runs once its thread has done what one wake-up brought (its-station posts it
+/// onto its io_context). A batch of four or more is written corked, as one TCP segment that
+/// wakes the broker once. libmosquitto still makes one write (and one byte to its socket pair)
+/// per message (issue 33, docs/latency.md). A QoS 1 message first writes what is held, so that
+/// messages leave in the order they were published.
+///
 /// Subscriptions: the topic filters in ClientConfig::subscriptions are (re)subscribed on every
 /// connection (the broker keeps no session for a clean client), and each message is handed to
 /// the message handler in the network thread.
@@ -90,6 +97,18 @@ class MosquittoClient final : public MqttSink {
 
   void publish(std::string_view topic, std::string payload, Qos qos, bool retain) override;
 
+  /// Holds QoS 0 messages until flush(); @p request_flush is called in the publishing thread at
+  /// the first message of each batch, under this class's lock: it must only arrange for flush()
+  /// to run soon (post it onto the owner's loop), never call into this client. Call before
+  /// start(). stop() writes what is still held.
+  void set_flush_request(std::function<void()> request_flush);
+  /// Writes the held messages in one corked burst (discards them when not connected, as any
+  /// QoS 0 message).
+  void flush();
+  /// Batches written by flush() (with at least one message) and the messages in them.
+  std::uint64_t batches() const;
+  std::uint64_t batched_messages() const;
+
   bool connected() const;
   /// QoS 1 messages dropped because the queue overflowed while the broker was away.
   std::uint64_t dropped() const;
@@ -114,6 +133,7 @@ class MosquittoClient final : public MqttSink {
   void wake_network();
   void wake_if_unwritten_locked();
   void flush_locked();
+  void write_held_locked();
   std::string status_payload_locked(bool online) const;
 
   const clock::Clock& clock_;
@@ -148,6 +168,10 @@ class MosquittoClient final : public MqttSink {
   std::uint64_t connections_ = 0;
   std::uint64_t refused_ = 0;
   int last_connack_ = -1;
+  std::function<void()> request_flush_;
+  std::vector<OutMessage> held_;  ///< QoS 0 messages waiting for flush()
+  std::uint64_t batches_ = 0;
+  std::uint64_t batched_messages_ = 0;
 };
 
 }  // namespace tb::mqtt

@@ -15,6 +15,7 @@
 #include <CLI/CLI.hpp>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/udp.hpp>
+#include <boost/asio/post.hpp>
 #include <boost/asio/signal_set.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <nlohmann/json.hpp>
@@ -249,6 +250,11 @@ int run(const Options& o) {
     mc.publish_prefix = topics.root() + "/";
     mqtt_root = topics.root();
     mqtt = std::make_unique<tb::mqtt::MosquittoClient>(runtime, mc);
+    // What one wake-up publishes (a burst of received CAMs) goes to the broker in one write
+    // once the io_context has run the wake-up's handlers: a post from the io thread itself waits
+    // in its queue and costs no wake-up (issue 33, docs/latency.md).
+    mqtt->set_flush_request(
+        [&io, client = mqtt.get()] { asio::post(io, [client] { client->flush(); }); });
   }
 
   tb::its::station::Station station(
@@ -325,8 +331,11 @@ int run(const Options& o) {
   status_tick();
   io.run();
 
-  if (mqtt)
+  if (mqtt) {
     mqtt->stop();
+    spdlog::info("MQTT: {} message(s) mirrored in {} batch(es)", mqtt->batched_messages(),
+                 mqtt->batches());
+  }
   tb::trace::global().flush();
   station.log_totals();
   return exit_code;

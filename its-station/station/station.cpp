@@ -213,7 +213,8 @@ void Station::evaluate_lcrw(const fac::PositionFix& fix, const apps::mqtt::Kinem
   }
   const std::int64_t decided_ns = trace::Tracer::now_ns();
   published_about_.clear();
-  std::vector<apps::VehicleKinematics> others;
+  auto& others = lcrw_others_;
+  others.clear();
   const auto assess = [&](std::uint32_t id, const fac::Neighbour& n) {
     others.push_back(
         lcrw_kinematics(id, neighbour_kinematics(n), n.latest().generation_time, *frame_));

@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <set>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -136,6 +137,9 @@ class Station {
   std::unique_ptr<apps::LcrwDenmTrigger> lcrw_denm_;
   std::unique_ptr<apps::LcrwApplication> lcrw_;
   std::set<std::uint32_t> published_about_;  // neighbours of the current evaluation's warnings
+  // The neighbours an evaluation assesses, kept between evaluations: one runs at every CAM
+  // received (150 a second at 49 neighbours), and a vector per evaluation was an allocation each.
+  std::vector<apps::VehicleKinematics> lcrw_others_;
   std::optional<clock::TimerId> onset_timer_;
   bool stopped_ = false;
 

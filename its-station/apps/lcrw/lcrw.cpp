@@ -338,8 +338,7 @@ std::vector<LcrwWarning> Lcrw::evaluate(const VehicleKinematics& own,
                                         std::span<const VehicleKinematics> neighbours) {
   const clock::WallTime now = clock_.wall_now();
   std::vector<LcrwWarning> events;
-  std::set<std::uint32_t> seen;
-  assessed_.clear();
+  assessed_.clear();  // afterwards: the neighbours seen, fresh enough to assess
 
   auto clear = [&](LcrwWarning w, ClearReason why) {
     w.event = WarningEvent::kCleared;
@@ -356,7 +355,6 @@ std::vector<LcrwWarning> Lcrw::evaluate(const VehicleKinematics& own,
     if (seconds_between(n.time, now) > cfg_.max_neighbour_age_s) {
       continue;  // lost: cleared below with the absent ones
     }
-    seen.insert(n.station_id);
     const PairAssessment a = assess(own, n, now, cfg_, active_.contains(n.station_id));
     assessed_[n.station_id] = a;
     const bool relevant = a.in_path && (a.ahead || cfg_.include_vehicles_behind);
@@ -399,7 +397,7 @@ std::vector<LcrwWarning> Lcrw::evaluate(const VehicleKinematics& own,
 
   std::vector<std::uint32_t> lost;
   for (const auto& [id, w] : active_) {
-    if (!seen.contains(id)) {
+    if (!assessed_.contains(id)) {
       lost.push_back(id);
     }
   }
