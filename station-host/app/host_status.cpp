@@ -28,6 +28,7 @@ nlohmann::json station_status(const its::station::Station& s,
         v[std::string(its::security::to_string(static_cast<its::security::VerifyResult>(i)))] =
             counts[i];
     j["security"] = {{"mode", its::security::to_string(security->mode())},
+                     {"verify_policy", its::security::to_string(security->verify_policy())},
                      {"verify", std::move(v)},
                      {"passed_unverified", security->passed_unverified()},
                      {"held", security->held()}};
