@@ -13,7 +13,11 @@ namespace tb::emu {
 Emulator::Emulator(const scenario::Scenario& scenario, const tb::can::Database& dbc,
                    const std::vector<StationEndpoints>& stations, const StationIoFactory& make_io,
                    const clock::Clock& clock, trace::Tracer& tracer, std::uint64_t seed)
-    : scenario_(scenario), clock_(clock), tracer_(tracer), map_(scenario) {
+    : scenario_(scenario),
+      clock_(clock),
+      tracer_(tracer),
+      map_(scenario),
+      world_start_(scenario.start_time) {
   std::optional<can::CanFeeder> first_feeder;
   for (const StationEndpoints& e : stations) {
     const scenario::Vehicle* v = scenario.find_station(e.station_id);
@@ -22,7 +26,7 @@ Emulator::Emulator(const scenario::Scenario& scenario, const tb::can::Database& 
     gnss::AgentConfig gc;
     gc.station_id = e.station_id;
     gc.rate_hz = scenario.rates.gnss_hz;
-    // Until sim-server's start time arrives with the states (use_world_start()).
+    // Until sim-server's start time arrives with the states (world_start_).
     gc.start_time = scenario.start_time.value_or(std::chrono::system_clock::time_point{});
     gc.errors = scenario.gnss;
     gc.seed = seed;
@@ -64,42 +68,14 @@ bool Emulator::handle_datagram(std::span<const std::uint8_t> bytes) {
     }
     return false;
   }
-  if (!world_start_ns_ ||
-      (world_start != wire::kUnknownWorldStart && world_start != *world_start_ns_))
-    use_world_start(world_start, batch_.front());
+  if (const auto start = world_start_.update(world_start, batch_.front(), clock_.wall_now())) {
+    for (auto& [id, s] : stations_)
+      s->gps.set_start_time(*start);
+    tracer_.record("emu.world_start", {{"world_start_ns", clock::to_unix_ns(*start)}});
+  }
   for (const wire::VehicleState& state : batch_)
     handle_state(state);
   return true;
-}
-
-void Emulator::use_world_start(std::int64_t world_start_ns, const wire::VehicleState& first) {
-  std::string source;
-  if (world_start_ns != wire::kUnknownWorldStart) {
-    source = "sim-server's, with the states";
-  } else if (scenario_.start_time) {
-    world_start_ns = clock::to_unix_ns(*scenario_.start_time);
-    source = "the scenario's start_time (the states do not carry one)";
-  } else {
-    // A sender that knows no start time (a tool, an old client) and a scenario that pins none:
-    // the world started when this state's sim time says, by the host's clock.
-    world_start_ns = clock::to_unix_ns(clock_.wall_now()) - first.sim_time_ns;
-    source =
-        "the host's clock minus the first state's sim time (the states carry no start "
-        "time and the scenario pins none)";
-  }
-  if (world_start_ns_ == world_start_ns)
-    return;
-  const bool first_time = !world_start_ns_;
-  world_start_ns_ = world_start_ns;
-  const auto start = clock::from_unix_ns(world_start_ns);
-  for (auto& [id, s] : stations_)
-    s->gps.set_start_time(start);
-  const std::string when = clock::format_utc(start);
-  if (first_time)
-    spdlog::info("GNSS time: sim time 0 is {}, {}", when, source);
-  else
-    spdlog::warn("GNSS time: sim time 0 is now {}, {} (a restarted sim-server)", when, source);
-  tracer_.record("emu.world_start", {{"world_start_ns", world_start_ns}});
 }
 
 void Emulator::handle_state(const wire::VehicleState& state) {

@@ -27,6 +27,7 @@
 #include "network-emulator/app/stations_config.hpp"
 #include "network-emulator/can/can_feeder.hpp"
 #include "network-emulator/gnss/gps_agent.hpp"
+#include "network-emulator/gnss/world_start.hpp"
 
 namespace tb::emu {
 
@@ -88,8 +89,6 @@ class Emulator {
   };
 
   void handle_state(const wire::VehicleState& state);
-  /// Dates the GPS agents' fixes from @p world_start_ns, a batch's start time (or its absence).
-  void use_world_start(std::int64_t world_start_ns, const wire::VehicleState& first);
   void send_nmea(Station& s, const wire::VehicleState& state, std::string_view nmea);
   void send_can(Station& s, const wire::VehicleState& state,
                 std::span<const tb::can::CanFrame> frames);
@@ -107,7 +106,7 @@ class Emulator {
   bool logged_unknown_ = false;
   /// The world's start time the agents date fixes from; empty until a batch names one (or, for
   /// batches that do not, the scenario's pinned start_time stands in).
-  std::optional<std::int64_t> world_start_ns_;
+  WorldStart world_start_;
 };
 
 }  // namespace tb::emu

@@ -11,7 +11,11 @@ namespace tb::host {
 
 StateFeed::StateFeed(const scenario::Scenario& scenario, const geodesy::Georeferencing& frame,
                      clock::Runtime& runtime, std::uint64_t seed)
-    : scenario_(scenario), frame_(frame), runtime_(runtime), seed_(seed) {}
+    : scenario_(scenario),
+      frame_(frame),
+      runtime_(runtime),
+      seed_(seed),
+      world_start_(scenario.start_time) {}
 
 StationSources& StateFeed::add(std::uint32_t station_id) {
   const scenario::Vehicle* v = scenario_.find_station(station_id);
@@ -34,8 +38,8 @@ StationSources& StateFeed::add(std::uint32_t station_id) {
   s.gnss = std::make_unique<StateGnssReceiver>(gc, frame_, runtime_);
   s.vehicle = std::make_unique<StateVehicleData>(scenario_.rates.can_dynamics_hz,
                                                  v->model.steering_ratio, runtime_);
-  if (world_start_ns_)
-    s.gnss->set_start_time(clock::from_unix_ns(*world_start_ns_));
+  if (const auto ns = world_start_.unix_ns())
+    s.gnss->set_start_time(clock::from_unix_ns(*ns));
   return stations_.emplace(station_id, std::move(s)).first->second;
 }
 
@@ -53,9 +57,9 @@ bool StateFeed::handle_datagram(std::span<const std::uint8_t> bytes) {
     }
     return false;
   }
-  if (!world_start_ns_ ||
-      (world_start != wire::kUnknownWorldStart && world_start != *world_start_ns_))
-    use_world_start(world_start, batch_.front());
+  if (const auto start = world_start_.update(world_start, batch_.front(), runtime_.wall_now()))
+    for (auto& [id, s] : stations_)
+      s.gnss->set_start_time(*start);
   for (const wire::VehicleState& state : batch_) {
     const auto it = stations_.find(state.station_id);
     if (it == stations_.end()) {
@@ -68,33 +72,6 @@ bool StateFeed::handle_datagram(std::span<const std::uint8_t> bytes) {
     it->second.vehicle->on_state(state);
   }
   return true;
-}
-
-// The emulator's rule (network-emulator/app/emulator.cpp), so that a pooled station's fix time
-// is the one a full station's agent writes into its NMEA (docs/time.md).
-void StateFeed::use_world_start(std::int64_t world_start_ns, const wire::VehicleState& first) {
-  std::string source;
-  if (world_start_ns != wire::kUnknownWorldStart) {
-    source = "sim-server's, with the states";
-  } else if (scenario_.start_time) {
-    world_start_ns = clock::to_unix_ns(*scenario_.start_time);
-    source = "the scenario's start_time (the states do not carry one)";
-  } else {
-    world_start_ns = clock::to_unix_ns(runtime_.wall_now()) - first.sim_time_ns;
-    source = "the host's clock minus the first state's sim time (no start time known)";
-  }
-  if (world_start_ns_ == world_start_ns)
-    return;
-  const bool first_time = !world_start_ns_;
-  world_start_ns_ = world_start_ns;
-  const auto start = clock::from_unix_ns(world_start_ns);
-  for (auto& [id, s] : stations_)
-    s.gnss->set_start_time(start);
-  const std::string when = clock::format_utc(start);
-  if (first_time)
-    spdlog::info("GNSS time: sim time 0 is {}, {}", when, source);
-  else
-    spdlog::warn("GNSS time: sim time 0 is now {}, {} (a restarted sim-server)", when, source);
 }
 
 }  // namespace tb::host

@@ -15,6 +15,7 @@
 #include "common/geodesy/georeferencing.hpp"
 #include "common/scenario/scenario.hpp"
 #include "common/wire/vehicle_state.hpp"
+#include "network-emulator/gnss/world_start.hpp"
 #include "station-host/feed/state_gnss.hpp"
 #include "station-host/feed/state_vehicle_data.hpp"
 
@@ -52,18 +53,16 @@ class StateFeed {
 
   const Counters& counters() const { return counters_; }
   /// UTC of sim time 0 once the first batch came.
-  std::optional<std::int64_t> world_start_ns() const { return world_start_ns_; }
+  std::optional<std::int64_t> world_start_ns() const { return world_start_.unix_ns(); }
 
  private:
-  void use_world_start(std::int64_t world_start_ns, const wire::VehicleState& first);
-
   const scenario::Scenario& scenario_;
   const geodesy::Georeferencing& frame_;
   clock::Runtime& runtime_;
   std::uint64_t seed_;
   std::unordered_map<std::uint32_t, StationSources> stations_;
   std::vector<wire::VehicleState> batch_;
-  std::optional<std::int64_t> world_start_ns_;
+  emu::WorldStart world_start_;
   std::array<bool, wire::kDecodeErrorCount> logged_malformed_{};
   Counters counters_;
 };
