@@ -11,6 +11,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "common/wire/station_mac.hpp"
+
 namespace tb::emu::radio {
 
 namespace {
@@ -33,12 +35,7 @@ std::string owner_alias() {
 }
 
 MacAddress station_mac(StationId id) {
-  return {0x02,
-          0x00,
-          static_cast<std::uint8_t>(id >> 24),
-          static_cast<std::uint8_t>(id >> 16),
-          static_cast<std::uint8_t>(id >> 8),
-          static_cast<std::uint8_t>(id)};
+  return wire::station_mac(id);
 }
 
 MacAddress host_mac(std::size_t k) {

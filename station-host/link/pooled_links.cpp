@@ -4,18 +4,14 @@
 #include <cstring>
 
 #include "common/wire/pooled_delivery.hpp"
+#include "common/wire/station_mac.hpp"
 
 namespace tb::host {
 
 namespace link = its::link;
 
 link::MacAddress pooled_station_mac(std::uint32_t id) {
-  return {0x02,
-          0x00,
-          static_cast<std::uint8_t>(id >> 24),
-          static_cast<std::uint8_t>(id >> 16),
-          static_cast<std::uint8_t>(id >> 8),
-          static_cast<std::uint8_t>(id)};
+  return wire::station_mac(id);
 }
 
 namespace {
