@@ -12,8 +12,6 @@ namespace tb::server {
 namespace asio = boost::asio;
 using asio::ip::tcp;
 
-namespace {
-
 class TcpConnection final : public ClientLink, public std::enable_shared_from_this<TcpConnection> {
  public:
   TcpConnection(tcp::socket socket, Hub& hub, std::size_t max_frames,
@@ -26,6 +24,9 @@ class TcpConnection final : public ClientLink, public std::enable_shared_from_th
     ++*live_;
   }
   ~TcpConnection() override { --*live_; }
+
+  /// Closes the socket now, whatever is queued or lingering (the server is going).
+  void close_now() { shut(); }
 
   void start() {
     boost::system::error_code ec;
@@ -167,8 +168,6 @@ class TcpConnection final : public ClientLink, public std::enable_shared_from_th
   std::shared_ptr<TcpConnection> self_;
 };
 
-}  // namespace
-
 TcpServer::TcpServer(asio::io_context& io, Hub& hub, TcpOptions options)
     : io_(io), hub_(hub), options_(std::move(options)), acceptor_(io) {
   const tcp::endpoint ep(asio::ip::make_address(options_.bind), options_.port);
@@ -181,6 +180,9 @@ TcpServer::TcpServer(asio::io_context& io, Hub& hub, TcpOptions options)
 
 TcpServer::~TcpServer() {
   stop();
+  for (const auto& weak : connections_)
+    if (const auto c = weak.lock())
+      c->close_now();
 }
 
 std::uint16_t TcpServer::port() const {
@@ -197,11 +199,15 @@ void TcpServer::accept() {
   acceptor_.async_accept([this](boost::system::error_code ec, tcp::socket socket) {
     if (ec == asio::error::operation_aborted || !acceptor_.is_open())
       return;
-    if (!ec)
-      std::make_shared<TcpConnection>(std::move(socket), hub_, options_.max_queued_frames, live_)
-          ->start();
-    else
+    if (!ec) {
+      std::erase_if(connections_, [](const auto& weak) { return weak.expired(); });
+      auto c = std::make_shared<TcpConnection>(std::move(socket), hub_, options_.max_queued_frames,
+                                               live_);
+      connections_.push_back(c);
+      c->start();
+    } else {
       spdlog::warn("accept failed: {}", ec.message());
+    }
     accept();
   });
 }

@@ -9,10 +9,13 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "sim-server/server/hub.hpp"
 
 namespace tb::server {
+
+class TcpConnection;
 
 struct TcpOptions {
   std::string bind = "0.0.0.0";
@@ -41,6 +44,9 @@ class TcpServer {
   TcpOptions options_;
   boost::asio::ip::tcp::acceptor acceptor_;
   std::shared_ptr<std::size_t> live_ = std::make_shared<std::size_t>(0);
+  /// Every connection made, so that those still lingering after their last frame are closed
+  /// when the server goes (a lingering connection holds itself, and would outlive it).
+  std::vector<std::weak_ptr<TcpConnection>> connections_;
 };
 
 }  // namespace tb::server
