@@ -126,10 +126,14 @@ void BM_ReceiveFanOut(benchmark::State& state) {
   Capture host_out;
   host_out.keep = false;
   tb::host::PooledLinks host(host_out, rt, false, {});
+  // One decoded CAM per frame for all the host's stations, as station-host's main shares it.
+  facilities::SharedCamDecoder cam_decoder;
   std::vector<std::unique_ptr<Pooled>> receivers;
-  for (std::size_t i = 0; i < n; ++i)
+  for (std::size_t i = 0; i < n; ++i) {
     receivers.push_back(
         std::make_unique<Pooled>(rt, host, 3000 + static_cast<std::uint32_t>(i), entity()));
+    receivers.back()->station.share_cam_decoder(cam_decoder);
+  }
 
   // CAMs of 16 other stations on a ring road, 10 Hz for 2 s: distinct senders and positions,
   // as a station hears them.
