@@ -1,14 +1,20 @@
 #include "common/clock/asio_runtime.hpp"
 
+#include <algorithm>
+
 namespace tb::clock {
 
 TimerId AsioRuntime::schedule_at(SteadyTime when, TimerCallback cb) {
   const TimerId id = queue_.push(when, std::move(cb));
+  // Callbacks that schedule their successors (every periodic timer) would set the timer once
+  // per callback of a wake-up; on_timer() sets it once for all of them.
+  if (dispatching_)
+    return id;
   // Armed for an instant whose timer was cancelled (earlier than every timer left): a timer
   // moved later — cancelled and scheduled again, as the CA service's check timer at every fix
   // — would wake the thread for nothing; re-arming costs a timerfd update instead of a wake-up
   // (issue 33).
-  if (!armed_ || when < armed_for_ || armed_for_ < queue_.next_due())
+  if (!armed_ || wake_at() != armed_for_)
     rearm();
   return id;
 }
@@ -23,7 +29,8 @@ void AsioRuntime::rearm() {
   if (queue_.empty())
     return;
   armed_ = true;
-  armed_for_ = queue_.next_due();
+  ++rearms_;
+  armed_for_ = wake_at();
   timer_.expires_at(armed_for_);
   timer_.async_wait([this](const boost::system::error_code& ec) {
     if (ec == boost::asio::error::operation_aborted)
@@ -33,13 +40,25 @@ void AsioRuntime::rearm() {
   });
 }
 
+SteadyTime AsioRuntime::wake_at() const {
+  return std::max(queue_.next_due(), no_wake_before_);
+}
+
 void AsioRuntime::on_timer() {
   ++wakeups_;
-  while (!queue_.empty() && queue_.next_due() <= SteadyClock::now()) {
-    queue_.pop()();
-  }
-  if (!armed_)
+  if (slack_ > Duration::zero())
+    no_wake_before_ = SteadyClock::now() + slack_;
+  dispatching_ = true;
+  try {
+    while (!queue_.empty() && queue_.next_due() <= SteadyClock::now())
+      queue_.pop()();
+  } catch (...) {
+    dispatching_ = false;
     rearm();
+    throw;
+  }
+  dispatching_ = false;
+  rearm();
 }
 
 }  // namespace tb::clock

@@ -3,7 +3,10 @@
 #include <thread>
 #include <vector>
 
+#include <boost/asio/post.hpp>
+
 #include "common/clock/asio_runtime.hpp"
+#include "common/clock/held_clock_runtime.hpp"
 #include "common/clock/runtime.hpp"
 
 namespace tb::clock {
@@ -96,6 +99,100 @@ TEST(AsioRuntime, ATimerMovedLaterDoesNotWakeAtItsOldInstant) {
   io.run_for(2s);
   EXPECT_EQ(fired, 1);
   EXPECT_EQ(rt.wakeups(), 1u) << "woken at the cancelled timer's instant";
+}
+
+// Timers 1 ms apart with 10 ms of slack: each fires no earlier than due and at most the slack
+// late (plus a scheduling margin), and the thread wakes once per slack instead of once per
+// timer. Real time, about 30 ms.
+TEST(AsioRuntime, TimerSlackFiresLateTogetherNeverEarly) {
+  boost::asio::io_context io;
+  AsioRuntime rt(io);
+  rt.set_timer_slack(10ms);
+  constexpr int kTimers = 20;
+  int fired = 0;
+  std::vector<Duration> lateness;
+  const SteadyTime start = rt.steady_now();
+  for (int i = 1; i <= kTimers; ++i) {
+    const SteadyTime due = start + i * 1ms;
+    rt.schedule_at(due, [&, due] {
+      ++fired;
+      lateness.push_back(SteadyClock::now() - due);
+    });
+  }
+  io.run_for(2s);
+  ASSERT_EQ(fired, kTimers);
+  for (const Duration late : lateness) {
+    EXPECT_GE(late, Duration::zero()) << "fired early";
+    EXPECT_LT(late, 10ms + 40ms) << "later than the slack allows (40 ms margin for a busy CI)";
+  }
+  // 20 ms of timers in 10 ms slices: the first wake-up at 1 ms, then at most every 10 ms.
+  EXPECT_LE(rt.wakeups(), 4u);
+}
+
+// Callbacks of one wake-up that each schedule a successor set the timer once between them, not
+// once each (each setting is a system call). The case: timers at distinct instants that one
+// wake-up fires together (here the thread is busy until all are due), where each popped timer
+// moved the next due instant. Real time, about 25 ms.
+TEST(AsioRuntime, OneTimerSettingPerWakeUp) {
+  boost::asio::io_context io;
+  AsioRuntime rt(io);
+  constexpr int kPeriodic = 50;
+  int fired = 0;
+  const SteadyTime start = rt.steady_now();
+  for (int i = 0; i < kPeriodic; ++i)
+    rt.schedule_at(start + 1ms + i * 10us, [&] {
+      ++fired;
+      rt.schedule_at(start + 20ms, [&] { ++fired; });
+    });
+  boost::asio::post(io, [&] {
+    while (SteadyClock::now() < start + 5ms) {
+    }
+  });
+  io.run_for(2s);
+  ASSERT_EQ(fired, 2 * kPeriodic);
+  // One setting before the thread was busy, then at most one per wake-up (about 50 when each
+  // callback set it).
+  EXPECT_LE(rt.rearms(), 1u + rt.wakeups()) << "set once per callback";
+}
+
+}  // namespace
+}  // namespace tb::clock
+
+namespace tb::clock {
+namespace {
+
+TEST(HeldClockRuntime, HeldClocksStandStillAndFollowAgainWhenReleased) {
+  ManualRuntime inner;
+  HeldClockRuntime rt(inner);
+  const SteadyTime s0 = inner.steady_now();
+  const WallTime w0 = inner.wall_now();
+  {
+    auto hold = rt.hold();
+    inner.advance(5ms);
+    EXPECT_EQ(rt.steady_now(), s0);
+    EXPECT_EQ(rt.wall_now(), w0);
+    {
+      auto inner_hold = rt.hold();  // nested: keeps the outer instant
+      inner.advance(5ms);
+      EXPECT_EQ(rt.steady_now(), s0);
+    }
+    EXPECT_EQ(rt.steady_now(), s0) << "released by the inner hold";
+  }
+  EXPECT_EQ(rt.steady_now(), s0 + 10ms);
+  EXPECT_EQ(rt.wall_now(), w0 + 10ms);
+}
+
+TEST(HeldClockRuntime, TimersAreTheInnerRuntimes) {
+  ManualRuntime inner;
+  HeldClockRuntime rt(inner);
+  int fired = 0;
+  rt.schedule_in(10ms, [&] { ++fired; });
+  const TimerId cancelled = rt.schedule_in(5ms, [&] { fired += 100; });
+  rt.cancel(cancelled);
+  inner.advance(9ms);
+  EXPECT_EQ(fired, 0);
+  inner.advance(1ms);
+  EXPECT_EQ(fired, 1);
 }
 
 }  // namespace
