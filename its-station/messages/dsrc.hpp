@@ -265,4 +265,258 @@ struct IntersectionState {
 inline constexpr std::size_t kIntersectionStatesMax = 4;
 using IntersectionStateList = BoundedVector<IntersectionState, kIntersectionStatesMax>;
 
+// ---- MapData frames --------------------------------------------------------------------------
+
+/// LayerType ::= ENUMERATED {none, mixedContent, generalMapData, intersectionData, curveData,
+/// roadwaySectionData, parkingAreaData, sharedLaneData, ...}.
+enum class LayerType : std::uint8_t {
+  none = 0,
+  mixedContent = 1,
+  generalMapData = 2,
+  intersectionData = 3,
+  curveData = 4,
+  roadwaySectionData = 5,
+  parkingAreaData = 6,
+  sharedLaneData = 7,
+};
+
+/// Position3D ::= SEQUENCE {lat Latitude, long Longitude, elevation Elevation?, regional?, ...}
+/// (Latitude and Longitude of the CDD, 0.1 µdeg).
+struct Position3D {
+  Latitude lat = 0;
+  Longitude long_ = 0;
+  std::optional<Elevation> elevation;
+  friend bool operator==(const Position3D&, const Position3D&) = default;
+};
+
+/// SpeedLimitType ::= ENUMERATED {unknown, maxSpeedInSchoolZone, ..., vehiclesWithTrailers-
+/// NightMaxSpeed (12), ...}.
+enum class SpeedLimitType : std::uint8_t {
+  unknown = 0,
+  maxSpeedInSchoolZone = 1,
+  maxSpeedInSchoolZoneWhenChildrenArePresent = 2,
+  maxSpeedInConstructionZone = 3,
+  vehicleMinSpeed = 4,
+  vehicleMaxSpeed = 5,
+  vehicleNightMaxSpeed = 6,
+  truckMinSpeed = 7,
+  truckMaxSpeed = 8,
+  truckNightMaxSpeed = 9,
+  vehiclesWithTrailersMinSpeed = 10,
+  vehiclesWithTrailersMaxSpeed = 11,
+  vehiclesWithTrailersNightMaxSpeed = 12,
+};
+
+/// RegulatorySpeedLimit ::= SEQUENCE {type SpeedLimitType, speed Velocity}.
+struct RegulatorySpeedLimit {
+  SpeedLimitType type = SpeedLimitType::unknown;
+  Velocity speed = 0;
+  friend bool operator==(const RegulatorySpeedLimit&, const RegulatorySpeedLimit&) = default;
+};
+/// SpeedLimitList ::= SEQUENCE (SIZE(1..9)) OF RegulatorySpeedLimit.
+using SpeedLimitList = BoundedVector<RegulatorySpeedLimit, 9>;
+
+/// LaneTypeAttributes ::= CHOICE {vehicle, crosswalk, bikeLane, sidewalk, median, striping,
+/// trackedVehicle, parking, ...}: the alternative and its BIT STRING (SIZE(16)), except
+/// LaneAttributes-Vehicle (SIZE(8, ...)), of which only the 8 root bits are held.
+struct LaneTypeAttributes {
+  enum class Choice : std::uint8_t {
+    vehicle = 0,
+    crosswalk = 1,
+    bikeLane = 2,
+    sidewalk = 3,
+    median = 4,
+    striping = 5,
+    trackedVehicle = 6,
+    parking = 7,
+  };
+  Choice choice = Choice::vehicle;
+  std::uint16_t bits = 0;  ///< bit n of the alternative's BIT STRING is (1 << n)
+  friend bool operator==(const LaneTypeAttributes&, const LaneTypeAttributes&) = default;
+};
+inline constexpr unsigned kLaneTypeAttributesCount = 8;
+
+/// LaneAttributes ::= SEQUENCE {directionalUse LaneDirection, sharedWith LaneSharing,
+/// laneType LaneTypeAttributes, regional?}, no extension marker.
+struct LaneAttributes {
+  LaneDirection directionalUse = 0;
+  LaneSharing sharedWith = 0;
+  LaneTypeAttributes laneType;
+  friend bool operator==(const LaneAttributes&, const LaneAttributes&) = default;
+};
+
+/// NodeOffsetPointXY ::= CHOICE {node-XY1 Node-XY-20b .. node-XY6 Node-XY-32b, node-LatLon
+/// Node-LLmD-64b, regional}: offsets in cm from the previous node (the reference point for the
+/// first), x east, y north; for node-LatLon x is the longitude and y the latitude (0.1 µdeg).
+/// The regional alternative is refused (kUnsupported).
+struct NodeOffsetPointXY {
+  enum class Choice : std::uint8_t {
+    node_XY1 = 0,  ///< Offset-B10 (-512..511)
+    node_XY2 = 1,  ///< Offset-B11
+    node_XY3 = 2,  ///< Offset-B12
+    node_XY4 = 3,  ///< Offset-B13
+    node_XY5 = 4,  ///< Offset-B14
+    node_XY6 = 5,  ///< Offset-B16 (-32768..32767)
+    node_LatLon = 6,
+  };
+  Choice choice = Choice::node_XY1;
+  std::int32_t x = 0;
+  std::int32_t y = 0;
+  friend bool operator==(const NodeOffsetPointXY&, const NodeOffsetPointXY&) = default;
+};
+/// The smallest node-XYn alternative that holds (@p x, @p y) cm, node-XY6 if none does (its
+/// range is then checked by the encoder).
+NodeOffsetPointXY node_xy(std::int32_t x, std::int32_t y);
+
+/// NodeAttributeXY ::= ENUMERATED {reserved, stopLine, roundedCapStyleA, roundedCapStyleB,
+/// mergePoint, divergePoint, downstreamStopLine, downstreamStartNode, closedToTraffic,
+/// safeIsland, curbPresentAtStepOff, hydrantPresent, ...}.
+enum class NodeAttributeXY : std::uint8_t {
+  reserved = 0,
+  stopLine = 1,
+  roundedCapStyleA = 2,
+  roundedCapStyleB = 3,
+  mergePoint = 4,
+  divergePoint = 5,
+  downstreamStopLine = 6,
+  downstreamStartNode = 7,
+  closedToTraffic = 8,
+  safeIsland = 9,
+  curbPresentAtStepOff = 10,
+  hydrantPresent = 11,
+};
+inline constexpr unsigned kNodeAttributeXYCount = 12;
+/// SegmentAttributeXY ::= ENUMERATED {reserved .. unEvenPavementPresent (37), ...}: held as its
+/// root index (the module's 38 names are not repeated here).
+using SegmentAttributeXY = std::uint8_t;
+inline constexpr unsigned kSegmentAttributeXYCount = 38;
+
+/// NodeAttributeSetXY ::= SEQUENCE {localNode NodeAttributeXYList (SIZE(1..8))?, disabled,
+/// enabled SegmentAttributeXYList (SIZE(1..8))?, data LaneDataAttributeList?, dWidth,
+/// dElevation Offset-B10?, regional?, ...}. `data` is refused (kUnsupported): its speed-limit
+/// lists per node would make every node large.
+struct NodeAttributeSetXY {
+  std::optional<BoundedVector<NodeAttributeXY, 8>> localNode;
+  std::optional<BoundedVector<SegmentAttributeXY, 8>> disabled;
+  std::optional<BoundedVector<SegmentAttributeXY, 8>> enabled;
+  std::optional<std::int16_t> dWidth;      ///< cm (-512..511)
+  std::optional<std::int16_t> dElevation;  ///< cm (-512..511)
+  friend bool operator==(const NodeAttributeSetXY&, const NodeAttributeSetXY&) = default;
+};
+
+/// NodeXY ::= SEQUENCE {delta NodeOffsetPointXY, attributes NodeAttributeSetXY?, ...}.
+struct NodeXY {
+  NodeOffsetPointXY delta;
+  std::optional<NodeAttributeSetXY> attributes;
+  friend bool operator==(const NodeXY&, const NodeXY&) = default;
+};
+/// NodeSetXY ::= SEQUENCE (SIZE(2..63)) OF NodeXY (the module's bound).
+inline constexpr std::size_t kNodesMax = 63;
+using NodeSetXY = BoundedVector<NodeXY, kNodesMax>;
+
+/// ComputedLane ::= SEQUENCE {referenceLaneId, offsetXaxis, offsetYaxis CHOICE {small
+/// DrivenLineOffsetSm (-2047..2047), large DrivenLineOffsetLg (-32767..32767)}, rotateXY Angle
+/// (0..28800)?, scaleXaxis, scaleYaxis Scale-B12 (-2048..2047)?, regional?, ...}.
+struct DrivenLineOffset {
+  bool large = false;      ///< the CHOICE: small (false) or large (true)
+  std::int16_t value = 0;  ///< cm
+  friend bool operator==(const DrivenLineOffset&, const DrivenLineOffset&) = default;
+};
+struct ComputedLane {
+  LaneID referenceLaneId = 0;
+  DrivenLineOffset offsetXaxis;
+  DrivenLineOffset offsetYaxis;
+  std::optional<std::uint16_t> rotateXY;   ///< 0.0125 degree
+  std::optional<std::int16_t> scaleXaxis;  ///< 0.05 percent
+  std::optional<std::int16_t> scaleYaxis;
+  friend bool operator==(const ComputedLane&, const ComputedLane&) = default;
+};
+
+/// NodeListXY ::= CHOICE {nodes NodeSetXY, computed ComputedLane, ...}.
+using NodeListXY = std::variant<NodeSetXY, ComputedLane>;
+
+/// ConnectingLane ::= SEQUENCE {lane LaneID, maneuver AllowedManeuvers?}.
+struct ConnectingLane {
+  LaneID lane = 0;
+  std::optional<AllowedManeuvers> maneuver;
+  friend bool operator==(const ConnectingLane&, const ConnectingLane&) = default;
+};
+
+/// Connection ::= SEQUENCE {connectingLane, remoteIntersection?, signalGroup?, userClass?,
+/// connectionID?}, no extension marker.
+struct Connection {
+  ConnectingLane connectingLane;
+  std::optional<IntersectionReferenceID> remoteIntersection;
+  std::optional<SignalGroupID> signalGroup;
+  std::optional<RestrictionClassID> userClass;
+  std::optional<LaneConnectionID> connectionID;
+  friend bool operator==(const Connection&, const Connection&) = default;
+};
+/// ConnectsToList ::= SEQUENCE (SIZE(1..16)) OF Connection (the module's bound).
+using ConnectsToList = BoundedVector<Connection, 16>;
+/// OverlayLaneList ::= SEQUENCE (SIZE(1..5)) OF LaneID.
+using OverlayLaneList = BoundedVector<LaneID, 5>;
+
+/// GenericLane ::= SEQUENCE {laneID, name?, ingressApproach?, egressApproach?, laneAttributes,
+/// maneuvers?, nodeList, connectsTo?, overlays?, regional?, ...}.
+struct GenericLane {
+  LaneID laneID = 0;
+  std::optional<DescriptiveName> name;
+  std::optional<ApproachID> ingressApproach;
+  std::optional<ApproachID> egressApproach;
+  LaneAttributes laneAttributes;
+  std::optional<AllowedManeuvers> maneuvers;
+  NodeListXY nodeList;
+  std::optional<ConnectsToList> connectsTo;
+  std::optional<OverlayLaneList> overlays;
+  friend bool operator==(const GenericLane&, const GenericLane&) = default;
+};
+/// LaneList ::= SEQUENCE (SIZE(1..255)) OF GenericLane; held: up to 64 lanes.
+inline constexpr std::size_t kLanesMax = 64;
+using LaneList = BoundedVector<GenericLane, kLanesMax>;
+
+/// IntersectionGeometry ::= SEQUENCE {name?, id, revision, refPoint Position3D, laneWidth?,
+/// speedLimits?, laneSet, preemptPriorityData?, regional?, ...}. preemptPriorityData
+/// (SignalControlZones, each nothing but a regional extension) is skipped like the regional
+/// extensions.
+struct IntersectionGeometry {
+  std::optional<DescriptiveName> name;
+  IntersectionReferenceID id;
+  MsgCount revision = 0;
+  Position3D refPoint;
+  std::optional<LaneWidth> laneWidth;
+  std::optional<SpeedLimitList> speedLimits;
+  LaneList laneSet;  ///< SIZE(1..): at least one
+  friend bool operator==(const IntersectionGeometry&, const IntersectionGeometry&) = default;
+};
+/// IntersectionGeometryList ::= SEQUENCE (SIZE(1..32)) OF IntersectionGeometry; held: up to 4.
+inline constexpr std::size_t kIntersectionGeometriesMax = 4;
+using IntersectionGeometryList = BoundedVector<IntersectionGeometry, kIntersectionGeometriesMax>;
+
+/// DataParameters ::= SEQUENCE {processMethod, processAgency, lastCheckedDate, geoidUsed
+/// IA5String (SIZE(1..255)) (all OPTIONAL), ...}.
+struct DataParameters {
+  std::optional<CharString<255>> processMethod;
+  std::optional<CharString<255>> processAgency;
+  std::optional<CharString<255>> lastCheckedDate;
+  std::optional<CharString<255>> geoidUsed;
+  friend bool operator==(const DataParameters&, const DataParameters&) = default;
+};
+
+/// RestrictionAppliesTo ::= ENUMERATED {none, equippedTransit, ..., otherUnknownDisabilities
+/// (13), ...}: held as its root index.
+using RestrictionAppliesTo = std::uint8_t;
+inline constexpr unsigned kRestrictionAppliesToCount = 14;
+/// RestrictionClassAssignment ::= SEQUENCE {id RestrictionClassID, users RestrictionUserTypeList
+/// (SIZE(1..16))}; each RestrictionUserType is a CHOICE {basicType RestrictionAppliesTo,
+/// regional, ...} of which basicType is held (regional is kUnsupported).
+struct RestrictionClassAssignment {
+  RestrictionClassID id = 0;
+  BoundedVector<RestrictionAppliesTo, 16> users;
+  friend bool operator==(const RestrictionClassAssignment&,
+                         const RestrictionClassAssignment&) = default;
+};
+/// RestrictionClassList ::= SEQUENCE (SIZE(1..254)) OF RestrictionClassAssignment.
+using RestrictionClassList = BoundedVector<RestrictionClassAssignment, 254>;
+
 }  // namespace tb::its::messages

@@ -38,9 +38,9 @@ struct Spatem {
 };
 
 /// Largest UPER encoding of a Spatem as bounded here, in bytes, with room to spare (4
-/// intersections of 64 signal groups with 16 events each at their largest, about 0.5 MB): an
+/// intersections of 64 signal groups with 16 events each at their largest take about 180 kB): an
 /// encoding that does not fit a caller's smaller buffer is kBufferTooSmall.
-inline constexpr std::size_t kSpatemMaxEncodedSize = 600 * 1024;
+inline constexpr std::size_t kSpatemMaxEncodedSize = 256 * 1024;
 
 /// Encodes @p spatem into @p out and returns the bytes written, or an error naming the field
 /// outside its constraint (kValueOutOfRange / kSizeOutOfRange); messageID must be spatem (4)
