@@ -51,6 +51,18 @@ inline unsigned get_choice_ext(UperReader& r, unsigned root_count, const char* f
   return static_cast<unsigned>(r.get_constrained(0, root_count - 1, f));
 }
 
+/// The optional list @p o, present and empty, reusing its storage when it was present already:
+/// the SPAT and MapData lists are large enough (up to megabytes) that building a fresh one on
+/// every decode would cost more than the decoding.
+template <typename V>
+inline V& reuse(std::optional<V>& o) {
+  if (o) {
+    o->clear();
+    return *o;
+  }
+  return o.emplace();
+}
+
 // DescriptiveName ::= IA5String (SIZE(1..63))
 inline void put(UperWriter& w, const DescriptiveName& n, const char* f) {
   put_ia5<1, 63>(w, n, f);

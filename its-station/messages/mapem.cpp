@@ -441,7 +441,8 @@ void get(UperReader& r, GenericLane& l) {
   if (present & 0x08)
     l.maneuvers = static_cast<AllowedManeuvers>(get_named_bits(r, 12, "maneuvers"));
   if (get_choice_ext(r, 2, "nodeList") == 0)
-    get(r, l.nodeList.emplace<NodeSetXY>());
+    get(r, std::holds_alternative<NodeSetXY>(l.nodeList) ? std::get<NodeSetXY>(l.nodeList)
+                                                         : l.nodeList.emplace<NodeSetXY>());
   else
     get(r, l.nodeList.emplace<ComputedLane>());
   if (present & 0x04) {
@@ -515,7 +516,7 @@ void get(UperReader& r, IntersectionGeometry& g) {
     get(r, g.speedLimits.emplace());
   const std::size_t n = get_size<1, 255>(r, g.laneSet.capacity(), "laneSet");
   for (std::size_t i = 0; i < n && r.ok(); ++i)
-    get(r, g.laneSet.emplace_back());
+    get(r, g.laneSet.append_for_overwrite());  // get() assigns every member
   if (present & 0x02)
     skip_preempt_priority_list(r);
   if (present & 0x01)
@@ -641,9 +642,12 @@ void get(UperReader& r, Mapem& m) {
   d.timeStamp.reset();
   d.layerType.reset();
   d.layerID.reset();
-  d.intersections.reset();
   d.dataParameters.reset();
-  d.restrictionList.reset();
+  // The large lists keep their storage for the next message (reuse()).
+  if (!(present & 0x10))
+    d.intersections.reset();
+  if (!(present & 0x02))
+    d.restrictionList.reset();
   if (present & 0x80)
     d.timeStamp = get_moy(r, "timeStamp");
   d.msgIssueRevision = get_msg_count(r, "msgIssueRevision");
@@ -652,10 +656,10 @@ void get(UperReader& r, Mapem& m) {
   if (present & 0x20)
     d.layerID = static_cast<LayerID>(r.get_constrained<0, 100>("layerID"));
   if (present & 0x10) {
-    IntersectionGeometryList& l = d.intersections.emplace();
+    IntersectionGeometryList& l = reuse(d.intersections);
     const std::size_t n = get_size<1, 32>(r, l.capacity(), "intersections");
     for (std::size_t i = 0; i < n && r.ok(); ++i)
-      get(r, l.emplace_back());
+      get(r, l.append_for_overwrite());  // get() assigns every member
   }
   if (present & 0x08) {
     if (r.ok())
@@ -665,7 +669,7 @@ void get(UperReader& r, Mapem& m) {
   if (present & 0x04)
     get(r, d.dataParameters.emplace());
   if (present & 0x02)
-    get(r, d.restrictionList.emplace());
+    get(r, reuse(d.restrictionList));
   if (present & 0x01)
     skip_regional_list(r, "MapData.regional");
   if (ext)

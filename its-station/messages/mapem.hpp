@@ -57,7 +57,7 @@ Expected<std::vector<std::uint8_t>, CodecError> encode(const Mapem& mapem);
 /// Decodes one UPER-encoded MAPEM (protocolVersion 2) that fills @p bytes; returns the bytes
 /// consumed. Never reads outside @p bytes. After an error @p out is unspecified.
 Expected<std::size_t, CodecError> decode(std::span<const std::uint8_t> bytes, Mapem& out);
-/// sizeof(Mapem) is over a megabyte: hold it in long-lived storage, not on a small stack.
+/// sizeof(Mapem) is about 1.8 MB: prefer decode(bytes, out) into a long-lived object.
 Expected<Mapem, CodecError> decode_mapem(std::span<const std::uint8_t> bytes);
 
 }  // namespace tb::its::messages

@@ -239,7 +239,7 @@ void get(UperReader& r, MovementState& s) {
   s.signalGroup = static_cast<SignalGroupID>(r.get_bits(8, "signalGroup"));
   const std::size_t n = get_size<1, 16>(r, s.state_time_speed.capacity(), "state-time-speed");
   for (std::size_t i = 0; i < n && r.ok(); ++i)
-    get(r, s.state_time_speed.emplace_back());
+    get(r, s.state_time_speed.append_for_overwrite());  // get() assigns every member
   if (present & 0x2)
     get(r, s.maneuverAssistList.emplace());
   if (present & 0x1)
@@ -306,7 +306,7 @@ void get(UperReader& r, IntersectionState& s) {
   }
   const std::size_t n = get_size<1, 255>(r, s.states.capacity(), "states");
   for (std::size_t i = 0; i < n && r.ok(); ++i)
-    get(r, s.states.emplace_back());
+    get(r, s.states.append_for_overwrite());  // get() assigns every member
   if (present & 0x02)
     get(r, s.maneuverAssistList.emplace());
   if (present & 0x01)
@@ -361,7 +361,7 @@ void get(UperReader& r, Spatem& m) {
     get(r, s.name.emplace(), "name");
   const std::size_t n = get_size<1, 32>(r, s.intersections.capacity(), "intersections");
   for (std::size_t i = 0; i < n && r.ok(); ++i)
-    get(r, s.intersections.emplace_back());
+    get(r, s.intersections.append_for_overwrite());  // get() assigns every member
   if (present & 0x1)
     skip_regional_list(r, "SPAT.regional");
   if (ext)

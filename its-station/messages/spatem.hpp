@@ -52,7 +52,7 @@ Expected<std::vector<std::uint8_t>, CodecError> encode(const Spatem& spatem);
 /// Decodes one UPER-encoded SPATEM (protocolVersion 2) that fills @p bytes; returns the bytes
 /// consumed. Never reads outside @p bytes. After an error @p out is unspecified.
 Expected<std::size_t, CodecError> decode(std::span<const std::uint8_t> bytes, Spatem& out);
-/// sizeof(Spatem) is about 0.5 MB: hold it in long-lived storage, not on a small stack.
+/// sizeof(Spatem) is about 0.5 MB: prefer decode(bytes, out) into a long-lived object.
 Expected<Spatem, CodecError> decode_spatem(std::span<const std::uint8_t> bytes);
 
 }  // namespace tb::its::messages

@@ -338,4 +338,41 @@ inline std::unique_ptr<Mapem> mapem_at_bounds(bool upper) {
   return m;
 }
 
+/// Every optional component of samples::spatem_at_bounds(true), with lists of two: a frame's worth
+/// (the tshark test, fuzz seeds).
+inline std::unique_ptr<Spatem> spatem_every_optional() {
+  auto m = samples::spatem_at_bounds(true);
+  m->spat.intersections.resize_down(1);
+  IntersectionState& is = m->spat.intersections[0];
+  is.states.resize_down(2);
+  is.maneuverAssistList->resize_down(2);
+  is.enabledLanes->resize_down(2);
+  for (MovementState& s : is.states) {
+    s.state_time_speed.resize_down(2);
+    s.maneuverAssistList->resize_down(2);
+    for (MovementEvent& ev : s.state_time_speed)
+      ev.speeds->resize_down(2);
+  }
+  return m;
+}
+
+/// Every optional component of samples::mapem_at_bounds(true) and every alternative (lane
+/// types, node offsets, computed lanes), with short lists: a frame's worth
+/// (the tshark test, fuzz seeds).
+inline std::unique_ptr<Mapem> mapem_every_optional() {
+  auto m = samples::mapem_at_bounds(true);
+  m->map.intersections->resize_down(1);
+  m->map.restrictionList->resize_down(2);
+  for (RestrictionClassAssignment& a : *m->map.restrictionList)
+    a.users.resize_down(2);
+  IntersectionGeometry& g = (*m->map.intersections)[0];
+  g.laneSet.resize_down(8);
+  for (GenericLane& l : g.laneSet) {
+    if (auto* nodes = std::get_if<NodeSetXY>(&l.nodeList))
+      nodes->resize_down(7);
+    l.connectsTo->resize_down(2);
+  }
+  return m;
+}
+
 }  // namespace tb::its::messages::samples

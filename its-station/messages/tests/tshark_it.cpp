@@ -549,24 +549,6 @@ const std::vector<std::string> kSpatemFields = {
     "dsrc.nextTime",   "dsrc.type",         "dsrc.speed",       "dsrc.distance",
     "dsrc.class",      "dsrc.connectionID", "dsrc.queueLength", "dsrc.availableStorageLength"};
 
-/// Every optional component of samples::spatem_at_bounds(true), with lists of two: a frame's
-/// worth.
-std::unique_ptr<Spatem> spatem_every_optional() {
-  auto m = samples::spatem_at_bounds(true);
-  m->spat.intersections.resize_down(1);
-  IntersectionState& is = m->spat.intersections[0];
-  is.states.resize_down(2);
-  is.maneuverAssistList->resize_down(2);
-  is.enabledLanes->resize_down(2);
-  for (MovementState& s : is.states) {
-    s.state_time_speed.resize_down(2);
-    s.maneuverAssistList->resize_down(2);
-    for (MovementEvent& ev : s.state_time_speed)
-      ev.speeds->resize_down(2);
-  }
-  return m;
-}
-
 Bytes enc(const Spatem& m) {
   auto b = encode(m);
   EXPECT_TRUE(b) << asn1::to_string(b.error());
@@ -583,7 +565,7 @@ TEST_F(TsharkInterop, SpatemsDecodeToTheValuesSentWithoutWarnings) {
   msgs.push_back(samples::spatem_two_groups());
   msgs.push_back(samples::spatem_typical());
   msgs.push_back(samples::spatem_at_bounds(false));
-  msgs.push_back(spatem_every_optional());
+  msgs.push_back(samples::spatem_every_optional());
   std::vector<Bytes> frames;
   for (const auto& m : msgs)
     frames.push_back(frame(enc(*m), false, kPortSpatem));
@@ -712,30 +694,12 @@ const std::vector<std::string> kMapemFields = {"btpb.dstport",
                                                "dsrc.connectionID",
                                                "dsrc.basicType"};
 
-/// Every optional component of samples::mapem_at_bounds(true) and every alternative (lane
-/// types, node offsets, computed lanes), with short lists: a frame's worth.
-std::unique_ptr<Mapem> mapem_every_optional() {
-  auto m = samples::mapem_at_bounds(true);
-  m->map.intersections->resize_down(1);
-  m->map.restrictionList->resize_down(2);
-  for (RestrictionClassAssignment& a : *m->map.restrictionList)
-    a.users.resize_down(2);
-  IntersectionGeometry& g = (*m->map.intersections)[0];
-  g.laneSet.resize_down(8);
-  for (GenericLane& l : g.laneSet) {
-    if (auto* nodes = std::get_if<NodeSetXY>(&l.nodeList))
-      nodes->resize_down(7);
-    l.connectsTo->resize_down(2);
-  }
-  return m;
-}
-
 TEST_F(TsharkInterop, MapemsDecodeToTheValuesSentWithoutWarnings) {
   std::vector<std::unique_ptr<Mapem>> msgs;
   msgs.push_back(samples::mapem_one_lane());
   msgs.push_back(samples::mapem_typical());
   msgs.push_back(samples::mapem_at_bounds(false));
-  msgs.push_back(mapem_every_optional());
+  msgs.push_back(samples::mapem_every_optional());
   std::vector<Bytes> frames;
   for (const auto& m : msgs)
     frames.push_back(frame(enc(*m), false, kPortMapem));
