@@ -19,6 +19,7 @@
 #include "common/map/route_plan.hpp"
 #include "common/map/scenario_map.hpp"
 #include "common/scenario/json_reader.hpp"
+#include "common/scenario/signal_plans.hpp"
 #include "common/wire/vehicle_state.hpp"
 
 namespace tb::scenario {
@@ -1008,6 +1009,8 @@ Scenario parse(std::string_view json_text, const std::string& file_name,
     s.vehicles.push_back(std::move(v));
   }
   check_routes(s, *scenario_map, vehicles);
+  s.signals =
+      detail::read_signal_plans(root.optional("signals"), *scenario_map, context.name, file_name);
   root.finish();
   return s;
 }

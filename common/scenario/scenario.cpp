@@ -4,6 +4,13 @@
 
 namespace tb::scenario {
 
+double SignalPlan::cycle_s() const {
+  double total = 0.0;
+  for (const SignalPhase& p : phases)
+    total += p.duration_s + amber_s + all_red_s + red_amber_s;
+  return total;
+}
+
 const Vehicle* Scenario::find_vehicle(std::string_view id) const {
   const auto it =
       std::find_if(vehicles.begin(), vehicles.end(), [&](const Vehicle& v) { return v.id == id; });

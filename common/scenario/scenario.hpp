@@ -307,6 +307,36 @@ struct SecurityTimeWindow {
   std::optional<std::int64_t> future_ms;
 };
 
+// ---------------------------------------------------------------------------------------------
+// Traffic lights (issue 34): a fixed-time plan per signalised junction of the map. Signal
+// groups are the OpenDRIVE file's <controller>s (id = SignalGroupID, ISO TS 19091); the
+// junction is the OpenDRIVE junction (id = IntersectionID).
+
+/// One phase of a fixed-time plan: the signal groups that are green together, for how long.
+struct SignalPhase {
+  std::vector<int> green;  ///< SignalGroupIDs, ascending
+  double duration_s = 20.0;
+};
+
+/// `signals[]`: how one junction's lights run. The cycle is the phases in order, each its green
+/// time and then the change to the next: amber for the groups that lose green, all-red, and
+/// red+amber for the groups that gain it; a group green in both phases stays green. The cycle
+/// starts offset_s after the world's start time (docs/scenario.md, "Signals").
+struct SignalPlan {
+  std::string junction;  ///< OpenDRIVE junction id
+  double offset_s = 0.0;
+  double amber_s = 3.0;      ///< MovementPhaseState protected-clearance (8)
+  double all_red_s = 2.0;    ///< every group stop-And-Remain (3)
+  double red_amber_s = 0.0;  ///< pre-Movement (4); 0: none (German practice has 1 s)
+  std::vector<SignalPhase> phases;
+  /// Chosen by the loader: the map has lights at the junction and the scenario no plan.
+  bool default_plan = false;
+  /// Every group the junction has (ascending), whether or not a phase names it.
+  std::vector<int> groups;
+  /// One cycle: the phases' green times and one change after each.
+  double cycle_s() const;
+};
+
 /// The warm-up a scenario gets unless it says otherwise: a GNSS receiver reports its first fix
 /// about 1.3 s after its first epoch (gpsd waits for a whole cycle), and a CAM follows; 3 s
 /// leaves room for that on a loaded machine.
@@ -345,6 +375,9 @@ struct Scenario {
   /// Seeds the scenario's random choices (random routes), so that a run repeats.
   std::uint64_t seed = 1;
   std::vector<Vehicle> vehicles;
+  /// One plan per signalised junction of the map (given, or the default), in the order of the
+  /// scenario's `signals`, then the defaults by junction id.
+  std::vector<SignalPlan> signals;
 
   const Vehicle* find_vehicle(std::string_view id) const;
   const Vehicle* find_station(std::uint32_t station_id) const;

@@ -127,6 +127,17 @@ bool SimSession::handle(const sim::ServerMessage& m) {
     on_state(*f);
     return true;
   }
+  if (const auto* s = std::get_if<sim::SignalStates>(&m)) {
+    // Every junction's groups come in each message; a junction missing from it has none left.
+    std::map<std::uint16_t, JunctionSignals> now;
+    for (const sim::SignalGroupState& g : s->groups) {
+      JunctionSignals& j = now[g.intersection_id];
+      j.world_time_ms = s->world_time_ms;
+      j.groups.push_back(g);
+    }
+    signals_ = std::move(now);
+    return true;
+  }
   if (const auto* d = std::get_if<sim::DriverChanged>(&m)) {
     if (d->vehicle < welcome_->vehicles.size())
       welcome_->vehicles[d->vehicle].driver = d->driver;
@@ -181,6 +192,7 @@ bool SimSession::on_welcome(const sim::Welcome& w) {
     }
   }
   welcome_ = w;
+  signals_.clear();  // the server sends the lights right after Welcome
 
   // Which vehicles to drive: by id, plus every scripted one with --scripted.
   std::vector<std::uint16_t> wanted;

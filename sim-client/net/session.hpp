@@ -100,6 +100,14 @@ class SimSession {
     return map_ ? std::shared_ptr<const map::odr::RoadNetwork>(map_, &map_->network()) : nullptr;
   }
   const wire::sim::StateFrame* latest() const { return latest_ ? &*latest_ : nullptr; }
+  /// One junction's traffic lights as the latest SignalStates gave them (issue 34).
+  struct JunctionSignals {
+    std::int64_t world_time_ms = 0;                   ///< of the step the states are from
+    std::vector<wire::sim::SignalGroupState> groups;  ///< ascending by signal group
+  };
+  /// The latest signal states by IntersectionID (the OpenDRIVE junction id). Stored for the
+  /// views and the scripted drivers, which do not read them yet.
+  const std::map<std::uint16_t, JunctionSignals>& signals() const { return signals_; }
   /// Indices (Welcome order) of the vehicles this connection drives.
   std::vector<std::uint16_t> driven() const;
   /// Whether the vehicle at @p index is driven by the human input (not a script).
@@ -143,6 +151,7 @@ class SimSession {
   std::unique_ptr<DriveMap> drive_map_;  ///< what the scripted drivers share about the map
   std::vector<VehicleSize> sizes_;       ///< of the scenario's vehicles, for Traffic
   std::optional<wire::sim::StateFrame> latest_;
+  std::map<std::uint16_t, JunctionSignals> signals_;
   std::map<std::uint16_t, Driven> driven_;
   DriverCommand human_;
   std::int64_t human_sampled_ns_ = 0;

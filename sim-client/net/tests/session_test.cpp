@@ -289,6 +289,34 @@ TEST_F(SessionTest, StateBeforeWelcomeIsAnError) {
   EXPECT_EQ(s.last_error(), "the server sent a message before Welcome");
 }
 
+TEST_F(SessionTest, KeepsTheLatestSignalStatesPerJunction) {
+  SessionOptions o;
+  o.client_name = "watcher";
+  SimSession s = make(o);
+  s.on_connected();
+  ASSERT_TRUE(feed(s, testing::welcome()));
+  EXPECT_TRUE(s.signals().empty());
+  const std::int64_t t = 1'795'000'000'000;
+  using P = sim::MovementPhaseState;
+  ASSERT_TRUE(feed(s, sim::SignalStates{t,
+                                        {{7, 1, P::kProtectedMovementAllowed, t + 900, t + 900},
+                                         {100, 1, P::kProtectedClearance, t + 2000, t + 2000},
+                                         {100, 2, P::kStopAndRemain, t + 5000, t + 5000}}}));
+  ASSERT_EQ(s.signals().size(), 2u);
+  EXPECT_EQ(s.signals().at(100).groups.size(), 2u);
+  EXPECT_EQ(s.signals().at(100).groups[0].state, P::kProtectedClearance);
+  EXPECT_EQ(s.signals().at(7).world_time_ms, t);
+  // The next message replaces them: junction 7 gone, 100's states moved on.
+  ASSERT_TRUE(feed(s,
+                   sim::SignalStates{t + 2000,
+                                     {{100, 1, P::kStopAndRemain, t + 30000, t + 30000},
+                                      {100, 2, P::kStopAndRemain, t + 5000, t + 5000}}},
+                   true));
+  ASSERT_EQ(s.signals().size(), 1u);
+  EXPECT_EQ(s.signals().at(100).groups[0].state, P::kStopAndRemain);
+  EXPECT_EQ(s.signals().at(100).world_time_ms, t + 2000);
+}
+
 }  // namespace
 // An OpenDRIVE map travels in Welcome: a client on another computer has no copy of the file.
 constexpr const char* kOpenDriveScenario = R"({
