@@ -1,5 +1,6 @@
 #include "its-station/apps/signal/signal_app.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -18,11 +19,12 @@ double direction_deg(const LocalPoint& from, const LocalPoint& to) {
   return geodesy::wrap_360(std::atan2(to.x - from.x, to.y - from.y) / kDegToRad);
 }
 
+// An end already past (the next SPATEM is late) is a change due now, not a negative time.
 std::optional<double> seconds_until(const std::optional<clock::WallTime>& t, clock::WallTime now) {
   if (!t) {
     return std::nullopt;
   }
-  return seconds_between(now, *t);
+  return std::max(0.0, seconds_between(now, *t));
 }
 
 }  // namespace
