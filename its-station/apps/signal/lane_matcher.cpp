@@ -49,7 +49,8 @@ LaneProjection project_onto_lane(const GenericLane& lane, double x, double y) {
 
 std::optional<LaneMatch> IngressLaneMatcher::candidate(const GenericLane& lane,
                                                        const LocalPose& pose, bool held) const {
-  if (!lane.ingress || lane.nodes.size() < 2) {
+  if (!lane.ingress || lane.nodes.size() < 2 || !std::isfinite(pose.x) || !std::isfinite(pose.y) ||
+      !std::isfinite(pose.heading_deg) || !std::isfinite(pose.speed_mps)) {
     return std::nullopt;
   }
   LaneMatch m;
@@ -79,6 +80,10 @@ std::optional<LaneMatch> IngressLaneMatcher::candidate(const GenericLane& lane,
 
 std::optional<LaneMatch> IngressLaneMatcher::update(const IntersectionTopology& t,
                                                     const LocalPose& pose) {
+  if (!std::isfinite(pose.x) || !std::isfinite(pose.y) || !std::isfinite(pose.heading_deg) ||
+      !std::isfinite(pose.speed_mps)) {
+    return std::nullopt;  // not a position: the lane held is neither kept nor lost by it
+  }
   const GenericLane* held_lane = held_ ? t.lane(*held_) : nullptr;
   if (held_ && (held_lane == nullptr || !held_lane->ingress)) {
     reset();  // the map's revision has no such lane any more

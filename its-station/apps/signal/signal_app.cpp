@@ -42,6 +42,9 @@ Expected<MapUpdate, TopologyError> SignalApplication::on_map(IntersectionTopolog
   if (auto error = validate(t)) {
     return Unexpected{std::move(*error)};
   }
+  if (t.received_at == clock::WallTime{}) {
+    t.received_at = clock_.wall_now();  // the wiring gave no reception time: now
+  }
   const geodesy::LocalFrame frame({t.ref_latitude_deg, t.ref_longitude_deg, 0.0});
   const auto it = maps_.find(t.intersection_id);
   if (it == maps_.end()) {
@@ -66,13 +69,16 @@ void SignalApplication::on_spat(std::uint16_t intersection_id,
   for (const SignalPhase& g : groups) {
     const auto key = std::make_pair(intersection_id, g.signal_group);
     SignalPhase p = g;
+    if (p.received_at == clock::WallTime{}) {
+      p.received_at = clock_.wall_now();
+    }
     const auto prev = phases_.find(key);
     if (prev != phases_.end()) {
       const bool changed = prev->second.current.state != g.current.state;
       if (!p.current.start_time) {
         // The onset of a state seen changing is when it was first received; a state that
         // goes on keeps the start it had.
-        p.current.start_time = changed ? g.received_at : prev->second.current.start_time;
+        p.current.start_time = changed ? p.received_at : prev->second.current.start_time;
       }
       if (changed && last_status_ && last_status_->on_lane &&
           last_status_->intersection_id == intersection_id &&
@@ -90,6 +96,11 @@ void SignalApplication::on_spat(std::uint16_t intersection_id,
 }
 
 void SignalApplication::update(const OwnKinematics& own) {
+  if (!std::isfinite(own.latitude_deg) || !std::isfinite(own.longitude_deg) ||
+      std::abs(own.latitude_deg) > 90.0 || !std::isfinite(own.heading_deg) ||
+      !std::isfinite(own.speed_mps) || own.speed_mps < 0.0) {
+    return;  // not a fix: the last situation stands until a usable one comes
+  }
   last_own_ = own;
   evaluate(own, false);
 }

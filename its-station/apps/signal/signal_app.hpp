@@ -85,7 +85,8 @@ class SignalApplication {
 
   /// A decoded MAPEM's intersection: a new revision replaces the geometry (and the lane
   /// match), the same one only refreshes it. Refused, with the lane and field named, when
-  /// validate() finds it unusable; the intersection held before is kept then.
+  /// validate() finds it unusable; the intersection held before is kept then. A topology
+  /// without `received_at` is taken as received now (so are SPAT groups without one).
   Expected<MapUpdate, TopologyError> on_map(IntersectionTopology t);
 
   /// A decoded SPATEM's signal groups of one intersection. A state the application has not
@@ -94,7 +95,7 @@ class SignalApplication {
   /// last fix), so that the change reaches the HMI without waiting for the next fix.
   void on_spat(std::uint16_t intersection_id, std::span<const SignalPhase> groups);
 
-  /// At every own fix.
+  /// At every own fix. A fix with a non-finite or impossible value is ignored.
   void update(const OwnKinematics& own);
 
   /// The signal group that governs @p lane for a vehicle going straight on: the connection

@@ -7,8 +7,10 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -361,6 +363,58 @@ TEST_F(SignalAppTest, TracesEachEvaluation) {
   EXPECT_EQ(records[0]["spat_ms"], apps::unix_ms(clk.wall_now()));
   EXPECT_NEAR(records[0]["dist"].get<double>(), 50.0, 0.05);
   EXPECT_EQ(records[0]["warn"], true) << "60 km/h, 50 m, red: D 63 m";
+}
+
+}  // namespace
+}  // namespace tb::its::apps::signal
+
+namespace tb::its::apps::signal {
+namespace {
+
+TEST_F(SignalAppTest, LateSpatIsAChangeDueNowAndBadFixesAreIgnored) {
+  send_map();
+  SignalPhase p;
+  p.signal_group = 1;
+  p.current.state = S::kStopAndRemain;
+  p.current.min_end_time = p.current.likely_time = at(-0.3);  // should have ended 0.3 s ago
+  p.received_at = clk.wall_now();
+  app.on_spat(1, std::vector{p});
+  app.update(northbound(80.0, 10.0));
+  ASSERT_TRUE(app.last_status());
+  EXPECT_EQ(*app.last_status()->time_to_change_s, 0.0);
+  EXPECT_EQ(*app.last_status()->likely_time_to_change_s, 0.0);
+  const std::size_t n = statuses.size();
+  clk.advance(100ms);
+  for (const double bad : {std::nan(""), std::numeric_limits<double>::infinity()}) {
+    OwnKinematics k = northbound(79.0, 10.0);
+    k.latitude_deg = bad;
+    app.update(k);
+    k = northbound(79.0, 10.0);
+    k.heading_deg = bad;
+    app.update(k);
+    k = northbound(79.0, 10.0);
+    k.speed_mps = bad;
+    app.update(k);
+  }
+  OwnKinematics k = northbound(79.0, -1.0);
+  app.update(k);
+  EXPECT_EQ(statuses.size(), n) << "no status, no leaving, from a broken fix";
+  EXPECT_TRUE(warnings.empty());
+  app.update(northbound(79.0, 10.0));
+  EXPECT_EQ(statuses.size(), n + 1);
+  EXPECT_NEAR(statuses.back().distance_to_stop_line_m, 79.0, 0.05);
+}
+
+TEST(IngressLaneMatcherRobustness, NonFinitePoseMatchesNothing) {
+  const IntersectionTopology t = testing::four_way_junction();
+  IngressLaneMatcher m;
+  EXPECT_FALSE(m.update(t, LocalPose{std::nan(""), -50.0, 0.0, 10.0}));
+  EXPECT_FALSE(m.update(t, LocalPose{1.75, -50.0, std::nan(""), 10.0}));
+  ASSERT_TRUE(m.update(t, LocalPose{1.75, -50.0, 0.0, 10.0}));
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_FALSE(m.update(t, LocalPose{1.75, std::nan(""), 0.0, 10.0}));
+  }
+  EXPECT_EQ(m.held_lane(), std::optional<std::uint8_t>{1}) << "NaNs do not count as misses";
 }
 
 }  // namespace
