@@ -11,12 +11,20 @@ double stopping_distance_m(double speed_mps, const RlvwConfig& cfg) {
 }
 
 RlvwAssessment assess_rlvw(double distance_to_stop_line_m, double speed_mps,
-                           const std::vector<PhaseInterval>& timeline, const RlvwConfig& cfg) {
+                           const std::vector<PhaseInterval>& timeline, const RlvwConfig& cfg,
+                           std::optional<double> longitudinal_accel_mps2) {
   RlvwAssessment a;
   a.distance_to_stop_line_m = distance_to_stop_line_m;
   a.speed_mps = speed_mps;
   a.stopping_distance_m = stopping_distance_m(speed_mps, cfg);
-  a.can_stop = a.stopping_distance_m <= distance_to_stop_line_m;
+  // A driver braking already needs no reaction time: at the deceleration held, does the car
+  // stand before the line? (Without this, every stop at a red line warned in its last
+  // metres: the reaction term alone exceeds the distance left.)
+  if (longitudinal_accel_mps2 && -*longitudinal_accel_mps2 >= cfg.min_braking_mps2) {
+    const double b = -*longitudinal_accel_mps2;
+    a.stopping = speed_mps * speed_mps / (2.0 * b) <= distance_to_stop_line_m;
+  }
+  a.can_stop = a.stopping_distance_m <= distance_to_stop_line_m || a.stopping;
   for (const PhaseInterval& p : timeline) {
     if (aspect(p.state) == Aspect::kStop && p.end_s > 0.0) {
       a.time_to_red_s = std::max(0.0, p.start_s);
@@ -88,7 +96,8 @@ std::optional<RlvwWarning> Rlvw::evaluate(std::uint32_t station_id, const RlvwSi
   last_.reset();
   std::optional<RlvwAssessment> a;
   if (s != nullptr && s->signal_fresh) {
-    a = assess_rlvw(s->distance_to_stop_line_m, s->speed_mps, s->timeline, cfg_);
+    a = assess_rlvw(s->distance_to_stop_line_m, s->speed_mps, s->timeline, cfg_,
+                    s->longitudinal_accel_mps2);
     last_ = a;
   }
 

@@ -6,6 +6,8 @@
 /// Rule (README.md, "RLVW"), for the vehicle on an ingress lane at distance d before its stop
 /// line with speed v:
 ///   stopping distance  D = v·t_r + v²/(2a),  t_r = 1 s reaction, a = 3 m/s² comfortable;
+///                      a vehicle already braking at b stands after v²/(2b) (it has reacted),
+///                      and can stop when either distance fits;
 ///   arrival            t = d / v (constant speed);
 ///   warn               when D > d (no comfortable stop before the line) and the light is red
 ///                      on arrival: the group's predicted phase at t is a stop phase (red,
@@ -30,6 +32,8 @@ struct RlvwConfig {
   double comfortable_decel_mps2 = 3.0;  ///< a (issue 34)
   /// Below this speed the vehicle stands: no arrival, no warning, an active one clears.
   double min_speed_mps = 0.5;
+  /// A vehicle decelerating at least this much is already braking: the driver has reacted.
+  double min_braking_mps2 = 0.3;
 };
 
 /// D = v·t_r + v²/(2a).
@@ -40,7 +44,10 @@ struct RlvwAssessment {
   double distance_to_stop_line_m = 0.0;
   double speed_mps = 0.0;
   double stopping_distance_m = 0.0;
-  bool can_stop = true;             ///< D ≤ d
+  /// D ≤ d, or already braking hard enough to stand before the line (v²/(2b) ≤ d).
+  bool can_stop = true;
+  /// Braking (deceleration b ≥ min_braking_mps2) so as to stand before the line.
+  bool stopping = false;
   std::optional<double> arrival_s;  ///< d / v; none when standing
   /// The phase predicted at the arrival; none when standing or beyond the known timeline.
   std::optional<MovementPhaseState> state_on_arrival;
@@ -51,8 +58,11 @@ struct RlvwAssessment {
   bool warn = false;
 };
 
+/// @p longitudinal_accel_mps2: the vehicle's acceleration along its motion when known
+/// (negative = braking).
 RlvwAssessment assess_rlvw(double distance_to_stop_line_m, double speed_mps,
-                           const std::vector<PhaseInterval>& timeline, const RlvwConfig& cfg);
+                           const std::vector<PhaseInterval>& timeline, const RlvwConfig& cfg,
+                           std::optional<double> longitudinal_accel_mps2 = std::nullopt);
 
 enum class RlvwEvent { kRaised, kUpdated, kCleared };
 std::string_view to_string(RlvwEvent e);
@@ -83,6 +93,7 @@ struct RlvwSituation {
   std::uint8_t signal_group = 0;
   double distance_to_stop_line_m = 0.0;  ///< negative once past it
   double speed_mps = 0.0;
+  std::optional<double> longitudinal_accel_mps2;  ///< negative = braking; empty: unknown
   /// False when the group's SPATEM is missing or stale: nothing is known about the light.
   bool signal_fresh = false;
   std::vector<PhaseInterval> timeline;

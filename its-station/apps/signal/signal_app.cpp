@@ -98,11 +98,21 @@ void SignalApplication::on_spat(std::uint16_t intersection_id,
 void SignalApplication::update(const OwnKinematics& own) {
   if (!std::isfinite(own.latitude_deg) || !std::isfinite(own.longitude_deg) ||
       std::abs(own.latitude_deg) > 90.0 || !std::isfinite(own.heading_deg) ||
-      !std::isfinite(own.speed_mps) || own.speed_mps < 0.0) {
+      !std::isfinite(own.speed_mps) || own.speed_mps < 0.0 ||
+      (own.longitudinal_accel_mps2 && !std::isfinite(*own.longitudinal_accel_mps2))) {
     return;  // not a fix: the last situation stands until a usable one comes
   }
-  last_own_ = own;
-  evaluate(own, false);
+  OwnKinematics k = own;
+  if (!k.longitudinal_accel_mps2 && last_own_) {
+    // Two fixes 50..500 ms apart give the deceleration a braking driver holds; further apart
+    // they say nothing about now.
+    const double dt = seconds_between(last_own_->time, k.time);
+    if (dt >= 0.05 && dt <= 0.5) {
+      k.longitudinal_accel_mps2 = (k.speed_mps - last_own_->speed_mps) / dt;
+    }
+  }
+  last_own_ = k;
+  evaluate(k, false);
 }
 
 const SignalPhase* SignalApplication::phase(std::uint16_t intersection_id,
@@ -179,6 +189,12 @@ void SignalApplication::evaluate(const OwnKinematics& own, bool state_changed) {
   const std::uint8_t group =
       on ? signal_group_for(*on->topology, *on->lane).value_or(std::uint8_t{0}) : 0;
 
+  // Within passed_margin_m beyond the line the car is taken to stand at it: GNSS noise around a
+  // car waiting at the line must not make it pass and come back.
+  const double raw_distance = on ? on->match.projection.distance_to_stop_line_m : 0.0;
+  const bool passed = raw_distance < -cfg_.passed_margin_m;
+  const double distance = passed ? raw_distance : std::max(0.0, raw_distance);
+
   std::optional<RlvwWarning> event;
   const SignalPhase* p = nullptr;
   std::vector<PhaseInterval> timeline;
@@ -193,8 +209,9 @@ void SignalApplication::evaluate(const OwnKinematics& own, bool state_changed) {
     s.intersection_id = on->intersection_id;
     s.lane_id = on->match.lane_id;
     s.signal_group = group;
-    s.distance_to_stop_line_m = on->match.projection.distance_to_stop_line_m;
+    s.distance_to_stop_line_m = distance;
     s.speed_mps = own.speed_mps;
+    s.longitudinal_accel_mps2 = own.longitudinal_accel_mps2;
     s.signal_fresh = is_fresh;
     s.timeline = timeline;
     event = rlvw_.evaluate(own.station_id, &s);
@@ -205,7 +222,7 @@ void SignalApplication::evaluate(const OwnKinematics& own, bool state_changed) {
     warning_sink_(*event);
   }
 
-  const bool approaching = on && group != 0 && on->match.projection.distance_to_stop_line_m >= 0.0;
+  const bool approaching = on && group != 0 && !passed;
   if (!approaching) {
     if (last_status_ && last_status_->on_lane) {
       SignalStatus left;
@@ -224,7 +241,7 @@ void SignalApplication::evaluate(const OwnKinematics& own, bool state_changed) {
   s.on_lane = true;
   s.lane_id = on->match.lane_id;
   s.signal_group = group;
-  s.distance_to_stop_line_m = on->match.projection.distance_to_stop_line_m;
+  s.distance_to_stop_line_m = distance;
   s.rlvw = rlvw_.active().has_value();
   s.time = now;
   if (is_fresh) {

@@ -33,6 +33,10 @@ struct SignalAppConfig {
   /// An intersection whose MAPEM has not been heard for this long is forgotten (MAPEM comes
   /// about once a second while in the RSU's range).
   double max_map_age_s = 30.0;
+  /// A car is past its stop line only when more than this beyond it (the GNSS tolerance); up
+  /// to it, it stands at the line (distance 0), so that the position noise of a car waiting
+  /// there does not make it pass and come back.
+  double passed_margin_m = 1.0;
   /// The own fix is moved forward along its heading to now, but never by more than this.
   double max_fix_age_s = 1.0;
   /// Never two regular `signal` messages closer than this: one per own fix (10 Hz), with room
@@ -50,6 +54,9 @@ struct OwnKinematics {
   double longitude_deg = 0.0;
   double heading_deg = 0.0;  ///< ETSI
   double speed_mps = 0.0;
+  /// Along the motion, negative = braking (CAN / CDD LongitudinalAcceleration). Empty: the
+  /// application estimates it from the speeds of consecutive fixes.
+  std::optional<double> longitudinal_accel_mps2;
   clock::WallTime time{};  ///< the fix time
 };
 
@@ -135,7 +142,7 @@ class SignalApplication {
   Rlvw rlvw_;
   std::map<std::uint16_t, Intersection> maps_;
   std::map<std::pair<std::uint16_t, std::uint8_t>, SignalPhase> phases_;
-  std::optional<OwnKinematics> last_own_;
+  std::optional<OwnKinematics> last_own_;    ///< with the acceleration filled in
   std::optional<SignalStatus> last_status_;  ///< the last one emitted
   std::optional<clock::SteadyTime> last_emit_;
 };

@@ -419,3 +419,86 @@ TEST(IngressLaneMatcherRobustness, NonFinitePoseMatchesNothing) {
 
 }  // namespace
 }  // namespace tb::its::apps::signal
+
+namespace tb::its::apps::signal {
+namespace {
+
+TEST_F(SignalAppTest, NoiseAroundTheStopLineIsNotPassing) {
+  send_map();
+  Plan red;
+  red.amber_at = -3.0;  // red for 30 s
+  // Braking to the line at 1 m/s² from 4 m/s (8 m), stopping 0.3 m before it, then waiting
+  // there with the fixes scattered ±0.8 m along the lane.
+  for (int k = 0; k <= 40; ++k) {
+    const double v = 4.0 - 0.1 * k;
+    send_spat(red);
+    app.update(northbound(0.3 + v * v / 2.0, v));
+    clk.advance(100ms);
+  }
+  ASSERT_FALSE(statuses.empty());
+  for (int k = 0; k <= 40; ++k) {
+    send_spat(red);
+    app.update(northbound(0.3 + ((k % 2) != 0 ? 0.8 : -0.8), 0.0));
+    clk.advance(100ms);
+  }
+  for (const SignalStatus& s : statuses) {
+    EXPECT_TRUE(s.on_lane) << "a waiting car never leaves its lane";
+    EXPECT_GE(s.distance_to_stop_line_m, 0.0);
+  }
+  EXPECT_EQ(statuses.back().distance_to_stop_line_m, 0.0) << "0.5 m beyond (k 40): at the line";
+  // Really driving off: 1.2 m past the line is past it.
+  send_spat(red);
+  app.update(northbound(-1.2, 3.0));
+  EXPECT_FALSE(statuses.back().on_lane);
+}
+
+}  // namespace
+}  // namespace tb::its::apps::signal
+
+namespace tb::its::apps::signal {
+namespace {
+
+TEST_F(SignalAppTest, StoppingAtTheRedLineIsNotWarned) {
+  // From 50 km/h at 2 m/s² to stand 0.5 m before the line of a red light: braking starts at
+  // 0.5 + 13.89² / 4 = 48.7 m. Without the braking rule the reaction second alone (v·1 s)
+  // would exceed the distance left in the last 36 m. Acceleration not given: estimated from
+  // the fixes' speeds; and given, in a second run.
+  for (const bool given : {false, true}) {
+    SignalApplication fresh_app(
+        clk, SignalAppConfig{}, [this](const SignalStatus& s) { statuses.push_back(s); },
+        [this](const RlvwWarning& w) { warnings.push_back(w); });
+    IntersectionTopology topo = four_way_junction();
+    topo.received_at = clk.wall_now();
+    ASSERT_TRUE(fresh_app.on_map(topo).has_value());
+    const double v0 = 50 * kKmh;
+    const double b = 2.0;
+    const double d_brake = 0.5 + v0 * v0 / (2 * b);
+    const clock::WallTime start = clk.wall_now();
+    for (int k = 0; k < 200; ++k) {
+      const double tk = std::chrono::duration<double>(clk.wall_now() - start).count();
+      const double t_brake = std::max(0.0, tk - 2.0);  // 2 s of cruising first
+      const double tb = std::min(t_brake, v0 / b);
+      const double v = v0 - b * tb;
+      const double d = d_brake + v0 * (2.0 - std::min(tk, 2.0)) - (v0 * tb - b * tb * tb / 2);
+      SignalPhase red;
+      red.signal_group = 1;
+      red.current.state = S::kStopAndRemain;
+      red.current.likely_time = start + 60s;
+      red.received_at = clk.wall_now();
+      fresh_app.on_spat(1, std::vector{red});
+      OwnKinematics own = northbound(d, v);
+      if (given) {
+        own.longitudinal_accel_mps2 = t_brake > 0.0 && v > 0.0 ? -b : 0.0;
+      }
+      fresh_app.update(own);
+      clk.advance(100ms);
+    }
+    EXPECT_TRUE(warnings.empty()) << (given ? "given" : "estimated") << ": "
+                                  << (warnings.empty() ? 0.0 : warnings[0].distance_to_stop_line_m);
+    ASSERT_TRUE(fresh_app.last_status());
+    EXPECT_NEAR(fresh_app.last_status()->distance_to_stop_line_m, 0.5, 0.05);
+  }
+}
+
+}  // namespace
+}  // namespace tb::its::apps::signal

@@ -176,6 +176,26 @@ TEST_F(RlvwTest, StandingOrPastTheLineIsNoWarning) {
   EXPECT_TRUE(decide(0.5, 1.0, red).warn) << "rolling over the line at red: 1 m/s needs 1.17 m";
 }
 
+TEST_F(RlvwTest, ADriverAlreadyBrakingHasReacted) {
+  // 15 m/s at 45 m, red: D = 52.5 m > 45 m warns a driver who has not reacted yet ...
+  const SignalPhase red = phase(S::kStopAndRemain, 30.0);
+  const auto pending = [&](std::optional<double> accel) {
+    return assess_rlvw(45.0, 15.0, predict_phases(red, clk.wall_now()), cfg, accel);
+  };
+  EXPECT_TRUE(pending(std::nullopt).warn);
+  // ... not one braking at 3 m/s², who stands after 225 / 6 = 37.5 m ...
+  EXPECT_TRUE(pending(-3.0).stopping);
+  EXPECT_FALSE(pending(-3.0).warn);
+  // ... nor at 2.5 m/s² (45 m exactly) ...
+  EXPECT_FALSE(pending(-2.5).warn);
+  // ... but at 2 m/s² the car needs 56.25 m: it will be over the line.
+  EXPECT_TRUE(pending(-2.0).warn);
+  // Below 0.3 m/s² it is rolling, not braking; speeding up is not braking either.
+  EXPECT_FALSE(pending(-0.2).stopping);
+  EXPECT_TRUE(pending(-0.2).warn);
+  EXPECT_TRUE(pending(1.0).warn);
+}
+
 // --- the state machine ---------------------------------------------------------------------
 
 class RlvwMachineTest : public RlvwTest {
