@@ -106,6 +106,31 @@ TEST_F(PublisherTest, WarningsAreQos1AndNotRetained) {
   EXPECT_DOUBLE_EQ(sink.sent[0].payload["message"]["ttc_s"].get<double>(), 2.5);
 }
 
+TEST_F(PublisherTest, SignalIsQos0AndRlvwQos1NeitherRetained) {
+  signal::SignalStatus st;
+  st.station_id = 1001;
+  st.intersection_id = 5;
+  st.on_lane = true;
+  st.state = signal::MovementPhaseState::kStopAndRemain;
+  pub.publish_signal(st);
+  signal::RlvwWarning w;
+  w.station_id = 1001;
+  w.intersection_id = 5;
+  pub.publish_rlvw(w);
+  ASSERT_EQ(sink.sent.size(), 2u);
+  EXPECT_EQ(sink.sent[0].topic, "its/1001/app/signal");
+  EXPECT_EQ(sink.sent[0].qos, tb::mqtt::Qos::kAtMostOnce);
+  EXPECT_FALSE(sink.sent[0].retain);
+  EXPECT_EQ(sink.sent[0].payload["type"], "signal");
+  EXPECT_EQ(sink.sent[0].payload["origin"], "on_board_application");
+  EXPECT_EQ(sink.sent[0].payload["message"]["state"], "red");
+  EXPECT_EQ(sink.sent[1].topic, "its/1001/app/rlvw");
+  EXPECT_EQ(sink.sent[1].qos, tb::mqtt::Qos::kAtLeastOnce);
+  EXPECT_FALSE(sink.sent[1].retain);
+  EXPECT_EQ(sink.sent[1].payload["type"], "rlvw_warning");
+  EXPECT_EQ(sink.sent[1].payload["message"]["intersection_id"], 5);
+}
+
 TEST_F(PublisherTest, DenmsByDirection) {
   DenmView d;
   d.action_id = {1002, 5};
