@@ -214,6 +214,9 @@ void RenderLoop::run() {
       if (st.subject >= 0 && static_cast<std::size_t>(st.subject) < in.vehicles.size())
         st.subject_controls = in.vehicles[static_cast<std::size_t>(st.subject)].controls;
       st.banner = view->hud().banner();
+      st.rlvw_banner = view->hud().rlvw_banner();
+      if (const auto& sig = view->hud().signal())
+        st.signal_light = std::string(v2x::to_string(sig->light));
       observer_(st);
     }
     next += period;

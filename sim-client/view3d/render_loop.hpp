@@ -42,6 +42,10 @@ struct FrameStats {
   int subject = -1;
   wire::Controls subject_controls;  ///< as drawn (the HUD's bars)
   std::string banner;               ///< the V2X warning banner's text; empty: none shown
+  std::string rlvw_banner;          ///< the red-light warning banner's text; empty: none shown
+  /// The signal panel's light as drawn ("red", "green", ... as the MQTT contract names it);
+  /// empty: no panel.
+  std::string signal_light;
 };
 
 class RenderLoop {
