@@ -33,7 +33,7 @@ std::optional<SignalPanel> signal_panel(const V2xPicture& picture, std::uint32_t
       p.advice =
           fmt::format("{:.0f} km/h", std::round((s->advice->min_kmh + s->advice->max_kmh) / 2));
   }
-  p.caption = fmt::format("signal group {} · lane {}", s->signal_group, s->lane_id);
+  p.caption = fmt::format("group {} · lane {}", s->signal_group, s->lane_id);
   return p;
 }
 

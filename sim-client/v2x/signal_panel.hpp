@@ -26,7 +26,7 @@ struct SignalPanel {
   /// GLOSA as a range of whole km/h inside the advised one ("32–45 km/h"), or one speed when
   /// the range holds no whole number's width; "" without advice.
   std::string advice;
-  std::string caption;  ///< "signal group 3 · lane 2"
+  std::string caption;  ///< "group 3 · lane 2" (the signal group, the ingress lane)
 };
 
 /// The panel for @p station's own lane, while its signal is fresh; empty otherwise.

@@ -338,11 +338,11 @@ void Hud::signal_panel(const FrameInput& in, int subject, float k, int width, in
   if (!signal_)
     return;
   const v2x::SignalPanel& p = *signal_;
-  // On the right, its top 290 px (of 720) under the window's: below the mirror and both
+  // On the right, its top 282 px (of 720) under the window's: below the mirror and both
   // banners stacked under it (the lower one ends 266 px down), above the status lines
   // (bottom right) and clear of the instruments (bottom left).
-  const float pw = 236 * k, ph = 164 * k;
-  const float x0 = width - 14 * k - pw, y0 = height - 290 * k - ph;
+  const float pw = 236 * k, ph = 172 * k;
+  const float x0 = width - 14 * k - pw, y0 = height - 282 * k - ph;
   signal_rect_ = {static_cast<int>(x0), static_cast<int>(y0), static_cast<int>(pw),
                   static_cast<int>(ph)};
   back_.rect(x0, y0, pw, ph, kPanel);
@@ -366,13 +366,15 @@ void Hud::signal_panel(const FrameInput& in, int subject, float k, int width, in
                            : p.red             ? colour[0]
                                                : kDim;
   const float tx = x0 + 80 * k;
-  text("sig_caption", p.caption, tx, y0 + ph - 20 * k, 12 * k, kDim, Align::LEFT_BASE_LINE);
-  text("sig_countdown", p.countdown.empty() ? "–" : p.countdown, tx, y0 + ph - 64 * k, 40 * k,
+  text("sig_caption", p.caption, tx, y0 + ph - 26 * k, 13 * k, osg::Vec4(0.8f, 0.8f, 0.82f, 1),
+       Align::LEFT_BASE_LINE);
+  text("sig_countdown", p.countdown.empty() ? "–" : p.countdown, tx, y0 + ph - 72 * k, 40 * k,
        accent, Align::LEFT_BASE_LINE, Font::kBold);
-  text("sig_distance", p.distance + " to stop line", tx, y0 + 62 * k, 15 * k, kWhite,
+  text("sig_distance", p.distance + " to stop line", tx, y0 + 64 * k, 15 * k, kWhite,
        Align::LEFT_BASE_LINE);
   if (!p.advice.empty()) {
-    text("sig_advice_label", "advice", tx, y0 + 40 * k, 12 * k, kDim, Align::LEFT_BASE_LINE);
+    text("sig_advice_label", "speed for green", tx, y0 + 40 * k, 12 * k, kDim,
+         Align::LEFT_BASE_LINE);
     text("sig_advice", p.advice, tx, y0 + 16 * k, 20 * k, kGreen, Align::LEFT_BASE_LINE,
          Font::kBold);
   }

@@ -161,7 +161,7 @@ TEST(SignalPanelModel, DistanceAndAdviceAsTheDriverReadsThem) {
   auto p = signal_panel(m.picture(at(0)), 1001);
   EXPECT_EQ(p->distance, "42 m");
   EXPECT_EQ(p->advice, "");  // advice null: none shown
-  EXPECT_EQ(p->caption, "signal group 3 · lane 2");
+  EXPECT_EQ(p->caption, "group 3 · lane 2");
   // The whole km/h inside the advised range, so that a driver reading it stays inside.
   m.on_message(kSignal,
                signal_msg("red", "stop-And-Remain", 6.0, 6.0, 80.0,
