@@ -504,13 +504,27 @@ V2xPicture V2xMonitor::picture(clock::SteadyTime now) const {
   for (const auto& [key, d] : denms_)
     if (now < d.expires)
       p.denms.push_back(d.event);
-  for (const auto& [station, s] : signals_)
-    if (now - s.received <= cfg_.signal_timeout)
-      p.signals.push_back(s.signal);
+  // Times to a change count from the message's receipt: aged to now, so that a countdown
+  // runs on between messages (at most 10 a second, maybe far fewer).
+  const auto aged = [&](std::optional<double>& t, clock::SteadyTime received) {
+    if (t)
+      *t -= std::chrono::duration<double>(now - received).count();
+  };
+  for (const auto& [station, s] : signals_) {
+    if (now - s.received > cfg_.signal_timeout)
+      continue;
+    LaneSignal sig = s.signal;
+    aged(sig.time_to_change_s, s.received);
+    aged(sig.likely_time_to_change_s, s.received);
+    p.signals.push_back(std::move(sig));
+  }
   for (const auto& [station, r] : rlvw_) {
     const LaneSignal* lane = p.signal_for(station);
-    if (now - r.received <= cfg_.rlvw_timeout || (lane != nullptr && lane->rlvw))
-      p.rlvw.push_back(r.alert);
+    if (now - r.received <= cfg_.rlvw_timeout || (lane != nullptr && lane->rlvw)) {
+      RlvwAlert a = r.alert;
+      aged(a.time_to_red_s, r.received);
+      p.rlvw.push_back(a);
+    }
   }
   return p;
 }

@@ -78,8 +78,9 @@ struct LaneSignal {
   std::uint32_t lane_id = 0;          ///< DSRC LaneID
   SignalLight light = SignalLight::kUnavailable;
   std::string event_state;  ///< the DSRC MovementPhaseState name, e.g. "stop-And-Remain"
-  std::optional<double> time_to_change_s;         ///< minEndTime − now
-  std::optional<double> likely_time_to_change_s;  ///< likelyTime − now
+  /// minEndTime − now and likelyTime − now; in a picture, aged by the time since receipt.
+  std::optional<double> time_to_change_s;
+  std::optional<double> likely_time_to_change_s;
   double distance_to_stop_line_m = 0.0;
   std::optional<SpeedAdvice> advice;
   bool rlvw = false;  ///< the station's RLVW is active (the message's own flag)
@@ -93,7 +94,8 @@ struct RlvwAlert {
   std::uint32_t lane_id = 0;
   double distance_to_stop_line_m = 0.0;
   double speed_mps = 0.0;
-  std::optional<double> time_to_red_s;  ///< empty: the payload's null (red already, or unknown)
+  /// Empty: the payload's null (red already, or unknown); in a picture, aged since receipt.
+  std::optional<double> time_to_red_s;
   double stopping_distance_m = 0.0;
 };
 

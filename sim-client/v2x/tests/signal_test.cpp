@@ -89,8 +89,9 @@ TEST(SignalMonitor, ReadsEveryFieldOfTheContract) {
   EXPECT_EQ(s->lane_id, 2u);
   EXPECT_EQ(s->light, SignalLight::kGreen);
   EXPECT_EQ(s->event_state, "protected-Movement-Allowed");
-  EXPECT_DOUBLE_EQ(*s->time_to_change_s, 3.0);
-  EXPECT_DOUBLE_EQ(*s->likely_time_to_change_s, 4.5);
+  // Aged by the 0.2 s since the message came.
+  EXPECT_NEAR(*s->time_to_change_s, 2.8, 1e-9);
+  EXPECT_NEAR(*s->likely_time_to_change_s, 4.3, 1e-9);
   EXPECT_DOUBLE_EQ(s->distance_to_stop_line_m, 85.0);
   ASSERT_TRUE(s->advice.has_value());
   EXPECT_DOUBLE_EQ(s->advice->min_kmh, 31.4);
@@ -142,6 +143,11 @@ TEST(SignalPanelModel, CountdownInWholeSecondsFromTheLikelyTimeElseTheMinimum) {
   EXPECT_EQ(signal_panel(m.picture(at(0.2)), 1001)->countdown, "3 s");
   m.on_message(kSignal, signal_msg("amber", "protected-clearance", -0.3, nullptr).dump(), at(0.3));
   EXPECT_EQ(signal_panel(m.picture(at(0.3)), 1001)->countdown_s, 0);
+  // The countdown runs on between messages: 7.4 s likely when sent is 7.1 s 0.3 s later (8),
+  // 6.9 s 0.5 s later (7).
+  m.on_message(kSignal, signal_msg("red", "stop-And-Remain", 6.2, 7.4).dump(), at(0.35));
+  EXPECT_EQ(signal_panel(m.picture(at(0.35 + 0.3)), 1001)->countdown, "8 s");
+  EXPECT_EQ(signal_panel(m.picture(at(0.35 + 0.5)), 1001)->countdown, "7 s");
   // Neither known: no countdown.
   m.on_message(kSignal, signal_msg("green", "protected-Movement-Allowed", nullptr, nullptr).dump(),
                at(0.4));
@@ -272,7 +278,8 @@ TEST(RlvwMonitor, RaisedUpdatedClearedWithTheBannerText) {
   EXPECT_EQ(a->lane_id, 2u);
   EXPECT_DOUBLE_EQ(a->speed_mps, 16.7);
   EXPECT_DOUBLE_EQ(a->stopping_distance_m, 63.1);
-  EXPECT_EQ(rlvw_banner(p, 1001), "RED LIGHT WARNING · red in 1.0 s · stop line 40 m");
+  // 1.04 s to red when sent, 0.1 s ago.
+  EXPECT_EQ(rlvw_banner(p, 1001), "RED LIGHT WARNING · red in 0.9 s · stop line 40 m");
   EXPECT_EQ(rlvw_banner(p, 1002), "");
   // Red already (time_to_red null).
   ASSERT_TRUE(m.on_message(kRlvw, rlvw_msg("updated", nullptr).dump(), at(0.5)));
@@ -328,7 +335,7 @@ TEST(RlvwMonitor, BadPayloadsAreRejectedAndLeaveTheWarning) {
   EXPECT_EQ(m.rejected(), std::size(bad));
   const RlvwAlert* a = m.picture(at(0.2)).rlvw_for(1001);
   ASSERT_NE(a, nullptr);
-  EXPECT_DOUBLE_EQ(*a->time_to_red_s, 1.0);
+  EXPECT_NEAR(*a->time_to_red_s, 1.0 - 0.2, 1e-9);  // as raised, aged by 0.2 s
 }
 
 TEST(RlvwAlarm, ItsOwnSoundBetweenTheCollisionWarningsInPriority) {
