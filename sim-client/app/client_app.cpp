@@ -189,9 +189,21 @@ void ClientApp::start_3d(bool window) {
       else
         spdlog::info("red-light banner: {}", st.rlvw_banner);
     }
-    if (st.signal_light != light) {
-      light = st.signal_light;
-      trace::global().record("client.signal", {{"light", light}, {"frame", st.frame}});
+    const std::string now_light =
+        st.signal ? fmt::format("{}/{}/{}/{}", st.signal->station, st.signal->intersection_id,
+                                st.signal->signal_group, v2x::to_string(st.signal->light))
+                  : std::string();
+    if (now_light != light) {
+      light = now_light;
+      if (st.signal) {
+        trace::global().record("client.signal", {{"station", st.signal->station},
+                                                 {"intersection_id", st.signal->intersection_id},
+                                                 {"signal_group", st.signal->signal_group},
+                                                 {"light", v2x::to_string(st.signal->light)},
+                                                 {"frame", st.frame}});
+      } else {
+        trace::global().record("client.signal", {{"light", ""}, {"frame", st.frame}});
+      }
     }
     const std::string headline = st.banner.substr(0, st.banner.find(" · TTC"));
     if (headline != shown) {

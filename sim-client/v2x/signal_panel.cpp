@@ -12,6 +12,10 @@ std::optional<SignalPanel> signal_panel(const V2xPicture& picture, std::uint32_t
   if (s == nullptr)
     return std::nullopt;
   SignalPanel p;
+  p.station = s->station;
+  p.intersection_id = s->intersection_id;
+  p.signal_group = s->signal_group;
+  p.lane_id = s->lane_id;
   p.light = s->light;
   p.red = s->light == SignalLight::kRed || s->light == SignalLight::kRedAmber;
   p.amber = s->light == SignalLight::kAmber || s->light == SignalLight::kRedAmber;

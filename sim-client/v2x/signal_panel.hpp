@@ -13,6 +13,10 @@ namespace tb::client::v2x {
 
 /// The signal panel: a traffic-light icon and the figures beside it.
 struct SignalPanel {
+  std::uint32_t station = 0;
+  std::uint32_t intersection_id = 0;
+  std::uint32_t signal_group = 0;
+  std::uint32_t lane_id = 0;
   SignalLight light = SignalLight::kUnavailable;
   /// Which of the icon's lamps are lit; none for dark and unavailable (the icon is grey).
   bool red = false, amber = false, green = false;

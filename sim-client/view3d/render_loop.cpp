@@ -215,8 +215,7 @@ void RenderLoop::run() {
         st.subject_controls = in.vehicles[static_cast<std::size_t>(st.subject)].controls;
       st.banner = view->hud().banner();
       st.rlvw_banner = view->hud().rlvw_banner();
-      if (const auto& sig = view->hud().signal())
-        st.signal_light = std::string(v2x::to_string(sig->light));
+      st.signal = view->hud().signal();
       observer_(st);
     }
     next += period;
