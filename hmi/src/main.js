@@ -4,7 +4,7 @@ import mqtt from 'mqtt';
 import { beep, beepCount, audioState, prepareAudio, redLightBeep, redLightBeepCount, unlockAudio } from './audio.js';
 import { causeText, fixText, offsetM } from './etsi.js';
 import { drawMap } from './map.js';
-import { denmReceipt, lcrwReceipt, traceTopic } from './trace.js';
+import { denmReceipt, lcrwReceipt, signalReceipt, traceTopic } from './trace.js';
 import {
   createModel,
   expire,
@@ -48,6 +48,7 @@ let client = null;
 let subscribed = [];
 let lastBeep = 0;
 let loggedRejects = 0;
+let tracedSignal = '';
 
 function save() {
   const { trace, ...kept } = cfg;
@@ -103,6 +104,13 @@ function connect() {
     const what = handleMessage(model, topic, text);
     if (what) {
       render(what);
+    }
+    if (cfg.trace && what === 'signal') {
+      const r = signalReceipt(cfg.prefix, topic, text, receivedMs, wallClockMs());
+      if (r && r.key !== tracedSignal) {
+        tracedSignal = r.key;
+        client.publish(traceTopic(cfg.prefix, model.station), r.record, { qos: 0 });
+      }
     }
     if (cfg.trace && (what === 'warning' || what === 'denm')) {
       const receipt = what === 'warning' ? lcrwReceipt : denmReceipt;

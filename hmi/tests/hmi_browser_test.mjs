@@ -315,6 +315,13 @@ async function main() {
     await pub('its/1001/app/signal', envelope('signal', { lane: null }));
     await page.waitForSelector('#signal-panel', { state: 'hidden', timeout: 10000 }).catch(() => {});
     check('signal panel gone when the car leaves the lane', await page.isHidden('#signal-panel'));
+    // ?trace=1: one hmi.signal record per light drawn (not one per message at 10 Hz).
+    for (let i = 0; i < 30 && receipts.filter((r) => r.text.includes('"hmi.signal"') && r.text.includes('"light":""')).length === 0; i++) {
+      await new Promise((r) => setTimeout(r, 100));
+    }
+    const lights = receipts.map(parseReceipt).filter((r) => r.record?.ev === 'hmi.signal').map((r) => r.record.light);
+    check('trace=1: each light drawn reported once as hmi.signal',
+      JSON.stringify(lights) === JSON.stringify(['red', 'red_amber', 'amber', 'green', 'dark', 'amber', '']), JSON.stringify(lights));
 
     // A phone in portrait: everything still on one screen, the banner readable.
     await pub('its/1001/app/lcrw', warning('raised', 1.2).replace('"severity":"warning"', '"severity":"critical"'));
