@@ -339,9 +339,10 @@ TEST(Spatem, DecoderRefusesAnAdvisorySpeedTypeOfALaterVersion) {
 TEST(Spatem, DecoderSkipsRegionalExtensionsAndLaterVersionsAdditions) {
   std::string bits = to_bits(kSpatemGolden).substr(0, 274);
   // A regional extension on the first MovementEvent: presence bit, then SIZE(1..4) = 1,
-  // regionId addGrpC (3) and an open type of two octets (X.691 11.2).
+  // regionId addGrpC (3) and an open type (X.691 11.2) of one octet: MovementEvent-addGrpC
+  // {stateChangeReason trainPriority}, as Wireshark reads it (tshark_it.cpp).
   bits.replace(167, 1, "1");
-  bits.insert(209, "00" + bits_of(3, 8) + bits_of(2, 8) + bits_of(0xABCD, 16));
+  bits.insert(209, "00" + bits_of(3, 8) + bits_of(1, 8) + "01000110");
   // An extension addition of SPAT: the extension bit, then after the root a normally small
   // count (1), its presence bitmap and one open type of one octet (X.691 19.7-19.9).
   bits.replace(48, 1, "1");

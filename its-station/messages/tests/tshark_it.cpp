@@ -18,6 +18,7 @@
 
 #include "its-station/messages/cam.hpp"
 #include "its-station/messages/denm.hpp"
+#include "its-station/messages/tests/bits.hpp"
 #include "its-station/messages/tests/run_command.hpp"
 #include "its-station/messages/tests/samples.hpp"
 #include "its-station/messages/tests/signal_samples.hpp"
@@ -715,6 +716,29 @@ TEST_F(TsharkInterop, MapemsDecodeToTheValuesSentWithoutWarnings) {
   EXPECT_EQ(bits[0], "1|0|1;0;1|");                     // lane, then its two connections
   EXPECT_EQ(bits[2].substr(bits[2].size() - 2), "|0");  // layerType none
   expect_clean();
+}
+
+TEST_F(TsharkInterop, ARegionalExtensionAsWiresharkReadsItIsSkippedByOurDecoder) {
+  // samples::spatem_two_groups() with a MovementEvent-addGrpC on its first event (the layout of
+  // spatem_test.cpp's table): the regional presence bit (167), then after the event's timing
+  // (bit 209) SIZE(1..4) = 1, regionId addGrpC (3) and the open type: one octet holding
+  // {ext 0, stateChangeReason present, ExceptionalCondition ext 0, trainPriority (3)}.
+  const Bytes plain = enc(*samples::spatem_two_groups());
+  std::string bits = testing::to_bits(plain).substr(0, 274);
+  bits.replace(167, 1, "1");
+  bits.insert(209, "00" + testing::bits_of(3, 8) + testing::bits_of(1, 8) + "01000110");
+  const Bytes with_regional = testing::from_bits(bits);
+  const auto got =
+      fields({frame(with_regional, false, kPortSpatem)},
+             {"dsrc.regionId", "AddGrpC.stateChangeReason", "dsrc.signalGroup", "dsrc.minEndTime"});
+  ASSERT_EQ(got.size(), 1u);
+  EXPECT_EQ(got[0], "3|3|1;2|1234;1264");
+  expect_clean();
+  auto ours = std::make_unique<Spatem>();
+  auto n = decode(with_regional, *ours);
+  ASSERT_TRUE(n) << asn1::to_string(n.error());
+  EXPECT_EQ(*ours, *samples::spatem_two_groups());
+  EXPECT_EQ(enc(*ours), plain);
 }
 
 }  // namespace
