@@ -87,6 +87,10 @@ const BadCase kBadCases[] = {
     // OpenDRIVE maps (issue 17, "Bad input"); the maps are in tests/maps.
     {"opendrive-missing-file.json", "/map/file", "../maps/no-such-map.xodr: no such file"},
     {"opendrive-malformed.json", "/map/file", "malformed XML"},
+    // Traffic lights (issue 34): a signal group naming a signal the map lacks.
+    {"opendrive-controller-unknown-signal.json", "/map/file",
+     "controller-unknown-signal.xodr: controller[@id='8']/control[1]: attribute 'signalId' is "
+     "'light-9': no road has that signal"},
     {"opendrive-bad-proj.json", "/map/file",
      "header/geoReference: unreadable PROJ string '+proj=no_such_projection +lat_0=48'"},
     {"opendrive-no-origin.json", "/origin",
