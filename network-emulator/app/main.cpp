@@ -298,7 +298,7 @@ int main(int argc, char** argv) {
   for (const auto& f : forward_to) {
     const auto ep = parse_endpoint(f);
     if (!ep || !ep->address().is_v4()) {
-      spdlog::error("--forward {}: expected IPv4ADDRESS:PORT, e.g. 127.0.0.1:4701", f);
+      spdlog::error("--forward {}: expected IPv4ADDRESS:PORT, e.g. 127.0.0.1:4702", f);
       return kExitFailure;
     }
     forward.push_back(*ep);

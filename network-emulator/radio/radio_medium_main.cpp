@@ -50,7 +50,8 @@ struct Options {
   std::vector<std::string> pooled;
   std::string mode = "auto";
   std::string forwarding = "auto";
-  std::string positions = "udp://0.0.0.0:4701";
+  // 4702: the emulator hears the vehicle states on 4700 and the signal feed on 4701.
+  std::string positions = "udp://0.0.0.0:4702";
   std::string prefix = radio::kDefaultPrefix;
   std::string ethertype = "0x8947";
   std::string stats_file;
