@@ -126,10 +126,13 @@ ClientApp::ClientApp(boost::asio::io_context& io, AppOptions options)
   if (options_.forward && !options_.session.list_only) {
     sink_ = std::make_unique<UdpSink>(io_, options_.emulator);
     forwarder_ = std::make_unique<StateForwarder>(runtime_, *sink_);
+    signal_sink_ = std::make_unique<UdpSink>(io_, signal_feed_address(options_.emulator));
+    signal_forwarder_ = std::make_unique<SignalForwarder>(*signal_sink_);
   }
   session_ = std::make_unique<SimSession>(
       options_.session, [this](std::vector<std::uint8_t> b) { link_->send(std::move(b)); },
       forwarder_.get(), trace::global(), &runtime_);
+  session_->set_signal_forwarder(signal_forwarder_.get());
   const auto [host, port] = split_host_port(options_.server, 2000);
   link_ = std::make_unique<TcpLink>(io_, runtime_, host, port, *session_);
   if (feed_) {

@@ -102,6 +102,8 @@ class ClientApp {
   std::unique_ptr<SdlInput> input_;
   std::unique_ptr<UdpSink> sink_;
   std::unique_ptr<StateForwarder> forwarder_;
+  std::unique_ptr<UdpSink> signal_sink_;  ///< the emulator's state port + 1 (issue 34)
+  std::unique_ptr<SignalForwarder> signal_forwarder_;
   std::unique_ptr<SimSession> session_;
   std::unique_ptr<TcpLink> link_;
   std::unique_ptr<Canvas> canvas_;

@@ -128,6 +128,9 @@ bool SimSession::handle(const sim::ServerMessage& m) {
     return true;
   }
   if (const auto* s = std::get_if<sim::SignalStates>(&m)) {
+    // On to the RSUs first: the light change is on its way to the SPATEM before anything else.
+    if (signal_forwarder_ != nullptr)
+      signal_forwarder_->forward(*s);
     // Every junction's groups come in each message; a junction missing from it has none left.
     std::map<std::uint16_t, JunctionSignals> now;
     for (const sim::SignalGroupState& g : s->groups) {

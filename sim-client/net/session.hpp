@@ -118,6 +118,9 @@ class SimSession {
   void set_frame_observer(std::function<void(const wire::sim::StateFrame&)> f) {
     frame_observer_ = std::move(f);
   }
+  /// Where every SignalStates goes on to the emulator (issue 34); null: nowhere. Set on the
+  /// clients that forward vehicle states.
+  void set_signal_forwarder(SignalForwarder* f) { signal_forwarder_ = f; }
 
  private:
   struct Driven {
@@ -140,6 +143,7 @@ class SimSession {
   SessionOptions options_;
   Send send_;
   StateForwarder* forwarder_;
+  SignalForwarder* signal_forwarder_ = nullptr;
   std::vector<wire::VehicleState> tick_states_;  ///< the driven vehicles' states of one frame
   wire::sim::ControlsBatch batch_;               ///< the driven vehicles' controls of one frame
   trace::Tracer& tracer_;

@@ -317,6 +317,46 @@ TEST_F(SessionTest, KeepsTheLatestSignalStatesPerJunction) {
   EXPECT_EQ(s.signals().at(100).world_time_ms, t + 2000);
 }
 
+TEST_F(SessionTest, ForwardsEverySignalStatesAsOneFrameToTheEmulator) {
+  SessionOptions o;
+  o.client_name = "forwarder";
+  SimSession s = make(o);
+  CaptureSink signal_sink;
+  trace::Tracer off;
+  SignalForwarder signals(signal_sink, off);
+  s.set_signal_forwarder(&signals);
+  s.on_connected();
+  ASSERT_TRUE(feed(s, testing::welcome()));
+  const std::int64_t t = 1'795'000'000'000;
+  using P = sim::MovementPhaseState;
+  const sim::SignalStates first{t,
+                                {{7, 1, P::kProtectedMovementAllowed, t + 900, t + 900},
+                                 {100, 1, P::kProtectedClearance, t + 2000, t + 2000}}};
+  const sim::SignalStates second{t + 100, {{100, 1, P::kStopAndRemain, t + 30000, t + 30000}}};
+  // The second arrives a byte at a time: it leaves once, when its frame is complete.
+  ASSERT_TRUE(feed(s, first));
+  ASSERT_TRUE(feed(s, second, true));
+  ASSERT_EQ(signal_sink.sent.size(), 2u);
+  // Each datagram is exactly the sim-protocol frame, all junctions' groups as the server sent
+  // them (the emulator picks each RSU's junction).
+  EXPECT_EQ(signal_sink.sent[0], sim::encode(first));
+  EXPECT_EQ(signal_sink.sent[1], sim::encode(second));
+  EXPECT_EQ(signals.sent(), 2u);
+  // The vehicle-state sink got none of them.
+  EXPECT_TRUE(sink.sent.empty());
+}
+
+TEST_F(SessionTest, AClientThatForwardsNothingSendsNoSignals) {
+  SessionOptions o;
+  o.client_name = "watcher";
+  SimSession s = make(o);  // no signal forwarder, as with --no-forward or --list
+  s.on_connected();
+  ASSERT_TRUE(feed(s, testing::welcome()));
+  ASSERT_TRUE(feed(s, sim::SignalStates{5, {}}));
+  EXPECT_TRUE(sink.sent.empty());
+  EXPECT_TRUE(s.signals().empty());
+}
+
 }  // namespace
 // An OpenDRIVE map travels in Welcome: a client on another computer has no copy of the file.
 constexpr const char* kOpenDriveScenario = R"({
