@@ -19,6 +19,7 @@
 #include "common/map/route_plan.hpp"
 #include "common/map/scenario_map.hpp"
 #include "common/scenario/json_reader.hpp"
+#include "common/scenario/rsus.hpp"
 #include "common/scenario/signal_plans.hpp"
 #include "common/wire/vehicle_state.hpp"
 
@@ -1011,6 +1012,7 @@ Scenario parse(std::string_view json_text, const std::string& file_name,
   check_routes(s, *scenario_map, vehicles);
   s.signals =
       detail::read_signal_plans(root.optional("signals"), *scenario_map, context.name, file_name);
+  s.rsus = detail::read_rsus(root.optional("rsus"), s, *scenario_map, context.name, vehicles);
   root.finish();
   return s;
 }

@@ -23,4 +23,10 @@ const Vehicle* Scenario::find_station(std::uint32_t station_id) const {
   return it == vehicles.end() ? nullptr : &*it;
 }
 
+const Rsu* Scenario::find_rsu(std::uint32_t station_id) const {
+  const auto it = std::find_if(rsus.begin(), rsus.end(),
+                               [&](const Rsu& r) { return r.station_id == station_id; });
+  return it == rsus.end() ? nullptr : &*it;
+}
+
 }  // namespace tb::scenario

@@ -337,6 +337,19 @@ struct SignalPlan {
   double cycle_s() const;
 };
 
+// ---------------------------------------------------------------------------------------------
+// Road-side units (issue 34): full ITS stations of type roadSideUnit (CDD StationType 15) that
+// serve one signalised junction with MAPEM and SPATEM. No CAN, no driver; the network emulator
+// feeds their fixed position through gpsd and their junction's signal states over UDP.
+
+struct Rsu {
+  std::string id;                ///< like a vehicle id: names the station's namespace and login
+  std::uint32_t station_id = 0;  ///< ETSI StationID, unique across vehicles and RSUs
+  std::string junction;          ///< OpenDRIVE junction id of the signalised junction it serves
+  double x = 0.0, y = 0.0;       ///< map frame (as a pose spawn), m
+  double height_m = 0.0;         ///< antenna above the ground, m
+};
+
 /// The warm-up a scenario gets unless it says otherwise: a GNSS receiver reports its first fix
 /// about 1.3 s after its first epoch (gpsd waits for a whole cycle), and a CAM follows; 3 s
 /// leaves room for that on a loaded machine.
@@ -378,9 +391,14 @@ struct Scenario {
   /// One plan per signalised junction of the map (given, or the default), in the order of the
   /// scenario's `signals`, then the defaults by junction id.
   std::vector<SignalPlan> signals;
+  /// `rsus`: the road-side units, in the scenario's order.
+  std::vector<Rsu> rsus;
 
   const Vehicle* find_vehicle(std::string_view id) const;
+  /// The vehicle with that StationID; nullptr for an RSU's or an unknown one.
   const Vehicle* find_station(std::uint32_t station_id) const;
+  /// The RSU with that StationID; nullptr for a vehicle's or an unknown one.
+  const Rsu* find_rsu(std::uint32_t station_id) const;
 };
 
 /// The world's start time (UTC of sim time 0) of a run that starts at @p now: the scenario's
