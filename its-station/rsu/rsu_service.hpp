@@ -18,7 +18,7 @@
 namespace tb::its::rsu {
 
 /// BTP-B well-known ports of TS 103 301 / TS 103 248.
-inline constexpr std::uint16_t kBtpPortMapem = 2003;
+inline constexpr std::uint16_t kBtpPortMapem = 2003;  // = btp::kPortMapem
 inline constexpr std::uint16_t kBtpPortSpatem = 2004;
 
 struct RsuConfig {
