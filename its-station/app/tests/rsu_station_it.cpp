@@ -371,4 +371,21 @@ TEST_F(RsuStation, AScenarioWithoutThatStationIdIsRefusedByName) {
   EXPECT_NE(out.find("no vehicle and no rsu with station id 5999"), std::string::npos) << out;
 }
 
+// A --signals that is no udp://HOST:PORT: refused naming the option and the value, exit 2.
+TEST_F(RsuStation, ABadSignalsAddressIsRefusedByName) {
+  FILE* p = ::popen(fmt::format("ip netns exec {} {} --station-id 5001 --scenario {} --radio wlan0 "
+                                "--signals tcp://0.0.0.0:4720 --gpsd-wait 5 --log-level warn 2>&1",
+                                ns_rsu, station_bin.string(), scenario.string())
+                        .c_str(),
+                    "r");
+  ASSERT_NE(p, nullptr);
+  std::string out;
+  char buf[512];
+  while (std::fgets(buf, sizeof buf, p) != nullptr)
+    out += buf;
+  const int status = ::pclose(p);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << out;
+  EXPECT_NE(out.find("--signals 'tcp://0.0.0.0:4720'"), std::string::npos) << out;
+}
+
 }  // namespace
