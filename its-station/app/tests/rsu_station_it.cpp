@@ -89,7 +89,44 @@ struct Captured {
   std::chrono::steady_clock::time_point at;
   std::uint16_t port = 0;
   std::vector<std::uint8_t> payload;
+  std::vector<std::uint8_t> frame;  ///< the whole Ethernet frame
 };
+
+/// A classic pcap file (LINKTYPE_ETHERNET) of @p frames, for tshark.
+void write_pcap(const fs::path& path, const std::vector<Captured>& frames) {
+  std::ofstream out(path, std::ios::binary);
+  auto u32 = [&](std::uint32_t v) { out.write(reinterpret_cast<const char*>(&v), 4); };
+  auto u16 = [&](std::uint16_t v) { out.write(reinterpret_cast<const char*>(&v), 2); };
+  u32(0xa1b2c3d4);
+  u16(2);
+  u16(4);
+  u32(0);
+  u32(0);
+  u32(65535);
+  u32(1);  // Ethernet
+  std::uint32_t sec = 1'795'779'612;
+  for (const Captured& c : frames) {
+    u32(sec++);
+    u32(0);
+    u32(static_cast<std::uint32_t>(c.frame.size()));
+    u32(static_cast<std::uint32_t>(c.frame.size()));
+    out.write(reinterpret_cast<const char*>(c.frame.data()),
+              static_cast<std::streamsize>(c.frame.size()));
+  }
+}
+
+std::string run_command(const std::string& cmd) {
+  std::string out;
+  FILE* p = ::popen(cmd.c_str(), "r");
+  if (p == nullptr)
+    return out;
+  char buf[4096];
+  std::size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0)
+    out.append(buf, n);
+  ::pclose(p);
+  return out;
+}
 
 class RsuStation : public ::testing::Test {
  protected:
@@ -173,7 +210,10 @@ class RsuStation : public ::testing::Test {
         const auto btp = tb::its::btp::parse_header_b(gn->payload);
         if (!btp)
           continue;
-        Captured c{at, btp->destination_port, {gn->payload.begin() + 4, gn->payload.end()}};
+        Captured c{at,
+                   btp->destination_port,
+                   {gn->payload.begin() + 4, gn->payload.end()},
+                   {buf.begin(), buf.begin() + n}};
         std::lock_guard lock(mutex);
         frames.push_back(std::move(c));
       }
@@ -344,6 +384,31 @@ TEST_F(RsuStation, SendsMapemCamAndSpatemOfTheFedStatesAndChangesAtOnce) {
   // evenly over 0..100 ms): the median well under the 5 ms, none near 100 ms.
   EXPECT_LT(pct(50), 5.0);
   EXPECT_LT(latency_ms.back(), 80.0);
+
+  // Wireshark decodes what went on the air cleanly (MapData, the SPAT's IntersectionStates):
+  // one MAPEM, one CAM, every SPATEM.
+  if (std::system("command -v tshark >/dev/null 2>&1") == 0) {
+    std::vector<Captured> sample;
+    for (const std::uint16_t port :
+         {tb::its::btp::kPortMapem, tb::its::btp::kPortCam, tb::its::btp::kPortSpatem})
+      for (const Captured& c : captured)
+        if (c.port == port) {
+          sample.push_back(c);
+          if (port != tb::its::btp::kPortSpatem)
+            break;
+        }
+    const fs::path pcap = dir / "rsu.pcap";
+    write_pcap(pcap, sample);
+    const std::string expert = run_command("tshark -r '" + pcap.string() + "' -q -z expert 2>&1");
+    for (const char* word : {"Error", "Warn", "Malformed"})
+      EXPECT_EQ(expert.find(word), std::string::npos) << word << " in:\n" << expert;
+    const std::string full = run_command("tshark -r '" + pcap.string() + "' -V 2>&1");
+    EXPECT_EQ(full.find("Malformed"), std::string::npos) << full.substr(0, 4000);
+    EXPECT_NE(full.find("MapData"), std::string::npos);
+    EXPECT_NE(full.find("IntersectionState"), std::string::npos);
+  } else {
+    ADD_FAILURE() << "tshark not installed (scripts/install-deps installs it)";
+  }
 
   const auto st = status();
   ASSERT_TRUE(st.contains("rsu")) << st.dump();
