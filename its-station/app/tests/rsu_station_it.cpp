@@ -90,6 +90,8 @@ struct Captured {
   std::uint16_t port = 0;
   std::vector<std::uint8_t> payload;
   std::vector<std::uint8_t> frame;  ///< the whole Ethernet frame
+  bool mobile = true;               ///< the GN common header's itsGnIsMobile flag
+  tb::its::geonet::StationType gn_station_type{};
 };
 
 /// A classic pcap file (LINKTYPE_ETHERNET) of @p frames, for tshark.
@@ -213,7 +215,9 @@ class RsuStation : public ::testing::Test {
         Captured c{at,
                    btp->destination_port,
                    {gn->payload.begin() + 4, gn->payload.end()},
-                   {buf.begin(), buf.begin() + n}};
+                   {buf.begin(), buf.begin() + n},
+                   gn->common.mobile,
+                   tb::its::geonet::source_position(gn->extended).address.station_type};
         std::lock_guard lock(mutex);
         frames.push_back(std::move(c));
       }
@@ -346,6 +350,11 @@ TEST_F(RsuStation, SendsMapemCamAndSpatemOfTheFedStatesAndChangesAtOnce) {
     }
   }
   EXPECT_GE(mapems, 5);  // ~9 s of changes at 1 Hz
+  // GeoNetworking says a stationary road-side unit too (EN 302 636-4-1 9.7.4, 9.6 ST).
+  for (const Captured& c : captured) {
+    EXPECT_FALSE(c.mobile) << "port " << c.port;
+    EXPECT_EQ(static_cast<int>(c.gn_station_type), 15) << "port " << c.port;
+  }
   EXPECT_GE(cams, 5);
 
   // Each change: the first SPATEM after its datagram that shows it.
