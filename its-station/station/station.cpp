@@ -47,6 +47,8 @@ namespace {
 geonet::RouterConfig router_config(const StationConfig& c) {
   geonet::RouterConfig r;
   r.station_type = static_cast<geonet::StationType>(c.ca.station_type);
+  // EN 302 636-4-1 9.7.4 / Annex H itsGnIsMobile: a road-side unit does not move (issue 34).
+  r.is_mobile = c.ca.station_type != messages::station_type::kRoadSideUnit;
   return r;
 }
 

@@ -98,6 +98,8 @@ class Station {
   const facilities::CaService& ca() const { return ca_; }
   const facilities::DenService& den() const { return den_; }
   const geonet::Router& router() const { return router_; }
+  /// BTP-B over GN as the services send (a road-side unit's MAPEM/SPATEM service, issue 34).
+  facilities::MessageSender& sender() { return sender_; }
   /// Null until LCRW first ran (it starts at the first fix).
   const apps::LcrwApplication* lcrw() const { return lcrw_.get(); }
 
