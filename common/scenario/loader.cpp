@@ -688,9 +688,9 @@ Driver read_driver(Node n) {
   return f;
 }
 
-/// The "station" object's kind, mqtt and lcrw (issue 33). Pooled stations are station-host's:
-/// scripted vehicles on its-station's stack; a human driver needs a full station (its own
-/// process beside the driver's window), and a "command" is a stack of its own.
+/// The "station" object's kind, mqtt, lcrw (issue 33) and signals (issue 34). Pooled stations are
+/// station-host's: scripted vehicles on its-station's stack; a human driver needs a full station
+/// (its own process beside the driver's window), and a "command" is a stack of its own.
 void read_station_kind(Node& st, const Node& vehicle, Vehicle& v) {
   if (auto k = st.optional("kind")) {
     v.station_kind =
@@ -710,10 +710,13 @@ void read_station_kind(Node& st, const Node& vehicle, Vehicle& v) {
   const bool full = v.station_kind == StationKind::kFull;
   v.station_mqtt = full;
   v.station_lcrw = full;
+  v.station_signals = full;
   if (auto mq = st.optional("mqtt"))
     v.station_mqtt = mq->boolean();
   if (auto l = st.optional("lcrw"))
     v.station_lcrw = l->boolean();
+  if (auto sg = st.optional("signals"))
+    v.station_signals = sg->boolean();
 }
 
 Vehicle read_vehicle(Node n, const MapContext& m) {
@@ -808,7 +811,7 @@ Vehicle read_vehicle(Node n, const MapContext& m) {
   if (auto st = n.optional("station")) {
     st->expect_object(
         "a station (\"command\": the program and its arguments, \"pki\": a test PKI's name, "
-        "\"kind\": \"full\" or \"pooled\", \"mqtt\", \"lcrw\")");
+        "\"kind\": \"full\" or \"pooled\", \"mqtt\", \"lcrw\", \"signals\")");
     if (auto cmd = st->optional("command")) {
       for (const Node& a : cmd->array(1, 256)) {
         v.station_command.push_back(a.string());

@@ -233,6 +233,10 @@ struct Vehicle {
   /// "station": {"lcrw": bool}: whether the station runs LCRW. Default true for full stations,
   /// false for pooled ones.
   bool station_lcrw = true;
+  /// "station": {"signals": bool}: whether the station runs the signal application (MAPEM and
+  /// SPATEM received, RLVW, GLOSA; issue 34). Default true for full stations, false for pooled
+  /// ones (which then neither decode nor verify MAPEM/SPATEM).
+  bool station_signals = true;
   /// "role": a CDD VehicleRole name ("emergency", "publicTransport", …).
   VehicleRole role = VehicleRole::kDefault;
   /// "dangerous_goods": the CDD DangerousGoodsBasic (0 explosives1 … 19

@@ -316,10 +316,10 @@ TEST(ScenarioLoader, StationKindAndItsDefaults) {
        "station": {"kind": "pooled"}},
       {"id": "p2", "station_id": 3, "spawn": {"lane": 0, "s": 70},
        "driver": {"type": "lane_follow", "speed_profile": [{"t": 0, "speed": 10}]},
-       "station": {"kind": "pooled", "mqtt": true, "lcrw": true}},
+       "station": {"kind": "pooled", "mqtt": true, "lcrw": true, "signals": true}},
       {"id": "f1", "station_id": 4, "spawn": {"lane": 0, "s": 100},
        "driver": {"type": "lane_follow", "speed_profile": [{"t": 0, "speed": 10}]},
-       "station": {"kind": "full", "mqtt": false, "lcrw": false}}]
+       "station": {"kind": "full", "mqtt": false, "lcrw": false, "signals": false}}]
   })",
                            "inline.json");
   ASSERT_EQ(s.vehicles.size(), 4u);
@@ -327,16 +327,20 @@ TEST(ScenarioLoader, StationKindAndItsDefaults) {
   EXPECT_EQ(s.vehicles[0].station_kind, StationKind::kFull);
   EXPECT_TRUE(s.vehicles[0].station_mqtt);
   EXPECT_TRUE(s.vehicles[0].station_lcrw);
+  EXPECT_TRUE(s.vehicles[0].station_signals);
   // Pooled: silent on MQTT and without LCRW unless asked.
   EXPECT_EQ(s.vehicles[1].station_kind, StationKind::kPooled);
   EXPECT_FALSE(s.vehicles[1].station_mqtt);
   EXPECT_FALSE(s.vehicles[1].station_lcrw);
+  EXPECT_FALSE(s.vehicles[1].station_signals);
   EXPECT_EQ(s.vehicles[2].station_kind, StationKind::kPooled);
   EXPECT_TRUE(s.vehicles[2].station_mqtt);
   EXPECT_TRUE(s.vehicles[2].station_lcrw);
+  EXPECT_TRUE(s.vehicles[2].station_signals);
   EXPECT_EQ(s.vehicles[3].station_kind, StationKind::kFull);
   EXPECT_FALSE(s.vehicles[3].station_mqtt);
   EXPECT_FALSE(s.vehicles[3].station_lcrw);
+  EXPECT_FALSE(s.vehicles[3].station_signals);
 }
 
 TEST(ScenarioLoader, AStationMayComeFromAnotherPki) {
