@@ -136,6 +136,7 @@ bool SimSession::handle(const sim::ServerMessage& m) {
       j.groups.push_back(g);
     }
     signals_ = std::move(now);
+    lights_.update(*s);
     return true;
   }
   if (const auto* d = std::get_if<sim::DriverChanged>(&m)) {
@@ -193,6 +194,7 @@ bool SimSession::on_welcome(const sim::Welcome& w) {
   }
   welcome_ = w;
   signals_.clear();  // the server sends the lights right after Welcome
+  lights_ = TrafficLights(w.world_start_ns);
 
   // Which vehicles to drive: by id, plus every scripted one with --scripted.
   std::vector<std::uint16_t> wanted;
@@ -308,8 +310,10 @@ void SimSession::on_state(const sim::StateFrame& f) {
     if (!d.attached || i >= f.vehicles.size())
       continue;
     const wire::VehicleState& s = f.vehicles[i];
-    if (d.script && !traffic)
+    if (d.script && !traffic) {
       traffic = drive_map_->observe(f.vehicles, sizes_);
+      traffic->lights = &lights_;
+    }
     sim::ControlsMsg c;
     c.vehicle = i;
     if (d.script) {
