@@ -27,6 +27,13 @@ std::string_view driver_kind(sim::DriverKind k) {
 
 }  // namespace
 
+std::vector<sim::SignalGroupState> SimSession::signal_groups() const {
+  std::vector<sim::SignalGroupState> out;
+  for (const auto& [id, j] : signals_)
+    out.insert(out.end(), j.groups.begin(), j.groups.end());
+  return out;
+}
+
 std::string_view to_string(SimSession::Phase p) {
   switch (p) {
     case SimSession::Phase::kDisconnected:
@@ -137,6 +144,7 @@ bool SimSession::handle(const sim::ServerMessage& m) {
     }
     signals_ = std::move(now);
     lights_.update(*s);
+    ++signal_updates_;
     return true;
   }
   if (const auto* d = std::get_if<sim::DriverChanged>(&m)) {
@@ -194,6 +202,7 @@ bool SimSession::on_welcome(const sim::Welcome& w) {
   }
   welcome_ = w;
   signals_.clear();  // the server sends the lights right after Welcome
+  ++signal_updates_;
   lights_ = TrafficLights(w.world_start_ns);
 
   // Which vehicles to drive: by id, plus every scripted one with --scripted.

@@ -109,6 +109,10 @@ class SimSession {
   const std::map<std::uint16_t, JunctionSignals>& signals() const { return signals_; }
   /// The same as the scripted drivers read them (each state frame's Traffic points here).
   const TrafficLights& lights() const { return lights_; }
+  /// How many SignalStates arrived (on any connection): a view copies them when it changes.
+  std::uint64_t signal_updates() const { return signal_updates_; }
+  /// Every junction's groups of the latest SignalStates, ascending by (intersection, group).
+  std::vector<wire::sim::SignalGroupState> signal_groups() const;
   /// Indices (Welcome order) of the vehicles this connection drives.
   std::vector<std::uint16_t> driven() const;
   /// Whether the vehicle at @p index is driven by the human input (not a script).
@@ -154,6 +158,7 @@ class SimSession {
   std::optional<wire::sim::StateFrame> latest_;
   std::map<std::uint16_t, JunctionSignals> signals_;
   TrafficLights lights_;
+  std::uint64_t signal_updates_ = 0;
   std::map<std::uint16_t, Driven> driven_;
   DriverCommand human_;
   std::int64_t human_sampled_ns_ = 0;
