@@ -8,6 +8,7 @@
 
 #include <SDL.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdlib>
@@ -18,6 +19,7 @@
 
 #include <fmt/format.h>
 
+#include "common/map/opendrive/queries.hpp"
 #include "common/map/opendrive/reader.hpp"
 #include "common/map/opendrive/signal_layout.hpp"
 #include "sim-client/v2x/monitor.hpp"
@@ -429,6 +431,44 @@ TEST_F(WorldRender, TrafficLightsAreLitByTheirSignalGroups) {
   // The red lamp is above the green one on the screen (red at the top of a head).
   EXPECT_LT(project(pose, heads->lamp_centre(a, L::kRed)).y(),
             project(pose, heads->lamp_centre(a, L::kGreen)).y());
+
+  // The driver's picture of the red: a car 15 m before that head's stop line, chase camera.
+  const odr::SignalApproach* lane = nullptr;
+  for (const auto& ap : layout.approaches())
+    if (ap.head == a)
+      lane = &ap;
+  ASSERT_NE(lane, nullptr);
+  {
+    FrameInput chase = in;
+    // The centre 15 m + half a car before the line, on the lane's surface (the arm climbs).
+    const double back = 15.0 + 2.2;
+    const odr::Road& road = in.world->network->roads[static_cast<std::size_t>(lane->road)];
+    odr::SurfacePose on = odr::lane_pose(*in.world->network, lane->road, lane->lane,
+                                         std::clamp(lane->stop_s + back, 0.0, road.length));
+    const odr::SurfacePose other =
+        odr::lane_pose(*in.world->network, lane->road, lane->lane,
+                       std::clamp(lane->stop_s - back, 0.0, road.length));
+    const auto miss = [&](const odr::SurfacePose& p) {
+      return std::hypot(p.x - (lane->stop.x - back * std::cos(lane->stop.heading)),
+                        p.y - (lane->stop.y - back * std::sin(lane->stop.heading)));
+    };
+    if (miss(other) < miss(on))
+      on = other;
+    chase.vehicles[0].position = {on.x, on.y, on.z};
+    chase.vehicles[0].yaw = static_cast<float>(lane->stop.heading);
+    chase.vehicles[0].speed = 8.0f;
+    chase.own = 0;
+    chase.choice = ViewChoice{};
+    const Image driver = shoot(chase, "signal_heads_chase_red");
+    const CameraPose chase_pose = view_->pose();
+    const osg::Vec2d p = project(chase_pose, heads->lamp_centre(a, L::kRed));
+    ASSERT_GT(p.y(), 150);  // below the mirror
+    int red = 0;
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        red += lamp_red(pixel(driver, static_cast<int>(p.x()) + dx, static_cast<int>(p.y()) + dy));
+    EXPECT_EQ(red, 9) << "the red lamp ahead of the driver";
+  }
 
   // Red + amber for the first group, the second group missing from the message: dark.
   in.signals = {{junction, group(ha), P::kPreMovement, 0, 0}};
