@@ -684,6 +684,8 @@ Driver read_driver(Node n) {
   f.yield_to_traffic = f.route.kind != DriveRoute::Kind::kLane;
   if (auto t = n.optional("traffic"))
     f.yield_to_traffic = t->choice({"yield", "ignore"}) == "yield";
+  if (auto o = n.optional("obey_signals"))
+    f.obey_signals = o->boolean();
   n.finish();
   return f;
 }

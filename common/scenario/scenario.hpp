@@ -179,6 +179,10 @@ struct LaneFollowDriver {
   /// profile whatever the others do ("ignore", the scripted near misses of the LCRW cases).
   /// Default: yield when a route is given, ignore otherwise.
   bool yield_to_traffic = false;
+  /// Stop for red, red + amber and an amber it can stop for comfortably at the stop lines of
+  /// signalised junctions (issue 34; sim-client/README.md, "Scripted drivers"); false runs
+  /// every light (a test of the red-light warning).
+  bool obey_signals = true;
 };
 
 using Driver = std::variant<HumanDriver, TimelineDriver, LaneFollowDriver>;

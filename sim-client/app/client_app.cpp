@@ -276,6 +276,10 @@ void ClientApp::feed_3d() {
       controls_.set_vehicle_count(static_cast<int>(world_->vehicles.size()));
     }
   }
+  if (session_->signal_updates() != signals_fed_) {
+    signals_fed_ = session_->signal_updates();
+    feed_->set_signals(session_->signal_groups());
+  }
   const int own = own_vehicle();
   controls_.set_own(own);
   controls_.set_help(input_->help_shown());
@@ -357,6 +361,7 @@ ViewScene ClientApp::scene() const {
   s.connection = link_->status();
   s.input = input_->status();
   s.help = input_->help_shown();
+  s.signals = session_->signal_groups();
   const auto* w = session_->welcome();
   const auto* f = session_->latest();
   if (w == nullptr || f == nullptr)

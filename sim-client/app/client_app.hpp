@@ -117,6 +117,7 @@ class ClientApp {
   std::unique_ptr<view3d::RenderLoop> render_;
   view3d::ViewControls controls_;
   std::shared_ptr<const view3d::World> world_;
+  std::uint64_t signals_fed_ = 0;  ///< the session's signal_updates() last handed to the view
   bool screenshot_pending_ = false;
   clock::SteadyTime started_{};
   clock::SteadyTime last_frame_{};

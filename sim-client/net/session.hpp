@@ -105,9 +105,14 @@ class SimSession {
     std::int64_t world_time_ms = 0;                   ///< of the step the states are from
     std::vector<wire::sim::SignalGroupState> groups;  ///< ascending by signal group
   };
-  /// The latest signal states by IntersectionID (the OpenDRIVE junction id). Stored for the
-  /// views and the scripted drivers, which do not read them yet.
+  /// The latest signal states by IntersectionID (the OpenDRIVE junction id), for the views.
   const std::map<std::uint16_t, JunctionSignals>& signals() const { return signals_; }
+  /// The same as the scripted drivers read them (each state frame's Traffic points here).
+  const TrafficLights& lights() const { return lights_; }
+  /// How many SignalStates arrived (on any connection): a view copies them when it changes.
+  std::uint64_t signal_updates() const { return signal_updates_; }
+  /// Every junction's groups of the latest SignalStates, ascending by (intersection, group).
+  std::vector<wire::sim::SignalGroupState> signal_groups() const;
   /// Indices (Welcome order) of the vehicles this connection drives.
   std::vector<std::uint16_t> driven() const;
   /// Whether the vehicle at @p index is driven by the human input (not a script).
@@ -156,6 +161,8 @@ class SimSession {
   std::vector<VehicleSize> sizes_;       ///< of the scenario's vehicles, for Traffic
   std::optional<wire::sim::StateFrame> latest_;
   std::map<std::uint16_t, JunctionSignals> signals_;
+  TrafficLights lights_;
+  std::uint64_t signal_updates_ = 0;
   std::map<std::uint16_t, Driven> driven_;
   DriverCommand human_;
   std::int64_t human_sampled_ns_ = 0;

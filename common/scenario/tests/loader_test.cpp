@@ -224,7 +224,8 @@ TEST(ScenarioLoader, ReadsRoutesTrafficAndTheSeed) {
                   "route": "random", "max_lateral_accel": 2.5}},
       {"id": "b", "station_id": 2, "spawn": {"lane": 0, "s": 40},
        "driver": {"type": "lane_follow", "speed_profile": [{"t": 0, "speed": 10}],
-                  "to": {"road": 0, "lane": -1, "s": 500}, "traffic": "ignore"}},
+                  "to": {"road": 0, "lane": -1, "s": 500}, "traffic": "ignore",
+                  "obey_signals": false}},
       {"id": "c", "station_id": 3, "spawn": {"lane": 1, "s": 40},
        "driver": {"type": "lane_follow", "speed_profile": [{"t": 0, "speed": 10}],
                   "route": ["0"]}},
@@ -248,6 +249,8 @@ TEST(ScenarioLoader, ReadsRoutesTrafficAndTheSeed) {
   EXPECT_EQ(driver(1).route.to.lane, -1);
   EXPECT_DOUBLE_EQ(driver(1).route.to.s, 500.0);
   EXPECT_FALSE(driver(1).yield_to_traffic);
+  EXPECT_FALSE(driver(1).obey_signals);
+  EXPECT_TRUE(driver(0).obey_signals);  // lights are obeyed unless a test runs one
   EXPECT_EQ(driver(2).route.kind, Kind::kRoads);
   EXPECT_EQ(driver(2).route.roads, std::vector<std::string>{"0"});
   EXPECT_TRUE(driver(3).yield_to_traffic);
@@ -280,6 +283,7 @@ TEST(ScenarioLoader, ReadsRoutesTrafficAndTheSeed) {
             "/vehicles/0/driver/to/s: s 5000 is outside roa");
   EXPECT_EQ(error(R"("traffic": "maybe")").substr(0, 38),
             "/vehicles/0/driver/traffic: \"maybe\" is");
+  EXPECT_EQ(error(R"("obey_signals": "yes")").substr(0, 32), "/vehicles/0/driver/obey_signals:");
 }
 
 TEST(ScenarioLoader, AVehicleMayBringItsOwnStationProgram) {

@@ -306,6 +306,10 @@ TEST_F(SessionTest, KeepsTheLatestSignalStatesPerJunction) {
   EXPECT_EQ(s.signals().at(100).groups.size(), 2u);
   EXPECT_EQ(s.signals().at(100).groups[0].state, P::kProtectedClearance);
   EXPECT_EQ(s.signals().at(7).world_time_ms, t);
+  // The scripted drivers' view of them: dated on the Welcome's world clock.
+  const std::int64_t start = s.welcome()->world_start_ns;
+  EXPECT_EQ(s.lights().aspect_of(100, 1, t * 1'000'000 - start), LightAspect::kAmber);
+  EXPECT_EQ(s.lights().aspect_of(7, 1, t * 1'000'000 - start), LightAspect::kGo);
   // The next message replaces them: junction 7 gone, 100's states moved on.
   ASSERT_TRUE(feed(s,
                    sim::SignalStates{t + 2000,
@@ -315,6 +319,8 @@ TEST_F(SessionTest, KeepsTheLatestSignalStatesPerJunction) {
   ASSERT_EQ(s.signals().size(), 1u);
   EXPECT_EQ(s.signals().at(100).groups[0].state, P::kStopAndRemain);
   EXPECT_EQ(s.signals().at(100).world_time_ms, t + 2000);
+  EXPECT_EQ(s.lights().aspect_of(100, 1, (t + 2000) * 1'000'000 - start), LightAspect::kStop);
+  EXPECT_EQ(s.lights().aspect_of(7, 1, (t + 2000) * 1'000'000 - start), LightAspect::kNone);
 }
 
 TEST_F(SessionTest, ForwardsEverySignalStatesAsOneFrameToTheEmulator) {

@@ -8,6 +8,7 @@
 
 #include <SDL.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdlib>
@@ -18,7 +19,9 @@
 
 #include <fmt/format.h>
 
+#include "common/map/opendrive/queries.hpp"
 #include "common/map/opendrive/reader.hpp"
+#include "common/map/opendrive/signal_layout.hpp"
 #include "sim-client/v2x/monitor.hpp"
 #include "sim-client/view/scene.hpp"
 #include "sim-client/view3d/driver_view.hpp"
@@ -319,6 +322,162 @@ TEST_F(WorldRender, SignalPanelLitByStateAndTheRedLightBanner) {
     EXPECT_LE(std::abs(a.r - b.r) + std::abs(a.g - b.g) + std::abs(a.b - b.b), 6)
         << a.r << "," << a.g << "," << a.b << " against " << b.r << "," << b.g << "," << b.b;
   }
+}
+
+TEST_F(WorldRender, TrafficLightsAreLitByTheirSignalGroups) {
+  // Two heads of the shipped four-way junction on neighbouring arms (different signal groups),
+  // seen by the orbit camera from where both lamp faces look: one group red, the other green,
+  // then red + amber and a group the message lacks (dark). Checked at the pixels the lamps'
+  // centres project to.
+  const fs::path file = maps_dir() / "four_way_junction.xodr";
+  odr::RoadNetwork net = odr::load_opendrive(file.string());
+  const odr::SignalLayout layout(net);
+  ASSERT_GE(layout.heads().size(), 2u);
+  // The face of a head looks against its traffic's heading.
+  const auto face = [](const odr::SignalHead& h) {
+    return osg::Vec3d(-std::cos(h.pose.heading), -std::sin(h.pose.heading), 0.0);
+  };
+  const auto at = [](const odr::SignalHead& h) { return osg::Vec3d(h.pose.x, h.pose.y, h.pose.z); };
+  // Two heads of different groups on neighbouring arms (their faces turned 90° apart), and the
+  // camera on their faces' bisector, far enough that it looks at both faces within 60° of
+  // straight on, its field of view narrowed to the two (a long lens).
+  std::size_t a = 0, b = 0;
+  bool found = false;
+  osg::Vec3d mid, dir;
+  double distance = 0.0;
+  for (std::size_t i = 0; i < layout.heads().size() && !found; ++i)
+    for (std::size_t j = i + 1; j < layout.heads().size() && !found; ++j) {
+      const auto& hi = layout.heads()[i];
+      const auto& hj = layout.heads()[j];
+      if (hi.signal_group == hj.signal_group || hi.signal_group == 0 || hj.signal_group == 0 ||
+          std::abs(face(hi) * face(hj)) > 0.1)
+        continue;
+      osg::Vec3d d = face(hi) + face(hj);
+      d.normalize();
+      const osg::Vec3d m = (at(hi) + at(hj)) * 0.5;
+      for (double dist = 20.0; dist <= 120.0 && !found; dist += 5.0) {
+        const osg::Vec3d eye = m + d * dist;
+        osg::Vec3d ei = eye - at(hi), ej = eye - at(hj);
+        ei.normalize();
+        ej.normalize();
+        if (std::min(ei * face(hi), ej * face(hj)) > 0.5) {
+          a = i;
+          b = j;
+          mid = m;
+          dir = d;
+          distance = dist;
+          found = true;
+        }
+      }
+    }
+  ASSERT_TRUE(found) << "no two heads of different groups face one camera";
+  constexpr double kElevationDeg = 5.0;
+  const odr::SignalHead& ha = layout.heads()[a];
+  const odr::SignalHead& hb = layout.heads()[b];
+  const std::uint16_t junction = layout.junctions().front().intersection_id;
+  const auto group = [&](const odr::SignalHead& h) {
+    return static_cast<std::uint8_t>(h.signal_group);
+  };
+
+  // The watched car stands on the road between the two heads; the camera orbits it.
+  wire::VehicleState s;
+  s.position = {mid.x(), mid.y(), mid.z() - 2.5};
+  s.sim_time_ns = 5'000'000'000;
+  FrameInput in = frame(world_of(std::move(net), "#e8e8e8", 1), s, CameraMode::kOrbit);
+  in.own = -1;
+  in.choice.target = 0;
+  in.choice.orbit_azimuth_deg = std::atan2(dir.y(), dir.x()) * 180.0 / std::numbers::pi;
+  in.choice.orbit_elevation_deg = kElevationDeg;
+  in.choice.orbit_distance_m = distance;
+  {
+    // Both heads within the picture, with 5° to spare on either side.
+    const osg::Vec3d eye = mid + dir * distance;
+    osg::Vec3d ea = at(ha) - eye, eb = at(hb) - eye;
+    ea.normalize();
+    eb.normalize();
+    in.choice.hfov_deg = std::acos(ea * eb) * 180.0 / std::numbers::pi + 10.0;
+  }
+  using P = wire::sim::MovementPhaseState;
+  in.signals = {{junction, group(ha), P::kStopAndRemain, 0, 0},
+                {junction, group(hb), P::kProtectedMovementAllowed, 0, 0}};
+  if (group(hb) < group(ha))
+    std::swap(in.signals[0], in.signals[1]);
+  const Image im = shoot(in, "signal_heads_red_green");
+  const CameraPose pose = view_->pose();
+  const SignalHeadsNode* heads = view_->signal_heads();
+  ASSERT_NE(heads, nullptr);
+  ASSERT_EQ(heads->heads(), layout.heads().size());
+  // Every pixel of a 3 x 3 square around a lamp's centre shows it.
+  const auto lamp = [&](const Image& image, std::size_t head, SignalHeadsNode::LampIndex l,
+                        bool (*is)(Rgb)) {
+    const osg::Vec2d p = project(pose, heads->lamp_centre(head, l));
+    EXPECT_GT(p.x(), 2);
+    EXPECT_LT(p.x(), kW - 2);
+    EXPECT_GT(p.y(), 2);
+    EXPECT_LT(p.y(), kH - 2);
+    int hits = 0;
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        hits += is(pixel(image, static_cast<int>(p.x()) + dx, static_cast<int>(p.y()) + dy));
+    return hits == 9;
+  };
+  using L = SignalHeadsNode;
+  EXPECT_TRUE(lamp(im, a, L::kRed, lamp_red)) << "head " << a << " red lamp";
+  EXPECT_TRUE(lamp(im, a, L::kAmber, lamp_unlit));
+  EXPECT_TRUE(lamp(im, a, L::kGreen, lamp_unlit));
+  EXPECT_TRUE(lamp(im, b, L::kRed, lamp_unlit));
+  EXPECT_TRUE(lamp(im, b, L::kAmber, lamp_unlit));
+  EXPECT_TRUE(lamp(im, b, L::kGreen, lamp_green)) << "head " << b << " green lamp";
+  // The red lamp is above the green one on the screen (red at the top of a head).
+  EXPECT_LT(project(pose, heads->lamp_centre(a, L::kRed)).y(),
+            project(pose, heads->lamp_centre(a, L::kGreen)).y());
+
+  // The driver's picture of the red: a car 15 m before that head's stop line, chase camera.
+  const odr::SignalApproach* lane = nullptr;
+  for (const auto& ap : layout.approaches())
+    if (ap.head == a)
+      lane = &ap;
+  ASSERT_NE(lane, nullptr);
+  {
+    FrameInput chase = in;
+    // The centre 15 m + half a car before the line, on the lane's surface (the arm climbs).
+    const double back = 15.0 + 2.2;
+    const odr::Road& road = in.world->network->roads[static_cast<std::size_t>(lane->road)];
+    odr::SurfacePose on = odr::lane_pose(*in.world->network, lane->road, lane->lane,
+                                         std::clamp(lane->stop_s + back, 0.0, road.length));
+    const odr::SurfacePose other =
+        odr::lane_pose(*in.world->network, lane->road, lane->lane,
+                       std::clamp(lane->stop_s - back, 0.0, road.length));
+    const auto miss = [&](const odr::SurfacePose& p) {
+      return std::hypot(p.x - (lane->stop.x - back * std::cos(lane->stop.heading)),
+                        p.y - (lane->stop.y - back * std::sin(lane->stop.heading)));
+    };
+    if (miss(other) < miss(on))
+      on = other;
+    chase.vehicles[0].position = {on.x, on.y, on.z};
+    chase.vehicles[0].yaw = static_cast<float>(lane->stop.heading);
+    chase.vehicles[0].speed = 8.0f;
+    chase.own = 0;
+    chase.choice = ViewChoice{};
+    const Image driver = shoot(chase, "signal_heads_chase_red");
+    const CameraPose chase_pose = view_->pose();
+    const osg::Vec2d p = project(chase_pose, heads->lamp_centre(a, L::kRed));
+    ASSERT_GT(p.y(), 150);  // below the mirror
+    int red = 0;
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        red += lamp_red(pixel(driver, static_cast<int>(p.x()) + dx, static_cast<int>(p.y()) + dy));
+    EXPECT_EQ(red, 9) << "the red lamp ahead of the driver";
+  }
+
+  // Red + amber for the first group, the second group missing from the message: dark.
+  in.signals = {{junction, group(ha), P::kPreMovement, 0, 0}};
+  const Image next = shoot(in, "signal_heads_red_amber_dark");
+  EXPECT_TRUE(lamp(next, a, L::kRed, lamp_red));
+  EXPECT_TRUE(lamp(next, a, L::kAmber, lamp_amber)) << "head " << a << " amber lamp";
+  EXPECT_TRUE(lamp(next, a, L::kGreen, lamp_unlit));
+  for (auto l : {L::kRed, L::kAmber, L::kGreen})
+    EXPECT_TRUE(lamp(next, b, l, lamp_unlit)) << "head " << b << " lamp " << l;
 }
 
 }  // namespace
