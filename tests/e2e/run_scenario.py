@@ -54,6 +54,12 @@ CASE is one of:
                    every pooled station heard the full ones (the hosts' status), each pooled
                    vehicle's CAMs came from its own MAC (the medium's statistics attribute them
                    by source address), and state → CAM on the air p99 ≤ 250 ms
+  signals          scenarios/signals-junction.json (issue 34): the RSU's MAPEM and SPATEM reach
+                   both cars; fast (60 km/h, obey_signals false) towards a light turning red is
+                   warned (RLVW) >= 2 s before its front crosses the stop line by the physics'
+                   own states; slow (30 km/h), which can stop, is never warned and stops before
+                   its line; the time to change slow's station publishes while it waits at red
+                   agrees with the sim's light (server.signal) within 200 ms
   scale            20 scripted vehicles on the ring of tests/e2e/gen_scale_scenario.py for 20 s
                    with tracing (issue 21): scripts/report must find records for every stage
                    from the client's input to the CAM received by the others' LDM and LCRW
@@ -94,6 +100,7 @@ CASES = {
     "foreign-root": (None, 15),  # generated: lcrw-frontal with black from another PKI
     "frontal-pooled": (None, 40),  # generated: lcrw-frontal with black pooled
     "pooled-scale": (None, 20),  # generated: POOLED_FULL + POOLED_POOLED on the ring
+    "signals": ("signals-junction.json", 20),
 }
 POOLED_STATION = 1002  # frontal-pooled: black, warned about by red's full station
 POOLED_FULL = 3
@@ -803,6 +810,121 @@ def pooled_scale_failures(out, scenario, cams):
     return failures
 
 
+# signals-junction.json (issue 34): who is who, and where their stop lines are on the map.
+SIGNALS_FAST, SIGNALS_SLOW, SIGNALS_RSU = 3401, 3402, 5001
+RLVW_LEAD_S = 2.0  # the issue: warned at least this long before the stop line
+SPAT_TIME_TOLERANCE_MS = 200  # the issue: the SPATEM's times agree with the sim's light
+
+
+def stop_line_s(xodr, road_id):
+    """The straight road @p road_id's start, heading and the s of its stop line (DE 294) from
+    the OpenDRIVE file itself: (x0, y0, hdg, s)."""
+    import xml.etree.ElementTree as ET
+    for r in ET.parse(xodr).getroot().findall("road"):
+        if r.get("id") != road_id:
+            continue
+        g = r.find("planView/geometry")
+        if g is None or g.find("line") is None:
+            raise SystemExit(f"e2e: road {road_id} of {xodr} is not one straight line")
+        for sig in r.findall("signals/signal"):
+            if sig.get("type") == "294":
+                return (float(g.get("x")), float(g.get("y")), float(g.get("hdg")),
+                        float(sig.get("s")))
+    raise SystemExit(f"e2e: no stop line (294) on road {road_id} of {xodr}")
+
+
+def front_crossing_ns(by, station, line, length):
+    """Host time (ns) the physics' front bumper of @p station, driving against the road's s on
+    lane 1, crossed the stop line @p line (x0, y0, hdg, s), interpolated between steps; None
+    when it never did."""
+    x0, y0, hdg, stop_s = line
+    prev = None
+    for r in sorted((r for r in by.get("client.forward", []) if r["station"] == station and
+                     r.get("step_ns")), key=lambda r: r["step_ns"]):
+        front_s = ((r["x"] - x0) * math.cos(hdg) + (r["y"] - y0) * math.sin(hdg)) - length / 2
+        if prev is not None and prev[1] > stop_s >= front_s:
+            t0, s0 = prev
+            return t0 + (r["step_ns"] - t0) * (s0 - stop_s) / (s0 - front_s)
+        prev = (r["step_ns"], front_s)
+    return None
+
+
+def check_signals(out, scenario, messages):
+    """The checks of the signals case (see the module's doc)."""
+    failures = []
+    by = trace_events(out)
+    xodr = ROOT / "scenarios" / scenario["map"]["file"]
+    lengths = {v["station_id"]: v.get("model", {}).get("length_m", DEFAULT_LENGTH_M)
+               for v in scenario["vehicles"]}
+    roads = {v["station_id"]: v["spawn"]["road"] for v in scenario["vehicles"]}
+
+    # The RSU sent both messages, and both cars took its intersection in.
+    for status in sorted(out.glob(f"run-*/station-{SIGNALS_RSU}.status.json"))[-1:]:
+        rsu = json.loads(status.read_text()).get("rsu", {})
+        print(f"e2e signals: RSU {rsu}")
+        if not rsu.get("mapem_sent") or not rsu.get("spatem_sent"):
+            failures.append(f"the RSU sent MAPEM {rsu.get('mapem_sent')} and SPATEM "
+                            f"{rsu.get('spatem_sent')} times")
+    for sid in (SIGNALS_FAST, SIGNALS_SLOW):
+        if not any(t == f"its/{sid}/app/signal" for t, _ in messages):
+            failures.append(f"station {sid} never published its lane's signal")
+
+    # fast: warned >= 2 s before its front crosses the stop line.
+    raised = sorted(r["ts"] for r in by.get("its.rlvw", [])
+                    if r.get("station") == SIGNALS_FAST and r.get("event") == "raised")
+    cross = front_crossing_ns(by, SIGNALS_FAST, stop_line_s(xodr, roads[SIGNALS_FAST]),
+                              lengths[SIGNALS_FAST])
+    if not raised:
+        failures.append(f"no RLVW raised at station {SIGNALS_FAST}")
+    elif cross is None:
+        failures.append(f"station {SIGNALS_FAST}'s car never crossed its stop line")
+    else:
+        lead = (cross - raised[0]) / 1e9
+        print(f"e2e signals: RLVW raised at {SIGNALS_FAST} {lead:.2f} s before the physics' "
+              f"front crossed the stop line")
+        if lead < RLVW_LEAD_S:
+            failures.append(f"RLVW raised {lead:.2f} s before the stop line, not >= "
+                            f"{RLVW_LEAD_S} s")
+    if not any(t == f"its/{SIGNALS_FAST}/app/rlvw" and m["message"].get("event") == "raised"
+               for t, m in messages):
+        failures.append(f"no rlvw_warning raised on its/{SIGNALS_FAST}/app/rlvw")
+
+    # slow: never warned, and stopped before its line.
+    if any(r.get("station") == SIGNALS_SLOW and r.get("event") == "raised"
+           for r in by.get("its.rlvw", [])):
+        failures.append(f"station {SIGNALS_SLOW}, which can stop, was warned")
+    if front_crossing_ns(by, SIGNALS_SLOW, stop_line_s(xodr, roads[SIGNALS_SLOW]),
+                         lengths[SIGNALS_SLOW]) is not None:
+        failures.append(f"station {SIGNALS_SLOW}'s car crossed its stop line on red")
+
+    # slow's published time to change against the sim's light: the change the server planned
+    # for that group at the message's time (server.signal: world_ms, next_change_ms).
+    changes = {}
+    for r in by.get("server.signal", []):
+        changes.setdefault(r.get("group"), []).append(r)
+    compared, worst = 0, 0.0
+    for t, m in messages:
+        msg = m.get("message", {})
+        if t != f"its/{SIGNALS_SLOW}/app/signal" or msg.get("time_to_change_s") is None:
+            continue
+        at = m.get("timestamp")
+        recs = [r for r in changes.get(msg.get("signal_group"), []) if r["world_ms"] <= at]
+        if not recs or not recs[-1].get("next_change_ms"):
+            continue
+        planned = recs[-1]["next_change_ms"]
+        said = at + msg["time_to_change_s"] * 1000.0
+        compared += 1
+        worst = max(worst, abs(said - planned))
+    print(f"e2e signals: {compared} signal messages of {SIGNALS_SLOW} against the sim's light, "
+          f"worst {worst:.0f} ms apart")
+    if compared == 0:
+        failures.append(f"no signal message of {SIGNALS_SLOW} with a time to change to compare")
+    elif worst > SPAT_TIME_TOLERANCE_MS:
+        failures.append(f"a published time to change is {worst:.0f} ms from the sim's light "
+                        f"(> {SPAT_TIME_TOLERANCE_MS})")
+    return failures
+
+
 def run_case(args):
     """One run of the case. Returns (exit status, % of CPU time the host stole meanwhile)."""
     scenario, duration = CASES[args.case]
@@ -876,7 +998,8 @@ def run_case(args):
         sub_out = open(out / "mqtt-messages.txt", "w")
         sub = subprocess.Popen(["stdbuf", "-oL", "mosquitto_sub", "-h", "127.0.0.1", "-u", "hmi", "-P", "hmi",
                                 "-t", "its/+/app/lcrw", "-t", "its/+/in/cam/+",
-                                "-t", "its/+/in/denm/+", "-t", "its/+/out/denm", "-v"],
+                                "-t", "its/+/in/denm/+", "-t", "its/+/out/denm",
+                                "-t", "its/+/app/signal", "-t", "its/+/app/rlvw", "-v"],
                                stdout=sub_out, text=True)
         if args.case == "latency":
             # The red car's driver looks at the HMI; its page reports each warning's receipt.
@@ -959,6 +1082,8 @@ def run_case(args):
             failures += check_frontal_ttc(out, json.loads(scenario_file.read_text()))
         if args.case != "frontal-xodr":
             failures += check_denms(out, json.loads(scenario_file.read_text()), messages)
+    elif args.case == "signals":
+        failures += check_signals(out, json.loads(scenario_file.read_text()), messages)
     elif args.case == "start":
         failures += check_start(out, json.loads(scenario_file.read_text()), messages)
         if any(w.get("event") == "raised" for _, w in warnings):
