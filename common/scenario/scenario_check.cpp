@@ -69,6 +69,9 @@ int summary(const std::string& f, bool quiet) {
           p.junction.c_str(), p.default_plan ? " (default plan)" : "", phases.c_str(), p.amber_s,
           p.all_red_s, p.red_amber_s, p.offset_s, p.cycle_s());
     }
+    for (const auto& r : s.rsus)
+      std::printf("  %-12s station %-10u rsu at junction %s, (%g, %g), %g m up\n", r.id.c_str(),
+                  r.station_id, r.junction.c_str(), r.x, r.y, r.height_m);
   }
   return 0;
 }

@@ -22,7 +22,7 @@ Expected<std::vector<std::uint8_t>, SignalFeedError> encode_signal_feed(
     const sim::SignalStates& states) {
   std::vector<std::uint8_t> bytes = sim::encode(states);
   if (bytes.size() > kMaxSignalFeedDatagram || states.groups.size() > sim::kMaxSignalGroupStates)
-    return Unexpected(SignalFeedError::kTooLarge);
+    return Unexpected{SignalFeedError::kTooLarge};
   return bytes;
 }
 
@@ -33,21 +33,21 @@ Expected<sim::SignalStates, SignalFeedError> decode_signal_feed(
   auto rest = datagram;
   const auto status = parser.parse(rest);
   if (!status)
-    return Unexpected(status.error() == sim::ProtocolError::kUnknownType
+    return Unexpected{status.error() == sim::ProtocolError::kUnknownType
                           ? SignalFeedError::kNotSignalStates
-                          : SignalFeedError::kBadFrame);
+                          : SignalFeedError::kBadFrame};
   if (*status != sim::FrameParser::Status::kFrame)
-    return Unexpected(SignalFeedError::kTruncated);
+    return Unexpected{SignalFeedError::kTruncated};
   if (!rest.empty())
-    return Unexpected(SignalFeedError::kTrailingBytes);
+    return Unexpected{SignalFeedError::kTrailingBytes};
   if (parser.frame().type != sim::MessageType::kSignalStates)
-    return Unexpected(SignalFeedError::kNotSignalStates);
+    return Unexpected{SignalFeedError::kNotSignalStates};
   auto message = sim::decode_server(parser.frame());
   if (!message)
-    return Unexpected(SignalFeedError::kBadFrame);
+    return Unexpected{SignalFeedError::kBadFrame};
   auto* states = std::get_if<sim::SignalStates>(&*message);
   if (states == nullptr)
-    return Unexpected(SignalFeedError::kNotSignalStates);
+    return Unexpected{SignalFeedError::kNotSignalStates};
   return std::move(*states);
 }
 

@@ -429,12 +429,19 @@ int main(int argc, char** argv) {
   std::unique_ptr<SignalReceiver> signal_receiver;
   try {
     signal_receiver = std::make_unique<SignalReceiver>(io, *signals_ep, *emulator, senders);
+    signal_receiver->start();
   } catch (const boost::system::system_error& e) {
-    spdlog::error("cannot listen for the signal feed on {}:{}: {}",
-                  signals_ep->address().to_string(), signals_ep->port(), e.code().message());
-    return kExitFailure;
+    // Without RSUs nobody needs the feed: a default port taken by another program (tests pick
+    // a free --listen port, not a free pair) is not worth stopping for.
+    if (!signals_listen.empty() || emulator->rsu_count() > 0) {
+      spdlog::error("cannot listen for the signal feed on {}:{}: {}",
+                    signals_ep->address().to_string(), signals_ep->port(), e.code().message());
+      return kExitFailure;
+    }
+    spdlog::warn("signal feed off: cannot listen on {}:{} ({}), and the scenario has no RSU",
+                 signals_ep->address().to_string(), signals_ep->port(), e.code().message());
+    signal_receiver.reset();
   }
-  signal_receiver->start();
   for (const auto& f : forward_to)
     spdlog::info("passing vehicle states on to {}", f);
   spdlog::info("scenario {} ({}): {} stations, GNSS {} Hz, CAN {}/{} Hz; listening on {}",
@@ -442,9 +449,10 @@ int main(int argc, char** argv) {
                scen.rates.can_dynamics_hz, scen.rates.can_body_hz,
                fmt::format("{}:{}", receiver->local_endpoint().address().to_string(),
                            receiver->local_endpoint().port()));
-  spdlog::info("signal feed: listening on {}:{}, {} RSUs",
-               signal_receiver->local_endpoint().address().to_string(),
-               signal_receiver->local_endpoint().port(), emulator->rsu_count());
+  if (signal_receiver)
+    spdlog::info("signal feed: listening on {}:{}, {} RSUs",
+                 signal_receiver->local_endpoint().address().to_string(),
+                 signal_receiver->local_endpoint().port(), emulator->rsu_count());
 
   // The emulator's counters, then the sockets': datagrams the kernel took, and those it did not
   // (buffer full, an error of their own destination), and the ICMP errors read.
