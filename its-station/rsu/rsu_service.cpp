@@ -50,8 +50,11 @@ void RsuService::send_mapem() {
       spdlog::warn("rsu: MAPEM not sent: {} (said once)", facilities::to_string(r));
     }
   }
-  // On a fixed grid, so that the rate stays 1 Hz whatever a send costs.
+  // On a fixed grid, so that the rate stays 1 Hz whatever a send costs; after a stall (a
+  // stopped process) the grid starts again rather than catching up in a burst.
   next_mapem_ += config_.mapem_interval;
+  if (next_mapem_ <= runtime_.steady_now())
+    next_mapem_ = runtime_.steady_now() + config_.mapem_interval;
   mapem_timer_ = runtime_.schedule_at(next_mapem_, [this] { send_mapem(); });
 }
 

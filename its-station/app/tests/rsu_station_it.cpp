@@ -24,6 +24,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -40,6 +41,9 @@
 #include "its-station/messages/cam.hpp"
 #include "its-station/messages/mapem.hpp"
 #include "its-station/messages/spatem.hpp"
+#include "its-station/security/pki_files.hpp"
+#include "its-station/security/time.hpp"
+#include "its-station/security/verifier.hpp"
 
 extern char** environ;
 
@@ -92,6 +96,7 @@ struct Captured {
   std::vector<std::uint8_t> frame;  ///< the whole Ethernet frame
   bool mobile = true;               ///< the GN common header's itsGnIsMobile flag
   tb::its::geonet::StationType gn_station_type{};
+  std::chrono::system_clock::time_point wall{};  ///< when it arrived, host clock
 };
 
 /// A classic pcap file (LINKTYPE_ETHERNET) of @p frames, for tshark.
@@ -205,6 +210,13 @@ class RsuStation : public ::testing::Test {
         if (n <= 14)
           continue;
         const auto at = std::chrono::steady_clock::now();
+        if (keep_raw) {
+          Captured raw{at, 0, {}, {buf.begin(), buf.begin() + n}};
+          raw.wall = std::chrono::system_clock::now();
+          std::lock_guard lock(mutex);
+          frames.push_back(std::move(raw));
+          continue;
+        }
         const auto gn = tb::its::geonet::parse_packet(
             std::span<const std::uint8_t>(buf.data() + 14, static_cast<std::size_t>(n) - 14));
         if (!gn)
@@ -272,6 +284,7 @@ class RsuStation : public ::testing::Test {
   int capture_fd = -1, udp_fd = -1;
   std::thread capture_thread, nmea_thread;
   std::atomic<bool> stop_capture{false};
+  bool keep_raw = false;  ///< keep frames as they are (secured: no GN parsing here)
   std::mutex mutex, send_mutex;
   std::vector<Captured> frames;
 };
@@ -426,6 +439,104 @@ TEST_F(RsuStation, SendsMapemCamAndSpatemOfTheFedStatesAndChangesAtOnce) {
   EXPECT_GE(st["rsu"]["spatem_on_change"].get<int>(), kChanges);
   EXPECT_EQ(st["rsu"]["intersection_id"], 100);
   EXPECT_TRUE(st["rsu"]["last_feed_age_ms"].is_number());
+}
+
+// Signed (TS 103 097): with an RSU's AT from its-pki (--rsu-station), MAPEM goes signed under
+// ITS-AID 138 and SPATEM under 137, and a vehicle's verifier of the same PKI accepts both.
+TEST_F(RsuStation, SignsMapemAndSpatemWithTheirOwnItsAids) {
+  const char* bin = std::getenv("TESTBED_BIN");
+  const fs::path pki_bin = bin ? fs::path(bin) / "its-pki" : fs::path("its-pki");
+  if (!fs::exists(pki_bin))
+    GTEST_SKIP() << pki_bin << " not built";
+  const fs::path pki = dir / "pki";
+  ASSERT_EQ(sh(fmt::format("{} make --dir {} --station 1001 --rsu-station 5001", pki_bin.string(),
+                           pki.string())),
+            0);
+  keep_raw = true;
+  const pid_t rsu = spawn({"ip",
+                           "netns",
+                           "exec",
+                           ns_rsu,
+                           station_bin.string(),
+                           "--station-id",
+                           "5001",
+                           "--scenario",
+                           scenario.string(),
+                           "--radio",
+                           "wlan0",
+                           "--security",
+                           "signed",
+                           "--pki-dir",
+                           pki.string(),
+                           "--duration",
+                           "60",
+                           "--status-file",
+                           (dir / "rsu.json").string(),
+                           "--log-level",
+                           "warn"});
+  ASSERT_GT(rsu, 0);
+  open_io();
+  const auto deadline = std::chrono::steady_clock::now() + 40s;
+  auto enough = [&] {
+    const auto st = status();
+    return st.is_object() && st.contains("rsu") && st["rsu"].value("spatem_sent", 0) > 20 &&
+           st["rsu"].value("mapem_sent", 0) > 2;
+  };
+  int k = 0;
+  while (std::chrono::steady_clock::now() < deadline && !enough()) {
+    const auto d = feed(k++ % 2 == 0 ? sim::MovementPhaseState::kStopAndRemain
+                                     : sim::MovementPhaseState::kProtectedMovementAllowed,
+                        unix_ms(), unix_ms() + 9'000);
+    send_to(4720, d.data(), d.size());
+    std::this_thread::sleep_for(300ms);
+  }
+  kill(rsu, SIGTERM);
+  EXPECT_EQ(wait_for(rsu, 10s), 0);
+  stop_capture = true;
+  capture_thread.join();
+  nmea_thread.join();
+  ASSERT_TRUE(enough()) << status().dump();
+
+  // A vehicle's verifier of the same PKI (1001's credentials: root and AA).
+  auto car = tb::its::security::load_station_credentials(tb::its::security::PkiPaths{pki}, 1001);
+  const auto now = tb::its::security::to_time64(std::chrono::system_clock::now());
+  tb::its::security::Verifier verifier({car.root});
+  ASSERT_EQ(verifier.add_authority(car.aa, now), tb::its::security::VerifyResult::kOk);
+  std::map<std::uint16_t, int> verified;  // BTP port -> signed packets that verified
+  for (const Captured& c : snapshot()) {
+    // Ethernet (14), GN basic header (4), then the secured packet (EN 302 636-4-1 9.3).
+    ASSERT_GT(c.frame.size(), 18u);
+    ASSERT_EQ(c.frame[14] & 0x0f, 2) << "basic next header: not a secured packet";
+    const std::span<const std::uint8_t> secured(c.frame.data() + 18, c.frame.size() - 18);
+    for (const tb::its::security::Psid psid :
+         {tb::its::security::kPsidMapem, tb::its::security::kPsidSpatem,
+          tb::its::security::kPsidCam, tb::its::security::kPsidGnMgmt}) {
+      // Verified as it would have been on arrival (the generation-time window, 2 s back).
+      const auto v = verifier.verify(secured, psid, tb::its::security::to_time64(c.wall));
+      if (v.result == tb::its::security::VerifyResult::kWrongPsid)
+        continue;
+      if (v.result != tb::its::security::VerifyResult::kOk)
+        break;  // an AT the verifier has not seen yet (digest signer): later ones carry it
+      // The signed part: common header (8) + SHB extended header (28) + BTP-B (4) + message.
+      const auto p = v.payload();
+      ASSERT_GT(p.size(), 40u);
+      const auto btp = tb::its::btp::parse_header_b(p.subspan(36));
+      ASSERT_TRUE(btp.has_value());
+      const std::span<const std::uint8_t> message = p.subspan(40);
+      if (psid == tb::its::security::kPsidMapem) {
+        EXPECT_EQ(btp->destination_port, tb::its::btp::kPortMapem);
+        EXPECT_TRUE(msg::decode_mapem(message).has_value());
+      } else if (psid == tb::its::security::kPsidSpatem) {
+        EXPECT_EQ(btp->destination_port, tb::its::btp::kPortSpatem);
+        EXPECT_TRUE(msg::decode_spatem(message).has_value());
+      }
+      ++verified[btp->destination_port];
+      break;
+    }
+  }
+  EXPECT_GE(verified[tb::its::btp::kPortMapem], 2);
+  EXPECT_GE(verified[tb::its::btp::kPortSpatem], 15);
+  EXPECT_GE(verified[tb::its::btp::kPortCam], 2);
 }
 
 // A station id that is neither a vehicle nor an RSU of the scenario: refused by name, exit 2.
