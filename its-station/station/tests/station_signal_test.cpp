@@ -367,5 +367,22 @@ TEST(StationSignals, AStationWithoutSignalsIgnoresMapemAndSpatem) {
   EXPECT_GT(run.station.router().stats().delivered, 0u);  // the frames did arrive
 }
 
+// The scenario's station.signals (default on for full stations, off for pooled ones), the
+// command line's --no-signals, and never for a road-side unit, which sends the messages.
+TEST(StationSignals, WhoRunsTheSignalApplication) {
+  scenario::Vehicle full = SignalRun::make_vehicle(true);
+  EXPECT_TRUE(make_station_config(1, nullptr, &full, {}).signals);
+  StationOverrides off;
+  off.no_signals = true;
+  EXPECT_FALSE(make_station_config(1, nullptr, &full, off).signals);
+  StationOverrides rsu;
+  rsu.station_type = 15;
+  EXPECT_FALSE(make_station_config(5001, nullptr, nullptr, rsu).signals);
+  EXPECT_TRUE(make_station_config(5001, nullptr, nullptr, {}).signals);
+  scenario::Vehicle pooled = SignalRun::make_vehicle(false);
+  pooled.station_kind = scenario::StationKind::kPooled;
+  EXPECT_FALSE(make_station_config(2, nullptr, &pooled, {}).signals);
+}
+
 }  // namespace
 }  // namespace tb::its::station
