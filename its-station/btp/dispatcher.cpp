@@ -26,9 +26,9 @@ std::uint64_t its_aid_of(std::uint16_t port) {
     case kPortDenm:
       return 37;
     case kPortMapem:
-      return 138;
+      return 138;  // RLT (road and lane topology)
     case kPortSpatem:
-      return 137;
+      return 137;  // TLM (traffic light manoeuvre)
     default:
       return 0;
   }

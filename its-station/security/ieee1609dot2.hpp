@@ -44,7 +44,7 @@ using Time32 = std::uint32_t;
 inline constexpr Psid kPsidCam = 36;
 inline constexpr Psid kPsidDenm = 37;
 inline constexpr Psid kPsidGnMgmt = 141;
-/// TS 103 301 (TS 102 965): TLM service (SPATEM) and RLT service (MAPEM).
+/// TS 102 965: TLM (traffic light manoeuvre, SPATEM) and RLT (road and lane topology, MAPEM).
 inline constexpr Psid kPsidSpatem = 137;
 inline constexpr Psid kPsidMapem = 138;
 

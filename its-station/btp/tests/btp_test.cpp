@@ -172,9 +172,8 @@ TEST_F(BtpPair, ASecuredPacketMustBeSignedForItsPortsService) {
   EXPECT_EQ(cams, std::vector<std::uint64_t>{36});
   EXPECT_EQ(drops, std::vector{DropReason::kItsAidMismatch});
   EXPECT_EQ(its_aid_of(kPortDenm), 37u);
-  // TS 103 301: MAPEM (2003) is the RLT service 138, SPATEM (2004) the TLM service 137.
-  EXPECT_EQ(its_aid_of(kPortMapem), 138u);
-  EXPECT_EQ(its_aid_of(kPortSpatem), 137u);
+  EXPECT_EQ(its_aid_of(kPortMapem), 138u);   // TS 102 965 RLT
+  EXPECT_EQ(its_aid_of(kPortSpatem), 137u);  // TLM
   EXPECT_EQ(its_aid_of(2005), 0u);
   router_a.set_security(nullptr);
   router_b.set_security(nullptr);
