@@ -77,7 +77,7 @@ struct Options {
   double denm_repetition_duration_s = 10.0;
   bool no_keep_alive_forwarding = false;
   bool lcrw = true;
-  bool signals = true;
+  bool signal_app = true;  // --no-signal-app (--signals is an RSU's feed)
   std::string trace;
   std::string status_file;
   double duration_s = 0.0;
@@ -138,7 +138,7 @@ tb::its::station::StationOverrides overrides(const Options& o) {
   v.cam_policy = o.cam_policy;
   v.cam_period_ms = o.cam_period_ms;
   v.no_lcrw = !o.lcrw;
-  v.no_signals = !o.signals;
+  v.no_signals = !o.signal_app;
   v.no_keep_alive_forwarding = o.no_keep_alive_forwarding;
   v.denm_repetition_ms = o.denm_repetition_ms;
   v.denm_repetition_duration_s = o.denm_repetition_duration_s;
@@ -479,7 +479,7 @@ int main(int argc, char** argv) {
   app.add_flag("--no-keep-alive-forwarding", o.no_keep_alive_forwarding,
                "do not keep other stations' DENMs alive (EN 302 637-3 clause 8.2.2, optional)");
   app.add_flag("!--no-lcrw", o.lcrw, "do not run the LCRW application");
-  app.add_flag("!--no-signals", o.signals,
+  app.add_flag("!--no-signal-app", o.signal_app,
                "do not run the signal application (MAPEM/SPATEM reception, RLVW, GLOSA)");
   app.add_option("--trace", o.trace, "write trace records (JSON lines) to FILE");
   app.add_option("--status-file", o.status_file,

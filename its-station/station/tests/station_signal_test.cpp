@@ -115,7 +115,7 @@ TEST(StationSignals, AStationWithoutSignalsIgnoresMapemAndSpatem) {
 }
 
 // The scenario's station.signals (default on for full stations, off for pooled ones), the
-// command line's --no-signals, and never for a road-side unit, which sends the messages.
+// command line's --no-signal-app, and never for a road-side unit, which sends the messages.
 TEST(StationSignals, WhoRunsTheSignalApplication) {
   scenario::Vehicle full = SignalRun::make_vehicle(true);
   EXPECT_TRUE(make_station_config(1, nullptr, &full, {}).signals);
