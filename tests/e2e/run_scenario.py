@@ -619,6 +619,9 @@ SIGNALS_FAST = 3401  # signals: 60 km/h, warned
 SIGNALS_SLOW = 3402  # signals: 30 km/h, stops
 RLVW_MIN_LEAD_S = 2.0  # issue 34: the warning at least 2 s before the stop line
 SPAT_TOLERANCE_MS = 200  # issue 34: SPATEM times vs the sim's light
+# DSRC MovementPhaseState (server.signal's state) → the light the signal message names.
+DSRC_LIGHT = {2: "red", 3: "red", 4: "red_amber", 5: "green", 6: "green", 7: "amber", 8: "amber",
+              9: "amber"}
 
 
 def stop_lines(xodr):
@@ -670,7 +673,9 @@ def check_signals(out, scenario, messages):
     if not raised:
         failures.append(f"no RLVW raised at {SIGNALS_FAST} (its.rlvw)")
     else:
-        state = state_at(by, SIGNALS_FAST, raised[0]["ts"])
+        # The warm-up's steps count: the cars drive their run-ups then, and a station that
+        # hears the RSU early warns before sim time 0.
+        state = state_at(by, SIGNALS_FAST, raised[0]["ts"], warmup=True)
         d = front_to_stop_line(state, lengths[SIGNALS_FAST], lines) if state else None
         if d is None:
             failures.append(f"{SIGNALS_FAST}: no physics state before a stop line at the raise")
@@ -701,10 +706,16 @@ def check_signals(out, scenario, messages):
     offsets = sorted(start_ms + r["sim_ns"] / 1e6 - r["step_ns"] / 1e6
                      for r in by.get("client.forward", [])
                      if r.get("sim_ns", 0) > 0 and r.get("step_ns"))
+    # Each change with the light it ended (the group's state before it): a message's time to
+    # change is compared with the next change that ends the light the message shows.
     changes = {}
-    for r in by.get("server.signal", []):
-        changes.setdefault((r.get("intersection"), r.get("group")), []).append(r["world_ms"])
-    if not offsets or not changes:
+    before = {}
+    for r in sorted(by.get("server.signal", []), key=lambda r: r["world_ms"]):
+        key = (r.get("intersection"), r.get("group"))
+        if key in before:
+            changes.setdefault(key, []).append((r["world_ms"], DSRC_LIGHT.get(before[key])))
+        before[key] = r.get("state")
+    if not offsets or not before:
         failures.append("no client.forward or server.signal records to date the lights")
         return failures
     offset = offsets[len(offsets) // 2]
@@ -712,15 +723,15 @@ def check_signals(out, scenario, messages):
     for _, m in on_lane:
         msg = m["message"]
         ttc = msg.get("time_to_change_s")
-        if ttc is None or msg.get("state") == "unavailable":
+        if ttc is None or msg.get("state") not in DSRC_LIGHT.values():
             continue
         world = m["timestamp"] + offset
         predicted = world + ttc * 1000.0
-        later = [c for c in changes.get((msg["intersection_id"], msg["signal_group"]), [])
-                 if c >= world - SPAT_TOLERANCE_MS]
-        if not later:
-            continue  # the change lies beyond the run
-        err = min(later, key=lambda c: abs(c - predicted)) - predicted
+        ends = [c for c, light in changes.get((msg["intersection_id"], msg["signal_group"]), [])
+                if light == msg["state"] and c >= world - 1000]
+        if not ends:
+            continue  # the light ends beyond the run
+        err = min(ends, key=lambda c: abs(c - predicted)) - predicted
         compared += 1
         worst = max(worst, abs(err))
     print(f"e2e: {compared} signal messages' time to change vs server.signal: worst "
