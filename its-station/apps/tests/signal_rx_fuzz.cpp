@@ -40,8 +40,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   tb::clock::ManualClock clk;
   facilities::IntersectionStore store(clk);
   facilities::IntersectionReceiver rx(store);
-  apps::signal::SignalApplication app(clk, {}, [](const apps::signal::SignalStatus&) {},
-                                      [](const apps::signal::RlvwWarning&) {});
+  apps::signal::SignalApplication app(
+      clk, {}, [](const apps::signal::SignalStatus&) {}, [](const apps::signal::RlvwWarning&) {});
   std::optional<tb::geodesy::LocalFrame> frame;
   rx.on_map([&](const facilities::IntersectionEntry& e, facilities::MapOutcome) {
     auto t = apps::signal::topology_from_geometry(*e.map, clk.wall_now());
