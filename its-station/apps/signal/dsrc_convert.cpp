@@ -54,8 +54,8 @@ Expected<IntersectionTopology, TopologyError> topology_from_geometry(
   t.ref_longitude_deg = g.refPoint.long_ / kMicroDegTenths;
   t.received_at = received_at;
   if (std::abs(t.ref_latitude_deg) > 90.0 || std::abs(t.ref_longitude_deg) > 180.0)
-    return Unexpected(error(fmt::format("refPoint ({}, {}) 0.1 µdeg is not a position",
-                                        g.refPoint.lat, g.refPoint.long_)));
+    return Unexpected{error(fmt::format("refPoint ({}, {}) 0.1 µdeg is not a position",
+                                        g.refPoint.lat, g.refPoint.long_))};
   if (g.speedLimits) {
     for (const m::RegulatorySpeedLimit& l : *g.speedLimits)
       if (l.type == m::SpeedLimitType::vehicleMaxSpeed && l.speed != kVelocityUnavailable &&
@@ -73,10 +73,10 @@ Expected<IntersectionTopology, TopologyError> topology_from_geometry(
     lane.lane_width_m = width_m;
     const auto* nodes = std::get_if<m::NodeSetXY>(&gl.nodeList);
     if (nodes == nullptr)
-      return Unexpected(error(fmt::format(
+      return Unexpected{error(fmt::format(
           "lane {}: nodeList is a computed lane (reference lane {}), which is not supported",
           static_cast<int>(gl.laneID),
-          static_cast<int>(std::get<m::ComputedLane>(gl.nodeList).referenceLaneId))));
+          static_cast<int>(std::get<m::ComputedLane>(gl.nodeList).referenceLaneId)))};
     double x = 0.0;
     double y = 0.0;
     for (std::size_t i = 0; i < nodes->size(); ++i) {
@@ -85,10 +85,10 @@ Expected<IntersectionTopology, TopologyError> topology_from_geometry(
         const double lat = n.delta.y / kMicroDegTenths;
         const double lon = n.delta.x / kMicroDegTenths;
         if (std::abs(lat) > 90.0 || std::abs(lon) > 180.0)
-          return Unexpected(
+          return Unexpected{
               error(fmt::format("lane {}: node {} node-LatLon ({}, {}) is not a "
                                 "position",
-                                static_cast<int>(gl.laneID), i, n.delta.y, n.delta.x)));
+                                static_cast<int>(gl.laneID), i, n.delta.y, n.delta.x))};
         const geodesy::Enu e = frame.to_enu({lat, lon, 0.0});
         x = e.east;
         y = e.north;
