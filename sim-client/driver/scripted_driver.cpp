@@ -49,8 +49,12 @@ constexpr double kChangeFollow = 0.8;   // s of the follower's speed behind
 // red is stopped for with up to full braking, and run only by a car that cannot stop before
 // its line even so (it would otherwise stand in the junction). The front bumper stops
 // kSignalMargin before the stop line.
-constexpr double kAmberDecel = 3.0;     // m/s²
-constexpr double kSignalMargin = 0.4;   // m
+constexpr double kAmberDecel = 3.0;    // m/s²
+constexpr double kSignalMargin = 0.4;  // m
+// A stop for a light is begun by the time a driver with kLightReaction of reaction still has
+// the comfortable stopping distance left (v·t + v²/(2·kAmberDecel)), as the RLVW rule expects of
+// a driver who stops: a scripted car that stopped later, if harder, would be warned by it.
+constexpr double kLightReaction = 1.5;  // s (the rule's 1 s, and half a second to show braking)
 constexpr double kSignalLagTime = 0.4;  // s
 
 wire::Controls to_controls(const scenario::ControlStep& c) {
@@ -466,8 +470,12 @@ void LaneFollowDriver::limit_signals(const wire::VehicleState& s, const Traffic&
     d.signal_group = ap->signal_group;
     d.go_on = need > limit;
     // Planned a little harder than needed, so that the speed controller's lag still stops the
-    // car before the line; never gentler than any other planned stop.
-    d.decel = std::clamp(need * 1.1, kStopPlanning * spec_.max_decel, kFullBrake);
+    // car before the line; as gentle as the RLVW rule's early start asks (kLightReaction), else
+    // as any other planned stop.
+    const double early = v < kStandstill
+                             ? kStopPlanning * spec_.max_decel
+                             : v * v / (2.0 * (v * kLightReaction + v * v / (2.0 * kAmberDecel)));
+    d.decel = std::clamp(need * 1.1, std::min(kStopPlanning * spec_.max_decel, early), kFullBrake);
     decision_ = d;
   }
   if (decision_->go_on) {
