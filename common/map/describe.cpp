@@ -6,6 +6,7 @@
 #include <map>
 
 #include "common/map/opendrive/mesh.hpp"
+#include "common/map/opendrive/signal_layout.hpp"
 
 namespace tb::map {
 
@@ -77,6 +78,43 @@ nlohmann::json describe(const odr::RoadNetwork& net, const OriginSource& origin)
                          {"connections", jn.connections.size()},
                          {"connecting_roads", connecting_roads}});
   }
+  // Traffic lights (issue 34): per signalised junction its signal groups, their heads and the
+  // lanes they govern with the stop line.
+  const odr::SignalLayout layout(net);
+  json lights = json::array();
+  for (const odr::SignalisedJunction& sj : layout.junctions()) {
+    json groups = json::array();
+    for (int id : sj.groups) {
+      const odr::SignalGroup& g = *layout.group(id);
+      json heads = json::array();
+      for (std::size_t h : g.heads) {
+        const odr::SignalHead& sh = layout.heads()[h];
+        heads.push_back({{"signal", sh.signal->id},
+                         {"road", net.roads[static_cast<std::size_t>(sh.road)].id},
+                         {"s", sh.s},
+                         {"t", sh.t},
+                         {"x", sh.pose.x},
+                         {"y", sh.pose.y},
+                         {"z", sh.pose.z},
+                         {"heading", sh.pose.heading}});
+      }
+      json lanes = json::array();
+      for (const odr::SignalApproach& a : layout.approaches()) {
+        if (a.signal_group != id)
+          continue;
+        lanes.push_back({{"road", net.roads[static_cast<std::size_t>(a.road)].id},
+                         {"lane", a.lane},
+                         {"stop_s", a.stop_s},
+                         {"stop_line", a.has_stop_line},
+                         {"x", a.stop.x},
+                         {"y", a.stop.y}});
+      }
+      groups.push_back({{"signal_group", id}, {"heads", heads}, {"lanes", lanes}});
+    }
+    lights.push_back({{"junction", net.junctions[sj.junction].id},
+                      {"intersection_id", sj.intersection_id},
+                      {"signal_groups", groups}});
+  }
   json out = {
       {"source", net.source},
       {"opendrive",
@@ -91,6 +129,7 @@ nlohmann::json describe(const odr::RoadNetwork& net, const OriginSource& origin)
        net.header.geo_reference.empty() ? json(nullptr) : json(net.header.geo_reference)},
       {"origin", {{"source", origin.source}}},
       {"signals", signals},
+      {"traffic_lights", lights},
       {"objects", objects},
       {"warnings", net.warnings},
       {"road_list", roads},

@@ -151,6 +151,12 @@ const odr::LaneGraph& ScenarioMap::graph() const {
   return *graph_;
 }
 
+const odr::SignalLayout& ScenarioMap::signals() const {
+  std::call_once(signals_once_,
+                 [this] { signals_ = std::make_unique<odr::SignalLayout>(*network_); });
+  return *signals_;
+}
+
 const geodesy::Georeferencing& ScenarioMap::georeferencing() const {
   if (geo_ == nullptr) {
     throw odr::MapError(network_->source, "header/geoReference",

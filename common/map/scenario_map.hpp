@@ -18,6 +18,7 @@
 #include "common/geodesy/georeferencing.hpp"
 #include "common/map/opendrive/lane_graph.hpp"
 #include "common/map/opendrive/queries.hpp"
+#include "common/map/opendrive/signal_layout.hpp"
 #include "common/scenario/scenario.hpp"
 
 namespace tb::map {
@@ -60,6 +61,11 @@ class ScenarioMap {
   /// thread-safe.
   const odr::LaneLocator& locator() const;
   const odr::LaneGraph& graph() const;
+  /// The traffic lights: signal groups, signalised junctions and the lanes they govern. Built
+  /// on first use; thread-safe. @throws odr::MapError for lights the index refuses (the
+  /// scenario loader builds it for every map with controllers, so a loaded scenario's map
+  /// does not throw here).
+  const odr::SignalLayout& signals() const;
   /// No elevation and no superelevation anywhere: the road surface is the plane z = 0.
   bool flat() const { return flat_; }
 
@@ -92,9 +98,10 @@ class ScenarioMap {
   std::unique_ptr<geodesy::Georeferencing> geo_;
   OriginSource origin_;
   std::vector<std::string> notes_;
-  mutable std::once_flag locator_once_, graph_once_;
+  mutable std::once_flag locator_once_, graph_once_, signals_once_;
   mutable std::unique_ptr<odr::LaneLocator> locator_;
   mutable std::unique_ptr<odr::LaneGraph> graph_;
+  mutable std::unique_ptr<odr::SignalLayout> signals_;
 };
 
 /// Orientation of a body standing on a surface of normal (@p nx, @p ny, @p nz) whose heading,

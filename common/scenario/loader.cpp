@@ -19,6 +19,8 @@
 #include "common/map/route_plan.hpp"
 #include "common/map/scenario_map.hpp"
 #include "common/scenario/json_reader.hpp"
+#include "common/scenario/rsus.hpp"
+#include "common/scenario/signal_plans.hpp"
 #include "common/wire/vehicle_state.hpp"
 
 namespace tb::scenario {
@@ -682,13 +684,15 @@ Driver read_driver(Node n) {
   f.yield_to_traffic = f.route.kind != DriveRoute::Kind::kLane;
   if (auto t = n.optional("traffic"))
     f.yield_to_traffic = t->choice({"yield", "ignore"}) == "yield";
+  if (auto o = n.optional("obey_signals"))
+    f.obey_signals = o->boolean();
   n.finish();
   return f;
 }
 
-/// The "station" object's kind, mqtt and lcrw (issue 33). Pooled stations are station-host's:
-/// scripted vehicles on its-station's stack; a human driver needs a full station (its own
-/// process beside the driver's window), and a "command" is a stack of its own.
+/// The "station" object's kind, mqtt, lcrw (issue 33) and signals (issue 34). Pooled stations are
+/// station-host's: scripted vehicles on its-station's stack; a human driver needs a full station
+/// (its own process beside the driver's window), and a "command" is a stack of its own.
 void read_station_kind(Node& st, const Node& vehicle, Vehicle& v) {
   if (auto k = st.optional("kind")) {
     v.station_kind =
@@ -708,10 +712,13 @@ void read_station_kind(Node& st, const Node& vehicle, Vehicle& v) {
   const bool full = v.station_kind == StationKind::kFull;
   v.station_mqtt = full;
   v.station_lcrw = full;
+  v.station_signals = full;
   if (auto mq = st.optional("mqtt"))
     v.station_mqtt = mq->boolean();
   if (auto l = st.optional("lcrw"))
     v.station_lcrw = l->boolean();
+  if (auto sg = st.optional("signals"))
+    v.station_signals = sg->boolean();
 }
 
 Vehicle read_vehicle(Node n, const MapContext& m) {
@@ -806,7 +813,7 @@ Vehicle read_vehicle(Node n, const MapContext& m) {
   if (auto st = n.optional("station")) {
     st->expect_object(
         "a station (\"command\": the program and its arguments, \"pki\": a test PKI's name, "
-        "\"kind\": \"full\" or \"pooled\", \"mqtt\", \"lcrw\")");
+        "\"kind\": \"full\" or \"pooled\", \"mqtt\", \"lcrw\", \"signals\")");
     if (auto cmd = st->optional("command")) {
       for (const Node& a : cmd->array(1, 256)) {
         v.station_command.push_back(a.string());
@@ -1008,6 +1015,9 @@ Scenario parse(std::string_view json_text, const std::string& file_name,
     s.vehicles.push_back(std::move(v));
   }
   check_routes(s, *scenario_map, vehicles);
+  s.signals =
+      detail::read_signal_plans(root.optional("signals"), *scenario_map, context.name, file_name);
+  s.rsus = detail::read_rsus(root.optional("rsus"), s, *scenario_map, context.name, vehicles);
   root.finish();
   return s;
 }

@@ -179,6 +179,10 @@ struct LaneFollowDriver {
   /// profile whatever the others do ("ignore", the scripted near misses of the LCRW cases).
   /// Default: yield when a route is given, ignore otherwise.
   bool yield_to_traffic = false;
+  /// Stop for red, red + amber and an amber it can stop for comfortably at the stop lines of
+  /// signalised junctions (issue 34; sim-client/README.md, "Scripted drivers"); false runs
+  /// every light (a test of the red-light warning).
+  bool obey_signals = true;
 };
 
 using Driver = std::variant<HumanDriver, TimelineDriver, LaneFollowDriver>;
@@ -233,6 +237,10 @@ struct Vehicle {
   /// "station": {"lcrw": bool}: whether the station runs LCRW. Default true for full stations,
   /// false for pooled ones.
   bool station_lcrw = true;
+  /// "station": {"signals": bool}: whether the station runs the signal application (MAPEM and
+  /// SPATEM received, RLVW, GLOSA; issue 34). Default true for full stations, false for pooled
+  /// ones (which then neither decode nor verify MAPEM/SPATEM).
+  bool station_signals = true;
   /// "role": a CDD VehicleRole name ("emergency", "publicTransport", …).
   VehicleRole role = VehicleRole::kDefault;
   /// "dangerous_goods": the CDD DangerousGoodsBasic (0 explosives1 … 19
@@ -307,6 +315,49 @@ struct SecurityTimeWindow {
   std::optional<std::int64_t> future_ms;
 };
 
+// ---------------------------------------------------------------------------------------------
+// Traffic lights (issue 34): a fixed-time plan per signalised junction of the map. Signal
+// groups are the OpenDRIVE file's <controller>s (id = SignalGroupID, ISO TS 19091); the
+// junction is the OpenDRIVE junction (id = IntersectionID).
+
+/// One phase of a fixed-time plan: the signal groups that are green together, for how long.
+struct SignalPhase {
+  std::vector<int> green;  ///< SignalGroupIDs, ascending
+  double duration_s = 20.0;
+};
+
+/// `signals[]`: how one junction's lights run. The cycle is the phases in order, each its green
+/// time and then the change to the next: amber for the groups that lose green, all-red, and
+/// red+amber for the groups that gain it; a group green in both phases stays green. The cycle
+/// starts offset_s after the world's start time (docs/scenario.md, "Signals").
+struct SignalPlan {
+  std::string junction;  ///< OpenDRIVE junction id
+  double offset_s = 0.0;
+  double amber_s = 3.0;      ///< MovementPhaseState protected-clearance (8)
+  double all_red_s = 2.0;    ///< every group stop-And-Remain (3)
+  double red_amber_s = 0.0;  ///< pre-Movement (4); 0: none (German practice has 1 s)
+  std::vector<SignalPhase> phases;
+  /// Chosen by the loader: the map has lights at the junction and the scenario no plan.
+  bool default_plan = false;
+  /// Every group the junction has (ascending), whether or not a phase names it.
+  std::vector<int> groups;
+  /// One cycle: the phases' green times and one change after each.
+  double cycle_s() const;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Road-side units (issue 34): full ITS stations of type roadSideUnit (CDD StationType 15) that
+// serve one signalised junction with MAPEM and SPATEM. No CAN, no driver; the network emulator
+// feeds their fixed position through gpsd and their junction's signal states over UDP.
+
+struct Rsu {
+  std::string id;                ///< like a vehicle id: names the station's namespace and login
+  std::uint32_t station_id = 0;  ///< ETSI StationID, unique across vehicles and RSUs
+  std::string junction;          ///< OpenDRIVE junction id of the signalised junction it serves
+  double x = 0.0, y = 0.0;       ///< map frame (as a pose spawn), m
+  double height_m = 0.0;         ///< antenna above the ground, m
+};
+
 /// The warm-up a scenario gets unless it says otherwise: a GNSS receiver reports its first fix
 /// about 1.3 s after its first epoch (gpsd waits for a whole cycle), and a CAM follows; 3 s
 /// leaves room for that on a loaded machine.
@@ -345,9 +396,17 @@ struct Scenario {
   /// Seeds the scenario's random choices (random routes), so that a run repeats.
   std::uint64_t seed = 1;
   std::vector<Vehicle> vehicles;
+  /// One plan per signalised junction of the map (given, or the default), in the order of the
+  /// scenario's `signals`, then the defaults by junction id.
+  std::vector<SignalPlan> signals;
+  /// `rsus`: the road-side units, in the scenario's order.
+  std::vector<Rsu> rsus;
 
   const Vehicle* find_vehicle(std::string_view id) const;
+  /// The vehicle with that StationID; nullptr for an RSU's or an unknown one.
   const Vehicle* find_station(std::uint32_t station_id) const;
+  /// The RSU with that StationID; nullptr for a vehicle's or an unknown one.
+  const Rsu* find_rsu(std::uint32_t station_id) const;
 };
 
 /// The world's start time (UTC of sim time 0) of a run that starts at @p now: the scenario's

@@ -6,6 +6,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <string>
 #include <variant>
 
 #include "common/map/describe.hpp"
@@ -52,6 +53,25 @@ int summary(const std::string& f, bool quiet) {
                   pooled ? "pooled" : "full", v.station_mqtt ? " mqtt" : "",
                   v.station_lcrw ? " lcrw" : "");
     }
+    for (const auto& p : s.signals) {
+      std::string phases;
+      for (const auto& ph : p.phases) {
+        std::string g;
+        for (int id : ph.green)
+          g += (g.empty() ? "" : ",") + std::to_string(id);
+        char d[32];
+        std::snprintf(d, sizeof d, "%g", ph.duration_s);
+        phases += (phases.empty() ? "" : ", ") + ("[" + g + "] " + d + " s");
+      }
+      std::printf(
+          "  signals at junction %s%s: %s; amber %g s, all-red %g s, red+amber %g s, "
+          "offset %g s, cycle %g s\n",
+          p.junction.c_str(), p.default_plan ? " (default plan)" : "", phases.c_str(), p.amber_s,
+          p.all_red_s, p.red_amber_s, p.offset_s, p.cycle_s());
+    }
+    for (const auto& r : s.rsus)
+      std::printf("  %-12s station %-10u rsu at junction %s, (%g, %g), %g m up\n", r.id.c_str(),
+                  r.station_id, r.junction.c_str(), r.x, r.y, r.height_m);
   }
   return 0;
 }

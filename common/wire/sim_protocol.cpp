@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <optional>
+#include <utility>
 
 #include "common/util/bytes.hpp"
 
@@ -18,6 +19,7 @@ constexpr std::size_t kAttachSize = 1 + 2;
 constexpr std::size_t kControlsSize = kControlsEntrySize;
 constexpr std::size_t kDetachSize = 2;
 constexpr std::size_t kStateHeadSize = 8 + 8 + 8 + 2;
+constexpr std::size_t kSignalStatesHeadSize = 8 + 2;
 
 bool is_client_type(MessageType t) {
   return static_cast<std::uint8_t>(t) < 0x80;
@@ -35,6 +37,7 @@ bool known_type(std::uint8_t t) {
     case MessageType::kState:
     case MessageType::kDriverChanged:
     case MessageType::kClosing:
+    case MessageType::kSignalStates:
       return true;
   }
   return false;
@@ -159,6 +162,34 @@ std::string_view to_string(MessageType t) {
       return "DriverChanged";
     case MessageType::kClosing:
       return "Closing";
+    case MessageType::kSignalStates:
+      return "SignalStates";
+  }
+  return "unknown";
+}
+
+std::string_view to_string(MovementPhaseState s) {
+  switch (s) {
+    case MovementPhaseState::kUnavailable:
+      return "unavailable";
+    case MovementPhaseState::kDark:
+      return "dark";
+    case MovementPhaseState::kStopThenProceed:
+      return "stop-Then-Proceed";
+    case MovementPhaseState::kStopAndRemain:
+      return "stop-And-Remain";
+    case MovementPhaseState::kPreMovement:
+      return "pre-Movement";
+    case MovementPhaseState::kPermissiveMovementAllowed:
+      return "permissive-Movement-Allowed";
+    case MovementPhaseState::kProtectedMovementAllowed:
+      return "protected-Movement-Allowed";
+    case MovementPhaseState::kPermissiveClearance:
+      return "permissive-clearance";
+    case MovementPhaseState::kProtectedClearance:
+      return "protected-clearance";
+    case MovementPhaseState::kCautionConflictingTraffic:
+      return "caution-Conflicting-Traffic";
   }
   return "unknown";
 }
@@ -243,6 +274,8 @@ std::size_t max_payload(Sender from, MessageType type) {
       return 2 + 1 + kMaxNameLength;
     case MessageType::kClosing:
       return 1 + 1 + kMaxTextLength;
+    case MessageType::kSignalStates:
+      return kSignalStatesHeadSize + kMaxSignalGroupStates * kSignalGroupStateSize;
   }
   return 0;
 }
@@ -457,6 +490,42 @@ Expected<ServerMessage, ProtocolError> decode_state(ByteReader& r) {
   return ServerMessage{std::move(m)};
 }
 
+Expected<ServerMessage, ProtocolError> decode_signal_states(ByteReader& r) {
+  SignalStates m;
+  m.world_time_ms = r.le<std::int64_t>();
+  const std::size_t count = r.le<std::uint16_t>();
+  if (!r.ok() || r.remaining() != count * kSignalGroupStateSize)
+    return Unexpected{ProtocolError::kBadLength};
+  if (count > kMaxSignalGroupStates || m.world_time_ms < 0)
+    return Unexpected{ProtocolError::kBadValue};
+  m.groups.reserve(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    SignalGroupState g;
+    g.intersection_id = r.le<std::uint16_t>();
+    g.signal_group = r.le<std::uint8_t>();
+    const auto state = r.le<std::uint8_t>();
+    g.next_change_ms = r.le<std::int64_t>();
+    g.likely_change_ms = r.le<std::int64_t>();
+    // SignalGroupID 0 and 255 are reserved (ISO TS 19091 DSRC); ascending entries make a
+    // repeated group an error found in one pass.
+    if (g.signal_group == 0 || g.signal_group == 255 ||
+        state > static_cast<std::uint8_t>(MovementPhaseState::kCautionConflictingTraffic) ||
+        g.next_change_ms < 0 || g.likely_change_ms < 0) {
+      return Unexpected{ProtocolError::kBadValue};
+    }
+    if (!m.groups.empty() &&
+        std::pair(g.intersection_id, g.signal_group) <=
+            std::pair(m.groups.back().intersection_id, m.groups.back().signal_group)) {
+      return Unexpected{ProtocolError::kBadValue};
+    }
+    g.state = static_cast<MovementPhaseState>(state);
+    m.groups.push_back(g);
+  }
+  if (auto e = finished(r))
+    return Unexpected{*e};
+  return ServerMessage{std::move(m)};
+}
+
 }  // namespace
 
 Expected<ServerMessage, ProtocolError> decode_server(const Frame& f) {
@@ -494,6 +563,8 @@ Expected<ServerMessage, ProtocolError> decode_server(const Frame& f) {
         return Unexpected{*e};
       return ServerMessage{std::move(m)};
     }
+    case MessageType::kSignalStates:
+      return decode_signal_states(r);
     case MessageType::kClosing: {
       Closing m;
       const auto reason = r.le<std::uint8_t>();
@@ -638,6 +709,22 @@ std::vector<std::uint8_t> encode(const Closing& m) {
   FrameWriter f(MessageType::kClosing, 1 + text_size(m.text, kMaxTextLength));
   f.w().le(static_cast<std::uint8_t>(m.reason));
   f.text(m.text, kMaxTextLength);
+  return f.finish();
+}
+
+std::vector<std::uint8_t> encode(const SignalStates& m) {
+  const std::size_t count = std::min(m.groups.size(), kMaxSignalGroupStates);
+  FrameWriter f(MessageType::kSignalStates, kSignalStatesHeadSize + count * kSignalGroupStateSize);
+  f.w().le(m.world_time_ms);
+  f.w().le(static_cast<std::uint16_t>(count));
+  for (std::size_t i = 0; i < count; ++i) {
+    const SignalGroupState& g = m.groups[i];
+    f.w().le(g.intersection_id);
+    f.w().le(g.signal_group);
+    f.w().le(static_cast<std::uint8_t>(g.state));
+    f.w().le(g.next_change_ms);
+    f.w().le(g.likely_change_ms);
+  }
   return f.finish();
 }
 

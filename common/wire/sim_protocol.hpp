@@ -1,5 +1,5 @@
 #pragma once
-/// @file The sim-server ⇄ sim-client protocol over TCP (sim-server/PROTOCOL.md), version 6.
+/// @file The sim-server ⇄ sim-client protocol over TCP (sim-server/PROTOCOL.md), version 7.
 ///
 /// Every message is one frame: an 8-byte header (magic "SP", protocol version, message type,
 /// payload length, little-endian) and a payload whose size is bounded per type. FrameParser is a
@@ -29,7 +29,8 @@ namespace tb::wire::sim {
 /// 6: ControlsBatch, the controls of all of a client's vehicles for one step in one message
 ///    (DESIGN.md: a message carries what belongs to one instant): 1000 scripted vehicles sent
 ///    100,000 Controls a second, more than the server read.
-inline constexpr std::uint8_t kProtocolVersion = 6;
+/// 7: SignalStates, the traffic lights of every junction (issue 34).
+inline constexpr std::uint8_t kProtocolVersion = 7;
 inline constexpr std::uint8_t kMagic0 = 'S';
 inline constexpr std::uint8_t kMagic1 = 'P';
 inline constexpr std::size_t kHeaderSize = 8;
@@ -58,6 +59,7 @@ enum class MessageType : std::uint8_t {
   kState = 0x83,
   kDriverChanged = 0x84,
   kClosing = 0x85,
+  kSignalStates = 0x86,
 };
 std::string_view to_string(MessageType t);
 
@@ -215,7 +217,48 @@ struct Closing {
   bool operator==(const Closing&) const = default;
 };
 
-using ServerMessage = std::variant<Welcome, AttachResult, StateFrame, DriverChanged, Closing>;
+/// DSRC MovementPhaseState (ISO TS 19091 / SAE J2735 DSRC module): the state of a signal group.
+enum class MovementPhaseState : std::uint8_t {
+  kUnavailable = 0,
+  kDark = 1,
+  kStopThenProceed = 2,
+  kStopAndRemain = 3,  ///< red
+  kPreMovement = 4,    ///< red + amber
+  kPermissiveMovementAllowed = 5,
+  kProtectedMovementAllowed = 6,  ///< green
+  kPermissiveClearance = 7,
+  kProtectedClearance = 8,  ///< amber
+  kCautionConflictingTraffic = 9,
+};
+/// The DSRC name ("stop-And-Remain", "protected-Movement-Allowed", ...).
+std::string_view to_string(MovementPhaseState s);
+
+/// One signal group's state. Times are world-clock UTC, Unix ms (docs/time.md); only the
+/// SPATEM turns them into TimeMarks.
+struct SignalGroupState {
+  std::uint16_t intersection_id = 0;  ///< IntersectionID: the OpenDRIVE junction id
+  std::uint8_t signal_group = 0;      ///< SignalGroupID 1..254: the OpenDRIVE controller id
+  MovementPhaseState state = MovementPhaseState::kUnavailable;
+  /// When the state ends (SPAT minEndTime); 0: no change planned.
+  std::int64_t next_change_ms = 0;
+  /// When it most likely ends (SPAT likelyTime); 0: unknown. Fixed-time plans: next_change_ms.
+  std::int64_t likely_change_ms = 0;
+  bool operator==(const SignalGroupState&) const = default;
+};
+
+/// Every signal group of every junction, as of one physics step: sent to every attached client
+/// in each step where a state changes, else once a second, and to a client right after its
+/// Welcome. Entries strictly ascending by (intersection, signal group).
+struct SignalStates {
+  std::int64_t world_time_ms = 0;        ///< UTC of the step (start time + sim time), Unix ms
+  std::vector<SignalGroupState> groups;  ///< at most kMaxSignalGroupStates
+  bool operator==(const SignalStates&) const = default;
+};
+inline constexpr std::size_t kMaxSignalGroupStates = 4096;
+inline constexpr std::size_t kSignalGroupStateSize = 2 + 1 + 1 + 8 + 8;
+
+using ServerMessage =
+    std::variant<Welcome, AttachResult, StateFrame, DriverChanged, Closing, SignalStates>;
 
 // ---------------------------------------------------------------------------------------------
 // Framing.
@@ -271,6 +314,8 @@ std::vector<std::uint8_t> encode(const AttachResult& m);
 std::vector<std::uint8_t> encode(const StateFrame& m);
 std::vector<std::uint8_t> encode(const DriverChanged& m);
 std::vector<std::uint8_t> encode(const Closing& m);
+/// At most kMaxSignalGroupStates entries are encoded, in the order given.
+std::vector<std::uint8_t> encode(const SignalStates& m);
 std::vector<std::uint8_t> encode(const ClientMessage& m);
 std::vector<std::uint8_t> encode(const ServerMessage& m);
 

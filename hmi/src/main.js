@@ -1,16 +1,18 @@
 // The driver's HMI: wiring between MQTT over WebSockets, the model and the page.
 import mqtt from 'mqtt';
 
-import { beep, beepCount, audioState, prepareAudio, unlockAudio } from './audio.js';
+import { beep, beepCount, audioState, prepareAudio, redLightBeep, redLightBeepCount, unlockAudio } from './audio.js';
 import { causeText, fixText, offsetM } from './etsi.js';
 import { drawMap } from './map.js';
-import { denmReceipt, lcrwReceipt, traceTopic } from './trace.js';
+import { denmReceipt, lcrwReceipt, signalReceipt, traceTopic } from './trace.js';
 import {
   createModel,
   expire,
   formatTtc,
   handleMessage,
+  rlvwBanner,
   selectStation,
+  signalPanel,
   subscriptions,
   topWarning,
 } from './model.js';
@@ -45,6 +47,8 @@ const model = createModel(cfg.prefix);
 let client = null;
 let subscribed = [];
 let lastBeep = 0;
+let loggedRejects = 0;
+let tracedSignal = '';
 
 function save() {
   const { trace, ...kept } = cfg;
@@ -100,6 +104,13 @@ function connect() {
     const what = handleMessage(model, topic, text);
     if (what) {
       render(what);
+    }
+    if (cfg.trace && what === 'signal') {
+      const r = signalReceipt(cfg.prefix, topic, text, receivedMs, wallClockMs());
+      if (r && r.key !== tracedSignal) {
+        tracedSignal = r.key;
+        client.publish(traceTopic(cfg.prefix, model.station), r.record, { qos: 0 });
+      }
     }
     if (cfg.trace && (what === 'warning' || what === 'denm')) {
       const receipt = what === 'warning' ? lcrwReceipt : denmReceipt;
@@ -168,12 +179,69 @@ function renderWarning() {
   $('lcrw-case').textContent = w.collision_case === 'frontal' ? 'Head-on collision risk' : 'Rear-end collision risk';
   $('lcrw-detail').textContent =
     `vehicle ${w.other_station_id} · ${w.distance_m != null ? w.distance_m.toFixed(0) : '–'} m · closing ${w.relative_speed_mps != null ? (w.relative_speed_mps * 3.6).toFixed(0) : '–'} km/h`;
+  sound();
+}
+
+// One alarm at a time, by priority (as the sim-client's v2x::alarm_for): a critical collision
+// warning, then the red light (its own double beep every 600 ms), then a collision warning.
+function sound() {
+  const w = topWarning(model);
   const now = performance.now();
-  const period = w.severity === 'critical' ? 500 : 1000;
-  if (now - lastBeep >= period) {
+  if (w && w.severity === 'critical') {
+    if (now - lastBeep >= 500) {
+      lastBeep = now;
+      beep(true);
+    }
+  } else if (rlvwBanner(model)) {
+    if (now - lastBeep >= 600) {
+      lastBeep = now;
+      redLightBeep();
+    }
+  } else if (w && now - lastBeep >= 1000) {
     lastBeep = now;
-    beep(w.severity === 'critical');
+    beep(false);
   }
+}
+
+// Sets an element's text only when it changes (the panel is refreshed every frame).
+function setText(id, text) {
+  const el = $(id);
+  if (el.textContent !== text) {
+    el.textContent = text;
+  }
+}
+
+function renderSignal() {
+  const p = signalPanel(model);
+  const panel = $('signal-panel');
+  if (!p) {
+    panel.hidden = true;
+    panel.dataset.state = '';
+    return;
+  }
+  panel.hidden = false;
+  panel.dataset.state = p.state;
+  panel.classList.toggle('lit-red', p.red);
+  panel.classList.toggle('lit-amber', p.amber);
+  panel.classList.toggle('lit-green', p.green);
+  setText('signal-caption', p.caption);
+  setText('signal-countdown', p.countdown || '–');
+  setText('signal-distance', `${p.distance} to stop line`);
+  $('signal-advice-label').hidden = !p.advice;
+  setText('signal-advice', p.advice);
+}
+
+function renderRlvw() {
+  const b = rlvwBanner(model);
+  const banner = $('rlvw-banner');
+  if (!b) {
+    banner.hidden = true;
+    return;
+  }
+  banner.hidden = false;
+  setText('rlvw-when', b.when);
+  setText('rlvw-detail', `stop line ${b.distance} · ${b.speed}`);
+  sound();
 }
 
 function renderDenms() {
@@ -219,14 +287,34 @@ function render(what) {
   if (what === 'denm' || what === 'all') {
     renderDenms();
   }
+  if (what === 'signal' || what === 'all') {
+    renderSignal();
+    renderRlvw(); // the signal's rlvw flag holds the banner
+  }
+  if (what === 'rlvw' || what === 'all') {
+    renderRlvw();
+  }
 }
 
 function frame() {
   if (expire(model)) {
     renderWarning();
+    renderRlvw();
   }
   if (model.warnings.size > 0) {
     renderWarning(); // keeps the beep going
+  }
+  // The countdown runs on between signal messages; the red-light beep goes on too.
+  renderSignal();
+  if (model.rlvw) {
+    renderRlvw();
+  }
+  if (model.rejected !== loggedRejects) {
+    // The first bad signal or RLVW message, then every 1000th, as the sim-client logs them.
+    if (loggedRejects === 0 || Math.floor(model.rejected / 1000) !== Math.floor(loggedRejects / 1000)) {
+      console.warn(`ignored message (${model.rejected} so far): ${model.lastError}`);
+    }
+    loggedRejects = model.rejected;
   }
   drawMap($('map'), model);
   $('sound').textContent = audioState() === 'running' ? 'Sound on' : 'Tap for sound';
@@ -258,7 +346,7 @@ function init() {
   connect();
   requestAnimationFrame(frame);
   // For tests and debugging in the browser console.
-  window.__hmi = { model, beepCount, audioState };
+  window.__hmi = { model, beepCount, redLightBeepCount, audioState };
 }
 
 init();

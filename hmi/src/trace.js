@@ -29,6 +29,39 @@ export function traceTopic(prefix, station) {
   return `${prefix}/${station}/hmi/trace`;
 }
 
+// The hmi.signal record of a signal message (its/<station>/app/signal, issue 34) received at
+// receivedMs and drawn at shownMs, with its key (station/intersection/group/state, '' when the
+// car left the lane): the page writes one only when the key changes, the end of "light change
+// in the sim → state at the driver's HMI"; the message comes 10 times a second. null for any
+// other message or one without the fields that name the group.
+export function signalReceipt(prefix, topic, payload, receivedMs, shownMs) {
+  const parts = topic.split('/');
+  if (parts.length !== 4 || parts[0] !== prefix || parts[2] !== 'app' || parts[3] !== 'signal' || !/^\d+$/.test(parts[1])) {
+    return null;
+  }
+  let m;
+  try {
+    m = JSON.parse(payload)?.message;
+  } catch {
+    return null;
+  }
+  if (!m || typeof m !== 'object') {
+    return null;
+  }
+  const station = Number(parts[1]);
+  const left = m.lane === null || m.lane_id === null;
+  const ok = (v) => Number.isInteger(v) && v >= 0;
+  if (!left && (!ok(m.intersection_id) || !ok(m.signal_group) || typeof m.state !== 'string')) {
+    return null;
+  }
+  const named = left ? { station, light: '' } : { station, intersection_id: m.intersection_id, signal_group: m.signal_group, light: m.state };
+  const fields = JSON.stringify({ proc: 'hmi', ev: 'hmi.signal', ...named });
+  return {
+    key: left ? '' : `${station}/${m.intersection_id}/${m.signal_group}/${m.state}`,
+    record: `{"ts":${nsString(receivedMs)},${fields.slice(1, -1)},"shown_ns":${nsString(shownMs)}}`,
+  };
+}
+
 // The hmi.lcrw record of an LCRW message (topic, payload text) received at receivedMs and put
 // on the page at shownMs; null for any other message or one without the fields that name it.
 export function lcrwReceipt(prefix, topic, payload, receivedMs, shownMs) {

@@ -1,7 +1,8 @@
 // Integration: the HMI in headless Chromium against a real Mosquitto configured by
 // docker/mosquitto/gen-broker-config, serving hmi/dist on its WebSocket listener. A station
-// (mqtt.js over TCP, with its generated credentials) publishes state, a CAM, a DENM and an LCRW
-// warning; the page must show them, the banner with the right TTC. Screenshots go to
+// (mqtt.js over TCP, with its generated credentials) publishes state, a CAM, a DENM, an LCRW
+// warning, the own lane's signal and a red-light warning; the page must show them, the banner
+// with the right TTC, the signal panel's lamps in the state's colours. Screenshots go to
 // tests/artifacts/hmi/. Run via ctest (hmi.browser) or `node hmi/tests/hmi_browser_test.mjs`
 // after hmi/build.sh.
 import { spawn, spawnSync } from 'node:child_process';
@@ -248,6 +249,79 @@ async function main() {
     await page.waitForSelector('#lcrw-banner', { state: 'hidden', timeout: 10000 }).catch(() => {});
     check('banner cleared with the warning', await page.isHidden('#lcrw-banner'));
     await page.screenshot({ path: join(artifacts, 'cleared.png') });
+
+    // Issue 34: the own lane's signal and the red-light warning (the MQTT contract's payloads).
+    const signalMsg = (state, eventState, extra = {}) => envelope('signal', {
+      intersection_id: 1, signal_group: 2, lane_id: 1, state, event_state: eventState,
+      time_to_change_s: 3.6, likely_time_to_change_s: 4.2, distance_to_stop_line_m: 36.0,
+      advice: { min_speed_kmh: 38.5, max_speed_kmh: 50.0 }, rlvw: false, ...extra,
+    });
+    check('no signal panel before a signal message', await page.isHidden('#signal-panel'));
+    const lampColours = () => page.evaluate(() => [...document.querySelectorAll('#signal-panel .lamp')]
+      .map((l) => getComputedStyle(l).backgroundColor));
+    const states = [
+      ['red', 'stop-And-Remain', ['rgb(255, 31, 26)', 'rgb(51, 51, 51)', 'rgb(51, 51, 51)']],
+      ['red_amber', 'pre-Movement', ['rgb(255, 31, 26)', 'rgb(255, 184, 0)', 'rgb(51, 51, 51)']],
+      ['amber', 'protected-clearance', ['rgb(51, 51, 51)', 'rgb(255, 184, 0)', 'rgb(51, 51, 51)']],
+      ['green', 'protected-Movement-Allowed', ['rgb(51, 51, 51)', 'rgb(51, 51, 51)', 'rgb(26, 242, 77)']],
+      ['dark', 'dark', ['rgb(107, 107, 112)', 'rgb(107, 107, 112)', 'rgb(107, 107, 112)']],
+    ];
+    for (const [state, eventState, want] of states) {
+      // Published at 10 Hz as a station on an ingress lane does, until the page shows the state.
+      const feed = setInterval(() => { pub('its/1001/app/signal', signalMsg(state, eventState), { qos: 0 }).catch(() => {}); }, 100);
+      try {
+        await page.waitForSelector(`#signal-panel[data-state="${state}"]`, { timeout: 10000 }).catch(() => {});
+        const got = await lampColours();
+        check(`signal panel lit for ${state}`, JSON.stringify(got) === JSON.stringify(want), JSON.stringify(got));
+      } finally {
+        clearInterval(feed);
+      }
+    }
+    const feed = setInterval(() => { pub('its/1001/app/signal', signalMsg('amber', 'protected-clearance', { rlvw: true }), { qos: 0 }).catch(() => {}); }, 100);
+    try {
+      await page.waitForSelector('#signal-panel[data-state="amber"]', { timeout: 10000 }).catch(() => {});
+      const countdown = await page.textContent('#signal-countdown');
+      check('signal panel counts down from the likely time in whole seconds', countdown === '5 s' || countdown === '4 s', countdown);
+      check('signal panel shows the distance to the stop line', (await page.textContent('#signal-distance')) === '36 m to stop line',
+        await page.textContent('#signal-distance'));
+      check('signal panel shows the speed advice', (await page.textContent('#signal-advice')) === '39–50 km/h'
+        && await page.isVisible('#signal-advice-label'),
+        await page.textContent('#signal-advice'));
+      check('no red-light banner before a warning', await page.isHidden('#rlvw-banner'));
+      const redBefore = await page.evaluate(() => window.__hmi.redLightBeepCount());
+      await pub('its/1001/app/rlvw', envelope('rlvw_warning', {
+        station_id: 1001, intersection_id: 1, signal_group: 2, lane_id: 1, event: 'raised', severity: 'warning',
+        distance_to_stop_line_m: 36.0, speed_mps: 16.7, time_to_red_s: 1.2, stopping_distance_m: 63.1,
+        clear_reason: 'none', raised_at: Date.now(), updated_at: Date.now(),
+      }));
+      await page.waitForSelector('#rlvw-banner', { state: 'visible', timeout: 10000 }).catch(() => {});
+      check('red-light banner shown', await page.isVisible('#rlvw-banner'));
+      check('red-light banner names the stop line and the speed', (await page.textContent('#rlvw-detail')) === 'stop line 36 m · 60 km/h',
+        await page.textContent('#rlvw-detail'));
+      await page.waitForFunction((n) => window.__hmi.redLightBeepCount() > n, redBefore, { timeout: 5000 }).catch(() => {});
+      check('red-light sound played', (await page.evaluate(() => window.__hmi.redLightBeepCount())) > redBefore,
+        `audio=${await page.evaluate(() => window.__hmi.audioState())}`);
+      await page.screenshot({ path: join(artifacts, 'signal-rlvw.png') });
+      await pub('its/1001/app/rlvw', envelope('rlvw_warning', {
+        station_id: 1001, intersection_id: 1, signal_group: 2, lane_id: 1, event: 'cleared', severity: 'warning',
+        distance_to_stop_line_m: 20.0, speed_mps: 16.7, time_to_red_s: null, stopping_distance_m: 63.1,
+        clear_reason: 'passed', raised_at: Date.now(), updated_at: Date.now(),
+      }));
+      await page.waitForSelector('#rlvw-banner', { state: 'hidden', timeout: 10000 }).catch(() => {});
+      check('red-light banner gone with cleared', await page.isHidden('#rlvw-banner'));
+    } finally {
+      clearInterval(feed);
+    }
+    await pub('its/1001/app/signal', envelope('signal', { lane: null }));
+    await page.waitForSelector('#signal-panel', { state: 'hidden', timeout: 10000 }).catch(() => {});
+    check('signal panel gone when the car leaves the lane', await page.isHidden('#signal-panel'));
+    // ?trace=1: one hmi.signal record per light drawn (not one per message at 10 Hz).
+    for (let i = 0; i < 30 && receipts.filter((r) => r.text.includes('"hmi.signal"') && r.text.includes('"light":""')).length === 0; i++) {
+      await new Promise((r) => setTimeout(r, 100));
+    }
+    const lights = receipts.map(parseReceipt).filter((r) => r.record?.ev === 'hmi.signal').map((r) => r.record.light);
+    check('trace=1: each light drawn reported once as hmi.signal',
+      JSON.stringify(lights) === JSON.stringify(['red', 'red_amber', 'amber', 'green', 'dark', 'amber', '']), JSON.stringify(lights));
 
     // A phone in portrait: everything still on one screen, the banner readable.
     await pub('its/1001/app/lcrw', warning('raised', 1.2).replace('"severity":"warning"', '"severity":"critical"'));

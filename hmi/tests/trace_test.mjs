@@ -2,7 +2,7 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
 
-import { denmReceipt, generationDeltaTime, lcrwReceipt, nsString, traceTopic } from '../src/trace.js';
+import { denmReceipt, generationDeltaTime, lcrwReceipt, nsString, signalReceipt, traceTopic } from '../src/trace.js';
 
 const ITS_EPOCH = 1072915200000;
 
@@ -104,4 +104,20 @@ test('a DENM message without an action ID, or on another topic, makes no record'
   assert.equal(denmReceipt('its', 'its/1002/in/denm/1001', denmPayload({ originating_station_id: 1001 }), ...at), null);
   assert.equal(denmReceipt('its', 'its/1002/in/denm/1001', denmPayload({ sequence_number: 7 }), ...at), null);
   assert.equal(denmReceipt('its', 'its/1002/in/denm/1001', denmPayload({ originating_station_id: -1, sequence_number: 7 }), ...at), null);
+});
+
+test('a signal message becomes an hmi.signal record keyed by station, junction, group and state', () => {
+  const payload = (message) => JSON.stringify({ type: 'signal', message });
+  const sig = { intersection_id: 1, signal_group: 2, lane_id: 1, state: 'green', event_state: 'protected-Movement-Allowed', distance_to_stop_line_m: 30 };
+  const r = signalReceipt('its', 'its/1001/app/signal', payload(sig), 1000.5, 1002.25);
+  assert.equal(r.key, '1001/1/2/green');
+  assert.equal(r.record, '{"ts":1000500000,"proc":"hmi","ev":"hmi.signal","station":1001,"intersection_id":1,"signal_group":2,"light":"green","shown_ns":1002250000}');
+  assert.equal(signalReceipt('its', 'its/1001/app/signal', payload({ ...sig, state: 'amber' }), 0, 0).key, '1001/1/2/amber');
+  const left = signalReceipt('its', 'its/1001/app/signal', payload({ lane: null }), 5, 6);
+  assert.equal(left.key, '');
+  assert.equal(JSON.parse(left.record).light, '');
+  assert.equal(signalReceipt('its', 'its/1001/app/lcrw', payload(sig), 0, 0), null);
+  assert.equal(signalReceipt('its', 'its/x/app/signal', payload(sig), 0, 0), null);
+  assert.equal(signalReceipt('its', 'its/1001/app/signal', payload({ ...sig, signal_group: 'two' }), 0, 0), null);
+  assert.equal(signalReceipt('its', 'its/1001/app/signal', 'not json', 0, 0), null);
 });

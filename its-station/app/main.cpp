@@ -27,6 +27,7 @@
 #include "common/mqtt/mosquitto_client.hpp"
 #include "common/scenario/loader.hpp"
 #include "common/trace/tracer.hpp"
+#include "its-station/app/rsu_mode.hpp"
 #include "its-station/apps/mqtt/messages.hpp"
 #include "its-station/facilities/can_vehicle_data.hpp"
 #include "its-station/facilities/gpsd_position_provider.hpp"
@@ -77,10 +78,12 @@ struct Options {
   double denm_repetition_duration_s = 10.0;
   bool no_keep_alive_forwarding = false;
   bool lcrw = true;
+  bool signal_app = true;  // --no-signal-app (--signals is an RSU's feed)
   std::string trace;
   std::string status_file;
   double duration_s = 0.0;
   std::string log_level = "info";
+  std::string signals;  // RSU mode: the signal feed's udp://HOST:PORT (default 0.0.0.0:4720)
 };
 
 /// The security entity of --security / the scenario's `security`, with this station's AT and
@@ -137,6 +140,7 @@ tb::its::station::StationOverrides overrides(const Options& o) {
   v.cam_policy = o.cam_policy;
   v.cam_period_ms = o.cam_period_ms;
   v.no_lcrw = !o.lcrw;
+  v.no_signals = !o.signal_app;
   v.no_keep_alive_forwarding = o.no_keep_alive_forwarding;
   v.denm_repetition_ms = o.denm_repetition_ms;
   v.denm_repetition_duration_s = o.denm_repetition_duration_s;
@@ -154,16 +158,34 @@ int run(const Options& o) {
   // Station identity and configuration, from the scenario where one is given.
   std::optional<tb::scenario::Scenario> scenario;
   const tb::scenario::Vehicle* vehicle = nullptr;
+  // A road-side unit (issue 34): our station id among the scenario's `rsus`.
+  const tb::scenario::Rsu* rsu = nullptr;
   if (!o.scenario.empty()) {
     scenario = tb::scenario::load_file(o.scenario);
     vehicle = scenario->find_station(o.station_id);
     if (!vehicle)
-      throw Fatal{
-          fmt::format("scenario {}: no vehicle with station id {}", o.scenario, o.station_id),
-          tb::scenario::kExitBadScenario};
+      rsu = scenario->find_rsu(o.station_id);
+    if (!vehicle && !rsu)
+      throw Fatal{fmt::format("scenario {}: no vehicle and no rsu with station id {}", o.scenario,
+                              o.station_id),
+                  tb::scenario::kExitBadScenario};
+  }
+  tb::its::station::StationOverrides station_overrides = overrides(o);
+  Options effective = o;
+  if (rsu) {
+    // RSU mode: station type roadSideUnit (15), no CAN, no LCRW.
+    if (o.station_type < 0)
+      station_overrides.station_type = tb::its::messages::station_type::kRoadSideUnit;
+    station_overrides.no_lcrw = true;
+    effective.can_transport = "none";
+    spdlog::info("rsu {}: station {} serves junction {} (station type {}, no CAN, no LCRW)",
+                 rsu->id, o.station_id, rsu->junction, station_overrides.station_type);
+  } else if (!o.signals.empty()) {
+    spdlog::warn("--signals {} ignored: station {} is no road-side unit of the scenario", o.signals,
+                 o.station_id);
   }
   const tb::its::station::StationConfig config = tb::its::station::make_station_config(
-      o.station_id, scenario ? &*scenario : nullptr, vehicle, overrides(o));
+      o.station_id, scenario ? &*scenario : nullptr, vehicle, station_overrides);
 
   asio::io_context io;
   tb::clock::AsioRuntime runtime(io);
@@ -189,7 +211,7 @@ int run(const Options& o) {
   fac::GpsdPositionProvider gnss(io, runtime, gps_cfg);
 
   // Vehicle data.
-  auto can_bus = open_can(io, o);
+  auto can_bus = open_can(io, effective);
   // The decoder points into the database's messages: it must outlive the decoder.
   std::optional<tb::can::Database> can_db;
   std::unique_ptr<fac::CanVehicleDataProvider> vehicle_data;
@@ -265,13 +287,28 @@ int run(const Options& o) {
     mqtt->start();
     spdlog::info("MQTT: publishing to {}:{} under {}", o.mqtt_host, o.mqtt_port, mqtt_root);
   }
+  std::unique_ptr<tb::its::app::RsuMode> rsu_mode;
+  if (rsu) {
+    try {
+      rsu_mode = std::make_unique<tb::its::app::RsuMode>(
+          io, its_clock, station.sender(), *scenario, *rsu,
+          o.signals.empty() ? tb::its::app::kDefaultSignalsUrl : o.signals);
+    } catch (const tb::map::odr::MapError& e) {
+      throw Fatal{fmt::format("scenario {}: rsu {}: {}", o.scenario, rsu->id, e.what()),
+                  tb::scenario::kExitBadScenario};
+    } catch (const std::invalid_argument& e) {
+      throw Fatal{e.what(), 2};
+    }
+  }
 
   // Status file: the LDM as the station sees it, for operators and tests.
   asio::steady_timer status_timer(io);
   auto write_status = [&] {
     if (o.status_file.empty())
       return;
-    const nlohmann::json j = station.status();
+    nlohmann::json j = station.status();
+    if (rsu_mode)
+      j["rsu"] = rsu_mode->status();
     const std::string tmp = o.status_file + ".tmp";
     std::ofstream(tmp) << j.dump() << "\n";
     std::rename(tmp.c_str(), o.status_file.c_str());
@@ -293,6 +330,8 @@ int run(const Options& o) {
   auto shutdown = [&](const std::string& why, int code) {
     spdlog::info("shutting down: {}", why);
     exit_code = code;
+    if (rsu_mode)
+      rsu_mode->stop();
     station.stop();
     gnss.stop();
     signals.cancel();
@@ -328,6 +367,15 @@ int run(const Options& o) {
 
   gnss.start();
   station.start();
+  if (rsu_mode) {
+    try {
+      rsu_mode->start();
+    } catch (const boost::system::system_error& e) {
+      throw Fatal{fmt::format("rsu: cannot listen for the signal feed on {}: {}",
+                              o.signals.empty() ? tb::its::app::kDefaultSignalsUrl : o.signals,
+                              e.what())};
+    }
+  }
   status_tick();
   io.run();
 
@@ -477,10 +525,15 @@ int main(int argc, char** argv) {
   app.add_flag("--no-keep-alive-forwarding", o.no_keep_alive_forwarding,
                "do not keep other stations' DENMs alive (EN 302 637-3 clause 8.2.2, optional)");
   app.add_flag("!--no-lcrw", o.lcrw, "do not run the LCRW application");
+  app.add_flag("!--no-signal-app", o.signal_app,
+               "do not run the signal application (MAPEM/SPATEM reception, RLVW, GLOSA)");
   app.add_option("--trace", o.trace, "write trace records (JSON lines) to FILE");
   app.add_option("--status-file", o.status_file,
                  "write the station's LDM view as JSON to FILE every 0.5 s");
   app.add_option("--duration", o.duration_s, "stop after this many seconds (0: run until signal)");
+  app.add_option("--signals", o.signals,
+                 "road-side unit: the signal feed's address, udp://HOST:PORT (default "
+                 "udp://0.0.0.0:4720; ignored for a vehicle)");
   app.add_option("--log-level", o.log_level, "trace, debug, info, warn, error")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}))
       ->capture_default_str();

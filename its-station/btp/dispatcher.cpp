@@ -25,6 +25,10 @@ std::uint64_t its_aid_of(std::uint16_t port) {
       return 36;
     case kPortDenm:
       return 37;
+    case kPortMapem:
+      return 138;  // RLT (road and lane topology)
+    case kPortSpatem:
+      return 137;  // TLM (traffic light manoeuvre)
     default:
       return 0;
   }

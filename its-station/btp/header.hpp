@@ -14,6 +14,8 @@ namespace tb::its::btp {
 /// Well-known BTP-B ports (EN 302 636-5-1 Annex B / TS 103 248).
 inline constexpr std::uint16_t kPortCam = 2001;
 inline constexpr std::uint16_t kPortDenm = 2002;
+inline constexpr std::uint16_t kPortMapem = 2003;  ///< TS 103 301 (issue 34)
+inline constexpr std::uint16_t kPortSpatem = 2004;
 
 inline constexpr std::size_t kHeaderSize = 4;
 

@@ -54,6 +54,13 @@ messages::Cam build_cam(const CaConfig& config, const PositionFix& fix, const Ve
   p.basicContainer.stationType = config.station_type;
   p.basicContainer.referencePosition = cdd::reference_position(fix);
 
+  if (config.station_type == messages::station_type::kRoadSideUnit) {
+    // EN 302 637-2 B.2.2/B.3: an RSU's CAM is its basic container and the RSU high-frequency
+    // container; the low-frequency and special-vehicle containers are a vehicle's. No
+    // protected communication zones (no CEN DSRC tolling station in the testbed).
+    p.highFrequencyContainer = messages::RSUContainerHighFrequency{};
+    return cam;
+  }
   auto& hf = *messages::vehicle_hf(p);
   hf.heading = cdd::heading(fix.heading_deg, fix.heading_confidence_deg);
   hf.speed.speedValue = cdd::speed_value(fix.speed_mps);
@@ -114,6 +121,16 @@ messages::Cam build_cam(const CaConfig& config, const PositionFix& fix, const Ve
   return cam;
 }
 
+scenario::CamPolicy effective_policy(const CaConfig& config) {
+  if (config.station_type != messages::station_type::kRoadSideUnit)
+    return config.policy;
+  // EN 302 637-2 clause 6.1.4 (an RSU ITS-S): the vehicle's dynamic conditions of 6.1.3 do
+  // not apply to a station that stands still; an RSU generates its CAM at a fixed interval,
+  // here T_GenCamMax (1000 ms).
+  return {scenario::CamPolicy::Kind::kFixed,
+          std::chrono::duration<double, std::milli>(config.timing.T_GenCamMax).count()};
+}
+
 CaService::CaService(clock::Runtime& runtime, PositionProvider& position,
                      VehicleDataProvider* vehicle, MessageSender& sender, Ldm& ldm, CaConfig config)
     : runtime_(runtime),
@@ -122,7 +139,7 @@ CaService::CaService(clock::Runtime& runtime, PositionProvider& position,
       sender_(sender),
       ldm_(ldm),
       config_(config),
-      rules_(config.timing, config.policy) {
+      rules_(config.timing, effective_policy(config)) {
   position_.on_fix([this](const PositionFix& fix) {
     auto& tracer = trace::global();
     if (tracer.enabled()) {

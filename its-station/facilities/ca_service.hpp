@@ -53,6 +53,10 @@ messages::Cam build_cam(const CaConfig& config, const PositionFix& fix, const Ve
                         const messages::PathHistory* low_frequency_path,
                         bool with_special_vehicle = false);
 
+/// The generation policy the service runs: @p config's, except for a road-side unit
+/// (station type 15), which sends at a fixed T_GenCamMax interval (EN 302 637-2 clause 6.1.4).
+scenario::CamPolicy effective_policy(const CaConfig& config);
+
 class CaService {
  public:
   struct Counters {

@@ -29,7 +29,8 @@ std::string_view to_string(DenmOutcome o) {
   return "?";
 }
 
-Ldm::Ldm(clock::Runtime& runtime, LdmConfig config) : runtime_(runtime), config_(config) {
+Ldm::Ldm(clock::Runtime& runtime, LdmConfig config)
+    : runtime_(runtime), config_(config), intersections_(runtime) {
   schedule_sweep();
 }
 
@@ -139,6 +140,7 @@ DenmOutcome Ldm::add_denm(const messages::Denm& denm) {
 }
 
 void Ldm::expire() {
+  intersections_.expire();
   const auto now = runtime_.steady_now();
   // The steady clock only moves on, so the order of receptions is the order of expiry.
   while (!expiry_order_.empty() && now - expiry_order_.front().first > config_.neighbour_timeout) {

@@ -1,6 +1,7 @@
 #pragma once
 /// @file Local dynamic map (EN 302 895, in the small): what the station knows of its
-/// neighbours (from CAMs) and of active events (from DENMs), with expiry, for applications.
+/// neighbours (from CAMs), of active events (from DENMs) and of signalised intersections (from
+/// MAPEM and SPATEM: intersection_store.hpp), with expiry, for applications.
 
 #include <cstdint>
 #include <deque>
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "common/clock/runtime.hpp"
+#include "its-station/facilities/intersection_store.hpp"
 #include "its-station/messages/cam.hpp"
 #include "its-station/messages/denm.hpp"
 
@@ -127,6 +129,11 @@ class Ldm {
   /// The newest version held of @p id, terminated events included (until their validity ends).
   const Event* any_event(const messages::ActionID& id) const;
 
+  /// Signalised intersections (MAPEM/SPATEM), filled by the IntersectionReceiver; swept with
+  /// the rest.
+  IntersectionStore& intersections() { return intersections_; }
+  const IntersectionStore& intersections() const { return intersections_; }
+
   void on_neighbour(NeighbourListener l) { neighbour_listeners_.push_back(std::move(l)); }
   void on_neighbour_gone(NeighbourGoneListener l) { gone_listeners_.push_back(std::move(l)); }
   void on_event(EventListener l) { event_listeners_.push_back(std::move(l)); }
@@ -147,6 +154,7 @@ class Ldm {
   /// 33: the walk at every sweep was a fifth of a pooled station's reception cost).
   std::list<std::pair<clock::SteadyTime, messages::StationID>> expiry_order_;
   std::map<ActionKey, Event> events_;
+  IntersectionStore intersections_;
   std::vector<NeighbourListener> neighbour_listeners_;
   std::vector<NeighbourGoneListener> gone_listeners_;
   std::vector<EventListener> event_listeners_;

@@ -12,6 +12,8 @@ namespace tb::its::facilities {
 /// BTP-B well-known ports (TS 103 248).
 inline constexpr std::uint16_t kBtpPortCam = 2001;
 inline constexpr std::uint16_t kBtpPortDenm = 2002;
+inline constexpr std::uint16_t kBtpPortMapem = 2003;
+inline constexpr std::uint16_t kBtpPortSpatem = 2004;
 
 /// A GeoNetworking destination area (EN 302 636-4-1 clause 9.8.5, EN 302 931).
 struct GeoArea {

@@ -38,6 +38,11 @@ class BoundedVector {
     items_[size_] = T{};
     return items_[size_++];
   }
+  /// Appends the next slot as it is, without resetting it: it holds a default element or what
+  /// an earlier use left there. For decoders that assign every member of the element anyway and
+  /// whose elements are too large to build a fresh one (T{}) on the stack; call only when
+  /// !full().
+  T& append_for_overwrite() { return items_[size_++]; }
   void clear() { size_ = 0; }
   /// Shrinks to @p n (n <= size()).
   void resize_down(std::size_t n) {

@@ -44,6 +44,9 @@ using Time32 = std::uint32_t;
 inline constexpr Psid kPsidCam = 36;
 inline constexpr Psid kPsidDenm = 37;
 inline constexpr Psid kPsidGnMgmt = 141;
+/// TS 102 965: TLM (traffic light manoeuvre, SPATEM) and RLT (road and lane topology, MAPEM).
+inline constexpr Psid kPsidSpatem = 137;
+inline constexpr Psid kPsidMapem = 138;
 
 enum class HashAlgorithm : std::uint8_t { kSha256 = 0, kSha384 = 1 };
 

@@ -42,13 +42,19 @@ ToBeSignedCertificate base_tbs(const EcKey& key, ValidityPeriod validity) {
 std::vector<PsidSspRange> authority_issue_permissions() {
   return {PsidSspRange{kPsidCam, SspRange{SspRange::Kind::kAll, {}, {}, {}}},
           PsidSspRange{kPsidDenm, SspRange{SspRange::Kind::kAll, {}, {}, {}}},
-          PsidSspRange{kPsidGnMgmt, std::nullopt}};
+          PsidSspRange{kPsidGnMgmt, std::nullopt}, PsidSspRange{kPsidSpatem, std::nullopt},
+          PsidSspRange{kPsidMapem, std::nullopt}};
 }
 
-std::vector<PsidSsp> ticket_permissions() {
-  return {PsidSsp{kPsidCam, Ssp{Ssp::Kind::kBitmap, kCamSsp}},
-          PsidSsp{kPsidDenm, Ssp{Ssp::Kind::kBitmap, kDenmSsp}},
-          PsidSsp{kPsidGnMgmt, std::nullopt}};
+std::vector<PsidSsp> ticket_permissions(bool road_side_unit) {
+  std::vector<PsidSsp> p{PsidSsp{kPsidCam, Ssp{Ssp::Kind::kBitmap, kCamSsp}},
+                         PsidSsp{kPsidDenm, Ssp{Ssp::Kind::kBitmap, kDenmSsp}},
+                         PsidSsp{kPsidGnMgmt, std::nullopt}};
+  if (road_side_unit) {
+    p.push_back(PsidSsp{kPsidSpatem, std::nullopt});
+    p.push_back(PsidSsp{kPsidMapem, std::nullopt});
+  }
+  return p;
 }
 
 Certificate make_root(const EcKey& key, const std::string& name, ValidityPeriod validity) {
@@ -76,11 +82,11 @@ Certificate make_authority(const EcKey& key, const std::string& name, ValidityPe
 }
 
 Certificate make_ticket(const EcKey& key, ValidityPeriod validity, const Certificate& aa,
-                        const EcKey& aa_key) {
+                        const EcKey& aa_key, bool road_side_unit) {
   Certificate c;
   c.tbs = base_tbs(key, validity);
   c.tbs.id = {CertificateId::Kind::kNone, {}};
-  c.tbs.app_permissions = ticket_permissions();
+  c.tbs.app_permissions = ticket_permissions(road_side_unit);
   sign_certificate(c, &aa, aa_key);
   return c;
 }

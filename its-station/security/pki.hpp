@@ -28,10 +28,12 @@ void sign_certificate(Certificate& c, const Certificate* issuer, const EcKey& is
 inline const Bytes kCamSsp{0x01, 0x00, 0x00};
 inline const Bytes kDenmSsp{0x01, 0xff, 0xff, 0xff};
 
-/// What an AA may issue: CAM, DENM (any SSP) and GN-MGMT.
+/// What an AA may issue: CAM, DENM (any SSP), GN-MGMT, and a road-side unit's SPATEM and MAPEM.
 std::vector<PsidSspRange> authority_issue_permissions();
-/// An AT's appPermissions: CAM (kCamSsp), DENM (kDenmSsp), GN-MGMT (no SSP, the beacons).
-std::vector<PsidSsp> ticket_permissions();
+/// An AT's appPermissions: CAM (kCamSsp), DENM (kDenmSsp), GN-MGMT (no SSP, the beacons); a
+/// road-side unit's (@p road_side_unit) also SPATEM (137) and MAPEM (138), without an SSP: the
+/// layout of TS 103 301's SSPs for them was not at hand (its-station/security/README.md).
+std::vector<PsidSsp> ticket_permissions(bool road_side_unit = false);
 
 /// The root CA: names itself, may issue everything through one more level (minChainLength 2).
 Certificate make_root(const EcKey& key, const std::string& name, ValidityPeriod validity);
@@ -40,7 +42,8 @@ Certificate make_authority(const EcKey& key, const std::string& name, ValidityPe
                            const Certificate& root, const EcKey& root_key);
 /// An AT (id none, TS 103 097 7.2.1) with CAM and DENM permissions (kCamSsp, kDenmSsp) and
 /// GN-MGMT (no SSP) for the router's beacons.
+/// A road-side unit's AT (@p road_side_unit) adds SPATEM and MAPEM (ticket_permissions()).
 Certificate make_ticket(const EcKey& key, ValidityPeriod validity, const Certificate& aa,
-                        const EcKey& aa_key);
+                        const EcKey& aa_key, bool road_side_unit = false);
 
 }  // namespace tb::its::security

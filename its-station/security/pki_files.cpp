@@ -74,15 +74,15 @@ bool issues_all(const Certificate& aa) {
   return true;
 }
 
-/// Whether @p at has every permission (with its SSP) today's its-pki gives an AT.
-bool permits_all(const Certificate& at) {
+/// Whether @p at has exactly the permissions (with their SSPs) today's its-pki gives the AT of
+/// a vehicle or (@p road_side_unit) an RSU: a station that became an RSU or stopped being one
+/// gets a new AT.
+bool permits_all(const Certificate& at, bool road_side_unit) {
   if (!at.tbs.app_permissions)
     return false;
-  for (const auto& want : ticket_permissions())
-    if (std::find(at.tbs.app_permissions->begin(), at.tbs.app_permissions->end(), want) ==
-        at.tbs.app_permissions->end())
-      return false;
-  return true;
+  const auto want = ticket_permissions(road_side_unit);
+  return std::is_permutation(want.begin(), want.end(), at.tbs.app_permissions->begin(),
+                             at.tbs.app_permissions->end());
 }
 
 }  // namespace
@@ -139,6 +139,7 @@ std::vector<fs::path> make_pki(const PkiPaths& paths, const std::vector<std::uin
   }
   const HashedId8 aa_id = certificate_id(aa);
   for (const auto station : stations) {
+    const bool rsu = o.road_side_units.contains(station);
     // An AT issued for another stack's key (issue_ticket): renewed for that key.
     const bool outside =
         !fs::exists(paths.at_key(station)) && fs::exists(paths.at_public_key(station));
@@ -146,7 +147,7 @@ std::vector<fs::path> make_pki(const PkiPaths& paths, const std::vector<std::uin
         (outside || fs::exists(paths.at_key(station)))) {
       const Certificate at = read_certificate(paths.at_cert(station));
       if (at.issuer.kind == IssuerIdentifier::Kind::kSha256AndDigest && at.issuer.digest == aa_id &&
-          lasts(at, o.now, kTicketMargin) && permits_all(at))
+          lasts(at, o.now, kTicketMargin) && permits_all(at, rsu))
         continue;
     }
     const ValidityPeriod validity{start, DurationUnit::kHours, o.ticket_hours};
@@ -157,12 +158,12 @@ std::vector<fs::path> make_pki(const PkiPaths& paths, const std::vector<std::uin
       } catch (const CryptoError& e) {
         throw PkiFileError(e.what());
       }
-      write_certificate(paths.at_cert(station), make_ticket(k, validity, aa, aa_key));
+      write_certificate(paths.at_cert(station), make_ticket(k, validity, aa, aa_key, rsu));
       written.push_back(paths.at_cert(station));
       continue;
     }
     EcKey k = EcKey::generate(EccCurve::kNistP256);
-    const Certificate at = make_ticket(k, validity, aa, aa_key);
+    const Certificate at = make_ticket(k, validity, aa, aa_key, rsu);
     std::error_code gone;
     fs::remove(paths.at_public_key(station), gone);  // the AT is of the PKI's key from now on
     save_key(k, paths.at_key(station));

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <set>
 #include <stdexcept>
 #include <string>
 
@@ -59,6 +60,8 @@ struct PkiOptions {
   Time32 now = 0;                     ///< TAI seconds; validity starts an hour before
   std::uint16_t ca_hours = 24 * 365;  ///< root and AA
   std::uint16_t ticket_hours = 24 * 7;
+  /// Stations that are road-side units: their ATs also carry SPATEM and MAPEM (issue 34).
+  std::set<std::uint32_t> road_side_units;
 };
 
 /// Makes the root and AA when missing, and the ATs of @p stations that are missing (all of

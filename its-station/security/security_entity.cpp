@@ -76,6 +76,8 @@ bool SecurityEntity::verifies(Psid psid) const {
     return true;
   if (psid == kPsidCam)
     return cam_consumer_;
+  if (psid == kPsidSpatem || psid == kPsidMapem)
+    return signal_consumer_;
   return psid != kPsidGnMgmt;  // beacons feed only the location table
 }
 

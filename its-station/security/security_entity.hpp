@@ -31,8 +31,9 @@ std::optional<SecurityMode> parse_security_mode(std::string_view s);
 /// security/README.md, "Verification on demand").
 /// kEvery: all of them (a full station). kOnDemand: only those whose content the station uses
 /// in a way that needs trust (a pooled station, as the C2C-CC Basic System Profile allows):
-/// DENMs and any ITS-AID other than CAM and GN-MGMT, and CAMs when an application that consumes
-/// them runs (set_cam_consumer). The others are parsed and passed up as kNotVerified, without
+/// DENMs and any ITS-AID other than CAM, SPATEM, MAPEM and GN-MGMT, CAMs when an application
+/// that consumes them runs (set_cam_consumer), SPATEM and MAPEM when the signal application runs
+/// (set_signal_consumer). The others are parsed and passed up as kNotVerified, without
 /// SSP.
 enum class VerifyPolicy : std::uint8_t { kEvery, kOnDemand };
 
@@ -66,6 +67,9 @@ class SecurityEntity {
   /// Whether an application that consumes received CAMs runs (LCRW): then kOnDemand verifies
   /// CAMs too.
   void set_cam_consumer(bool consumer) { cam_consumer_ = consumer; }
+  /// Whether an application that consumes received SPATEM and MAPEM runs (the signal
+  /// application, issue 34): then kOnDemand verifies them too.
+  void set_signal_consumer(bool consumer) { signal_consumer_ = consumer; }
   /// Whether a received packet of @p psid gets its signature verified under the policy.
   bool verifies(Psid psid) const;
   /// The station id its trace records (its.sign, its.verify) carry, for the latency report to
@@ -114,6 +118,7 @@ class SecurityEntity {
   SecurityMode mode_;
   VerifyPolicy policy_ = VerifyPolicy::kEvery;
   bool cam_consumer_ = false;
+  bool signal_consumer_ = false;
   Signer signer_;
   Verifier verifier_;
   std::deque<Held> held_;

@@ -11,6 +11,7 @@
 
 #include "common/clock/utc.hpp"
 #include "common/trace/tracer.hpp"
+#include "its-station/apps/signal/dsrc_convert.hpp"
 #include "its-station/facilities/transport.hpp"
 
 namespace tb::its::station {
@@ -47,6 +48,8 @@ namespace {
 geonet::RouterConfig router_config(const StationConfig& c) {
   geonet::RouterConfig r;
   r.station_type = static_cast<geonet::StationType>(c.ca.station_type);
+  // EN 302 636-4-1 9.7.4 / Annex H itsGnIsMobile: a road-side unit does not move (issue 34).
+  r.is_mobile = c.ca.station_type != messages::station_type::kRoadSideUnit;
   return r;
 }
 
@@ -102,6 +105,9 @@ Station::Station(const StationPorts& ports, StationConfig config)
     publisher_->set_tracer(&trace::global());
     mirror_to_mqtt();
   }
+
+  if (config_.signals)
+    start_signal_app();
 
   if (config_.lcrw_origin)
     frame_.emplace(*config_.lcrw_origin);
@@ -181,6 +187,127 @@ void Station::on_fix(const fac::PositionFix& fix) {
     publisher_->publish_state(s);
   }
   evaluate_lcrw(fix, own, std::nullopt);
+  update_signal_app(fix, own);
+}
+
+// The signal application (issue 34): MAPEM (RLT service, port 2003) and SPATEM (TLM service,
+// port 2004) into the LDM's intersection store, from there converted into the application's
+// model; the application runs at every own fix and at once when a SPATEM changes the own
+// group's state. Without it the station does not listen on the two ports, so a pooled station
+// spends nothing on the RSUs' messages (and does not verify them: set_signal_consumer).
+void Station::start_signal_app() {
+  if (security_)
+    security_->set_signal_consumer(true);
+  intersection_rx_ = std::make_unique<fac::IntersectionReceiver>(ldm_.intersections());
+  signal_app_ = std::make_unique<apps::signal::SignalApplication>(
+      its_clock_, apps::signal::SignalAppConfig{},
+      [this](const apps::signal::SignalStatus& s) {
+        if (publisher_)
+          publisher_->publish_signal(s);
+      },
+      [this](const apps::signal::RlvwWarning& w) { on_rlvw(w); }, &trace::global());
+  intersection_rx_->on_map(
+      [this](const fac::IntersectionEntry& e, fac::MapOutcome) { on_intersection_map(e); });
+  intersection_rx_->on_spat([this](const fac::IntersectionEntry& e) { on_intersection_spat(e); });
+  btp_.register_port(fac::kBtpPortMapem,
+                     [this](const btp::Indication&, std::span<const std::uint8_t> payload) {
+                       intersection_rx_->receive_mapem(payload);
+                     });
+  btp_.register_port(fac::kBtpPortSpatem,
+                     [this](const btp::Indication&, std::span<const std::uint8_t> payload) {
+                       intersection_rx_->receive_spatem(payload);
+                     });
+}
+
+void Station::on_intersection_map(const fac::IntersectionEntry& e) {
+  // Converted at every MAPEM (about 1 Hz): the same revision refreshes the application's copy,
+  // which forgets an intersection not heard for 30 s like the LDM.
+  auto topology = apps::signal::topology_from_geometry(*e.map, its_clock_.wall_now());
+  std::optional<std::string> refused;
+  if (!topology)
+    refused = topology.error().message;
+  else if (auto r = signal_app_->on_map(std::move(*topology)); !r)
+    refused = r.error().message;
+  if (refused && refused_maps_said_.insert({e.id, e.map->revision}).second)
+    spdlog::warn("MAPEM: intersection {} revision {} not used: {}", e.id, unsigned{e.map->revision},
+                 *refused);
+}
+
+void Station::on_intersection_spat(const fac::IntersectionEntry& e) {
+  const auto now = its_clock_.wall_now();
+  const auto phases = apps::signal::phases_from_state(*e.spat, now, now);
+  signal_app_->on_spat(e.id, phases);
+}
+
+void Station::update_signal_app(const fac::PositionFix& fix, const apps::mqtt::Kinematics& own) {
+  if (!signal_app_)
+    return;
+  // The application measures from the vehicle's front (the CAM reference point, which the
+  // fix already is) along its orientation; a car driving backward has no ingress lane ahead.
+  const auto heading = fix.heading_deg ? fix.heading_deg : fix.course_deg;
+  if (!heading || !fix.speed_mps || own.reversing)
+    return;
+  apps::signal::OwnKinematics k;
+  k.station_id = config_.station_id;
+  k.latitude_deg = fix.latitude_deg;
+  k.longitude_deg = fix.longitude_deg;
+  k.heading_deg = *heading;
+  k.speed_mps = *fix.speed_mps;
+  k.longitudinal_accel_mps2 = own.longitudinal_accel_mps2;
+  k.time = fix.time;
+  signal_app_->update(k);
+}
+
+void Station::on_rlvw(const apps::signal::RlvwWarning& w) {
+  if (w.event == apps::signal::RlvwEvent::kRaised) {
+    ++rlvw_raised_;
+    spdlog::info(
+        "RLVW: intersection {} lane {} group {}: red light ahead, {:.1f} m to the stop "
+        "line at {:.1f} m/s (stopping needs {:.1f} m)",
+        w.intersection_id, unsigned{w.lane_id}, unsigned{w.signal_group}, w.distance_to_stop_line_m,
+        w.speed_mps, w.stopping_distance_m);
+  } else if (w.event == apps::signal::RlvwEvent::kCleared) {
+    spdlog::info("RLVW: cleared ({})", apps::signal::to_string(w.clear_reason));
+  }
+  // One record per event (docs/tracing.md): what an e2e test grades against the car's state
+  // trace (the stop line distance at the raise), and the start of the RLVW's way to the HMI.
+  trace::global().record(
+      "its.rlvw",
+      {{"station", config_.station_id},
+       {"intersection", unsigned{w.intersection_id}},
+       {"lane", unsigned{w.lane_id}},
+       {"group", unsigned{w.signal_group}},
+       {"event", apps::signal::to_string(w.event)},
+       {"reason", w.event == apps::signal::RlvwEvent::kCleared
+                      ? apps::signal::to_string(w.clear_reason)
+                      : std::string_view{}},
+       {"dist", w.distance_to_stop_line_m},
+       {"speed", w.speed_mps},
+       {"time_to_red", w.time_to_red_s.value_or(-1.0)},
+       {"own_ms", static_cast<std::int64_t>(std::chrono::duration_cast<std::chrono::milliseconds>(
+                                                w.updated_at.time_since_epoch())
+                                                .count())}});
+  if (publisher_)
+    publisher_->publish_rlvw(w);
+}
+
+nlohmann::json Station::signals_status() const {
+  const auto& c = intersection_rx_->counters();
+  nlohmann::json j{{"intersections", signal_app_->intersections()},
+                   {"mapem_received", c.mapem_received},
+                   {"spatem_received", c.spatem_received},
+                   {"mapem_decode_errors", c.mapem_decode_errors},
+                   {"spatem_decode_errors", c.spatem_decode_errors},
+                   {"lane", nullptr},
+                   {"rlvw", rlvw_raised_},
+                   {"rlvw_active", signal_app_->rlvw().active().has_value()}};
+  if (const auto& s = signal_app_->last_status(); s && s->on_lane)
+    j["lane"] = {{"intersection", s->intersection_id},
+                 {"lane", s->lane_id},
+                 {"signal_group", s->signal_group},
+                 {"light", apps::signal::light_name(s->state)},
+                 {"distance_m", s->distance_to_stop_line_m}};
+  return j;
 }
 
 // LCRW: evaluated at every own fix against the LDM's neighbours, and at every CAM received
@@ -318,6 +445,8 @@ nlohmann::json Station::status() {
     j["neighbours"].push_back(e);
   }
   j["events"] = ldm_.active_events().size();
+  if (signal_app_)
+    j["signals"] = signals_status();
   if (security_) {
     // Each verification outcome by name (TS 103 097 drop reasons), and what a permissive
     // station passed up although it failed. A refusal the station had not seen before is also

@@ -19,9 +19,11 @@
 #include "its-station/apps/lcrw/lcrw_app.hpp"
 #include "its-station/apps/lcrw/lcrw_denm.hpp"
 #include "its-station/apps/mqtt/publisher.hpp"
+#include "its-station/apps/signal/signal_app.hpp"
 #include "its-station/btp/dispatcher.hpp"
 #include "its-station/facilities/ca_service.hpp"
 #include "its-station/facilities/den_service.hpp"
+#include "its-station/facilities/intersection_receiver.hpp"
 #include "its-station/facilities/ldm.hpp"
 #include "its-station/facilities/position.hpp"
 #include "its-station/facilities/reference_position.hpp"
@@ -66,7 +68,8 @@ class ItsClockDiscipline {
 };
 
 /// The stack between the ports: reference position, GeoNetworking and BTP, LDM, CA and DEN
-/// services, LCRW, the MQTT mirror, and the status an operator reads.
+/// services, MAPEM/SPATEM reception, LCRW, the signal application (RLVW, GLOSA), the MQTT
+/// mirror, and the status an operator reads.
 class Station {
  public:
   Station(const StationPorts& ports, StationConfig config);
@@ -98,8 +101,15 @@ class Station {
   const facilities::CaService& ca() const { return ca_; }
   const facilities::DenService& den() const { return den_; }
   const geonet::Router& router() const { return router_; }
+  /// BTP-B over GN as the services send (a road-side unit's MAPEM/SPATEM service, issue 34).
+  facilities::MessageSender& sender() { return sender_; }
   /// Null until LCRW first ran (it starts at the first fix).
   const apps::LcrwApplication* lcrw() const { return lcrw_.get(); }
+  /// Null unless the station runs the signal application (StationConfig::signals).
+  const apps::signal::SignalApplication* signal_app() const { return signal_app_.get(); }
+  const facilities::IntersectionReceiver* intersection_receiver() const {
+    return intersection_rx_.get();
+  }
 
  private:
   void receive_cam(const btp::Indication& ind, std::span<const std::uint8_t> payload);
@@ -111,6 +121,12 @@ class Station {
   void on_lcrw_warning(const apps::LcrwWarning& w);
   void schedule_onset(std::optional<double> onset_s);
   void cancel_onset();
+  void start_signal_app();
+  void update_signal_app(const facilities::PositionFix& fix, const apps::mqtt::Kinematics& own);
+  void on_intersection_map(const facilities::IntersectionEntry& e);
+  void on_intersection_spat(const facilities::IntersectionEntry& e);
+  void on_rlvw(const apps::signal::RlvwWarning& w);
+  nlohmann::json signals_status() const;
 
   clock::Runtime& runtime_;
   clock::GnssDisciplinedRuntime& its_clock_;
@@ -142,6 +158,14 @@ class Station {
   std::vector<apps::VehicleKinematics> lcrw_others_;
   std::optional<clock::TimerId> onset_timer_;
   bool stopped_ = false;
+
+  // The signal application (issue 34), made when the vehicle runs it.
+  std::unique_ptr<facilities::IntersectionReceiver> intersection_rx_;
+  std::unique_ptr<apps::signal::SignalApplication> signal_app_;
+  std::uint64_t rlvw_raised_ = 0;
+  // (intersection, revision) whose refusal the log has said, so that a bad MAPEM at 1 Hz is
+  // reported once.
+  std::set<std::pair<std::uint16_t, std::uint8_t>> refused_maps_said_;
 
   std::array<bool, static_cast<std::size_t>(security::VerifyResult::kCount)> refusals_said_{};
 };

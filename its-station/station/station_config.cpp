@@ -50,6 +50,9 @@ StationConfig make_station_config(std::uint32_t station_id, const scenario::Scen
       std::chrono::duration<double>(o.denm_repetition_duration_s));
 
   c.lcrw = !o.no_lcrw && (vehicle == nullptr || vehicle->station_lcrw);
+  // A road-side unit (StationType 15) sends MAPEM/SPATEM; the vehicle's application is not its.
+  c.signals = !o.no_signals && (vehicle == nullptr || vehicle->station_signals) &&
+              ca.station_type != messages::station_type::kRoadSideUnit;
   c.mqtt = vehicle == nullptr || vehicle->station_mqtt;
   if (vehicle && vehicle->station_kind == scenario::StationKind::kPooled)
     c.verify_policy = security::VerifyPolicy::kOnDemand;

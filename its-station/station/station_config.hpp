@@ -23,6 +23,7 @@ struct StationOverrides {
   std::string cam_policy;      ///< "etsi" | "fixed"; empty: the scenario's
   double cam_period_ms = 0.0;  ///< > 0: the fixed policy's period
   bool no_lcrw = false;        ///< do not run LCRW, whatever the scenario says
+  bool no_signals = false;     ///< do not run the signal application, whatever the scenario says
   bool no_keep_alive_forwarding = false;
   double denm_repetition_ms = 100.0;
   // While the risk lasts: LCRW cancels its event when the warning clears, and its DENMs are valid
@@ -43,6 +44,9 @@ struct StationConfig {
   clock::Duration denm_repetition_duration = std::chrono::seconds{10};
   /// Run LCRW (the vehicle's station.lcrw, unless --no-lcrw).
   bool lcrw = true;
+  /// Run the signal application: receive MAPEM/SPATEM into the LDM, match the lane, RLVW and
+  /// GLOSA (the vehicle's station.signals, issue 34).
+  bool signals = true;
   /// Which received packets the security entity verifies (issue 33): on demand for a pooled
   /// station, every one for a full station (security/README.md, "Verification on demand").
   security::VerifyPolicy verify_policy = security::VerifyPolicy::kEvery;

@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "common/clock/utc.hpp"
+#include "common/map/rsu_site.hpp"
 
 namespace tb::emu {
 
@@ -19,7 +20,14 @@ Emulator::Emulator(const scenario::Scenario& scenario, const tb::can::Database& 
       map_(scenario),
       world_start_(scenario.start_time) {
   std::optional<can::CanFeeder> first_feeder;
+  const std::vector<map::RsuSite> sites = map::rsu_sites(scenario.rsus, map_);
+  std::vector<SignalFeed::Rsu> feed;
   for (const StationEndpoints& e : stations) {
+    if (const scenario::Rsu* r = scenario.find_rsu(e.station_id)) {
+      add_rsu(e, *r, sites[static_cast<std::size_t>(r - scenario.rsus.data())], make_io, seed,
+              feed);
+      continue;
+    }
     const scenario::Vehicle* v = scenario.find_station(e.station_id);
     if (!v)
       throw std::runtime_error(fmt::format("station {} is not in the scenario", e.station_id));
@@ -45,8 +53,39 @@ Emulator::Emulator(const scenario::Scenario& scenario, const tb::can::Database& 
     stations_.emplace(e.station_id, std::unique_ptr<Station>(new Station{
                                         e.station_id, e, gnss::GpsAgent(gc, map_.georeferencing()),
                                         first_feeder->sibling(cc), make_io(e), PeerHealth(clock),
-                                        PeerHealth(clock)}));
+                                        PeerHealth(clock), std::nullopt}));
   }
+  signals_ = std::make_unique<SignalFeed>(std::move(feed), tracer_);
+}
+
+void Emulator::add_rsu(const StationEndpoints& e, const scenario::Rsu& r, const map::RsuSite& site,
+                       const StationIoFactory& make_io, std::uint64_t seed,
+                       std::vector<SignalFeed::Rsu>& feed) {
+  const map::odr::SignalisedJunction* junction = map_.signals().junction(r.junction);
+  if (junction == nullptr)  // the scenario loader refuses such an RSU
+    throw std::runtime_error(
+        fmt::format("RSU {}: junction \"{}\" has no traffic lights", r.id, r.junction));
+  gnss::AgentConfig gc;
+  gc.station_id = e.station_id;
+  gc.rate_hz = scenario_.rates.gnss_hz;
+  gc.start_time = scenario_.start_time.value_or(std::chrono::system_clock::time_point{});
+  // A receiver on a mast has the same errors as one on a roof; its antenna is the RSU's point.
+  gc.errors = scenario_.gnss;
+  gc.seed = seed;
+  wire::VehicleState fixed;
+  fixed.station_id = e.station_id;
+  fixed.position = {site.x, site.y, site.antenna_z};
+  auto station = std::unique_ptr<Station>(
+      new Station{e.station_id, e, gnss::GpsAgent(gc, map_.georeferencing()), std::nullopt,
+                  make_io(e), PeerHealth(clock_), PeerHealth(clock_), fixed});
+  feed.push_back({e.station_id, junction->intersection_id, station->io.signals.get()});
+  rsus_.push_back(station.get());
+  spdlog::info(
+      "RSU {} (station {}) at junction {}: GNSS at ({:.1f}, {:.1f}), {:.1f} m up "
+      "(ground {:.2f} m); signal feed to {}:{}{}",
+      r.id, e.station_id, r.junction, site.x, site.y, r.height_m, site.ground_z, e.address,
+      e.signal_port, e.netns.empty() ? "" : " in netns " + e.netns);
+  stations_.emplace(e.station_id, std::move(station));
 }
 
 bool Emulator::handle_datagram(std::span<const std::uint8_t> bytes) {
@@ -73,9 +112,29 @@ bool Emulator::handle_datagram(std::span<const std::uint8_t> bytes) {
       s->gps.set_start_time(*start);
     tracer_.record("emu.world_start", {{"world_start_ns", clock::to_unix_ns(*start)}});
   }
-  for (const wire::VehicleState& state : batch_)
+  const wire::VehicleState* newest = nullptr;
+  for (const wire::VehicleState& state : batch_) {
     handle_state(state);
+    if (newest == nullptr || state.sim_time_ns > newest->sim_time_ns)
+      newest = &state;
+  }
+  if (newest != nullptr && !rsus_.empty())
+    feed_rsus(*newest);
   return true;
+}
+
+void Emulator::feed_rsus(const wire::VehicleState& newest) {
+  // The RSUs stand still: their receivers see the same instants as the vehicles' (epochs on
+  // whole periods of sim time, GpsAgent), so the stream's time drives them too.
+  for (Station* s : rsus_) {
+    wire::VehicleState& f = *s->fixed;
+    f.tick = newest.tick;
+    f.sim_time_ns = newest.sim_time_ns;
+    f.step_wall_ns = newest.step_wall_ns;
+    f.send_wall_ns = newest.send_wall_ns;
+    ++counters_.rsu_states;
+    feed_gps(*s, f);
+  }
 }
 
 void Emulator::handle_state(const wire::VehicleState& state) {
@@ -95,10 +154,16 @@ void Emulator::handle_state(const wire::VehicleState& state) {
   Station& s = *it->second;
   if (tracer_.enabled())  // no record fields built per state when tracing is off
     tracer_.record("emu.state", {{"station", s.id}, {"tick", state.tick}});
+  if (s.fixed)
+    return;  // an RSU's id in the stream: it stands where the scenario puts it, whatever comes
+  feed_gps(s, state);
+  if (const auto frames = s.can->on_state(state); !frames.empty())
+    send_can(s, state, frames);
+}
+
+void Emulator::feed_gps(Station& s, const wire::VehicleState& state) {
   if (const auto nmea = s.gps.on_state(state))
     send_nmea(s, state, *nmea);
-  if (const auto frames = s.can.on_state(state); !frames.empty())
-    send_can(s, state, frames);
 }
 
 void Emulator::send_nmea(Station& s, const wire::VehicleState& state, std::string_view nmea) {
@@ -171,10 +236,20 @@ std::string Emulator::status_line() const {
   const Counters& c = counters_;
   return fmt::format(
       "states {} (datagrams {}, malformed {}, unknown station {}) | NMEA sent {} failed {} "
-      "skipped {} | CAN frames sent {} failed {} skipped {} | stations {} paused {}",
+      "skipped {} | CAN frames sent {} failed {} skipped {} | stations {} paused {}{}",
       c.states, c.datagrams, c.malformed, c.unknown_station, c.nmea_sent, c.nmea_failed,
       c.nmea_skipped, c.can_frames_sent, c.can_failed, c.can_skipped, stations_.size(),
-      paused_stations());
+      paused_stations(), signal_status());
+}
+
+std::string Emulator::signal_status() const {
+  const SignalFeedCounters& g = signals_->counters();
+  if (rsus_.empty() && g.datagrams == 0)
+    return "";
+  return fmt::format(
+      " | signals {} (malformed {}, duplicates {}) to {} RSUs: sent {} failed {} without "
+      "their junction {}",
+      g.datagrams, g.malformed, g.duplicates, rsus_.size(), g.sent, g.failed, g.no_groups);
 }
 
 }  // namespace tb::emu

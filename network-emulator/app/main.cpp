@@ -4,6 +4,7 @@
 #include <sys/resource.h>
 #include <sys/socket.h>
 
+#include <array>
 #include <chrono>
 #include <csignal>
 #include <cstdlib>
@@ -23,6 +24,7 @@
 #include "common/clock/asio_runtime.hpp"
 #include "common/scenario/loader.hpp"
 #include "common/trace/tracer.hpp"
+#include "common/wire/signal_feed.hpp"
 #include "network-emulator/app/batch_io.hpp"
 #include "network-emulator/app/emulator.hpp"
 #include "network-emulator/app/stations_config.hpp"
@@ -177,6 +179,40 @@ class StateReceiver {
   std::array<std::array<std::uint8_t, 2048>, kBatch> buffers_{};
 };
 
+/// The UDP receiver of the signal feed (issue 34): a few datagrams a second, each passed on to
+/// the RSUs at once (their sends flushed before the next wait).
+class SignalReceiver {
+ public:
+  SignalReceiver(asio::io_context& io, const udp::endpoint& listen, emu::Emulator& emulator,
+                 emu::BatchSenders& senders)
+      : socket_(io), emulator_(emulator), senders_(senders) {
+    socket_.open(listen.protocol());
+    socket_.set_option(udp::socket::reuse_address(true));
+    socket_.bind(listen);
+  }
+  udp::endpoint local_endpoint() const { return socket_.local_endpoint(); }
+  void start() {
+    socket_.async_receive_from(asio::buffer(buffer_), from_,
+                               [this](const boost::system::error_code& ec, std::size_t n) {
+                                 if (ec == asio::error::operation_aborted)
+                                   return;
+                                 if (!ec) {
+                                   emulator_.handle_signal_datagram({buffer_.data(), n});
+                                   senders_.flush();
+                                 }
+                                 start();
+                               });
+  }
+
+ private:
+  udp::socket socket_;
+  emu::Emulator& emulator_;
+  emu::BatchSenders& senders_;
+  udp::endpoint from_;
+  /// One more than the largest feed datagram: a longer one arrives cut and fails the decoder.
+  std::array<std::uint8_t, wire::kMaxSignalFeedDatagram + 1> buffer_{};
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -187,6 +223,10 @@ int main(int argc, char** argv) {
   double status_interval = 5.0;
   app.add_option("--scenario", scenario_file, "scenario file (JSON)")->required();
   app.add_option("--listen", listen, "UDP address:port for vehicle states")->capture_default_str();
+  std::string signals_listen;
+  app.add_option("--signals-listen", signals_listen,
+                 "UDP address:port for the signal feed from sim-clients (default: --listen's "
+                 "port + 1, docs/wire.md)");
   app.add_option("--stations", stations_file,
                  "JSON file: per station address, ports, netns, CAN interface (README)");
   app.add_option("--can", can_mode, "CAN transport")
@@ -234,11 +274,31 @@ int main(int argc, char** argv) {
     spdlog::error("--listen {}: expected ADDRESS:PORT, e.g. 0.0.0.0:4700", listen);
     return kExitFailure;
   }
+  std::optional<udp::endpoint> signals_ep;
+  if (signals_listen.empty()) {
+    if (listen_ep->port() > 65535 - wire::kSignalFeedPortOffset) {
+      spdlog::error(
+          "--listen {}: the signal feed's port (+{}) would be beyond 65535; give "
+          "--signals-listen",
+          listen, wire::kSignalFeedPortOffset);
+      return kExitFailure;
+    }
+    signals_ep =
+        udp::endpoint(listen_ep->address(),
+                      static_cast<unsigned short>(listen_ep->port() + wire::kSignalFeedPortOffset));
+  } else {
+    signals_ep = parse_endpoint(signals_listen);
+    if (!signals_ep) {
+      spdlog::error("--signals-listen {}: expected ADDRESS:PORT, e.g. 0.0.0.0:4701",
+                    signals_listen);
+      return kExitFailure;
+    }
+  }
   std::vector<udp::endpoint> forward;
   for (const auto& f : forward_to) {
     const auto ep = parse_endpoint(f);
     if (!ep || !ep->address().is_v4()) {
-      spdlog::error("--forward {}: expected IPv4ADDRESS:PORT, e.g. 127.0.0.1:4701", f);
+      spdlog::error("--forward {}: expected IPv4ADDRESS:PORT, e.g. 127.0.0.1:4702", f);
       return kExitFailure;
     }
     forward.push_back(*ep);
@@ -310,6 +370,15 @@ int main(int argc, char** argv) {
     } catch (const std::system_error& err) {
       out.gnss = std::make_unique<BrokenSink>(err.code());
     }
+    if (e.rsu) {  // no CAN bus; its junction's signal states instead
+      try {
+        const auto [sender, to] = sender_for(e, addr, e.signal_port);
+        out.signals = std::make_unique<emu::BatchedDatagramSink>(*sender, to);
+      } catch (const std::system_error& err) {
+        out.signals = std::make_unique<BrokenSink>(err.code());
+      }
+      return out;
+    }
     if (!use_vcan) {
       out.can = udp_can(e, addr);
       return out;
@@ -357,6 +426,22 @@ int main(int argc, char** argv) {
     return kExitFailure;
   }
   receiver->start();
+  std::unique_ptr<SignalReceiver> signal_receiver;
+  try {
+    signal_receiver = std::make_unique<SignalReceiver>(io, *signals_ep, *emulator, senders);
+    signal_receiver->start();
+  } catch (const boost::system::system_error& e) {
+    // Without RSUs nobody needs the feed: a default port taken by another program (tests pick
+    // a free --listen port, not a free pair) is not worth stopping for.
+    if (!signals_listen.empty() || emulator->rsu_count() > 0) {
+      spdlog::error("cannot listen for the signal feed on {}:{}: {}",
+                    signals_ep->address().to_string(), signals_ep->port(), e.code().message());
+      return kExitFailure;
+    }
+    spdlog::warn("signal feed off: cannot listen on {}:{} ({}), and the scenario has no RSU",
+                 signals_ep->address().to_string(), signals_ep->port(), e.code().message());
+    signal_receiver.reset();
+  }
   for (const auto& f : forward_to)
     spdlog::info("passing vehicle states on to {}", f);
   spdlog::info("scenario {} ({}): {} stations, GNSS {} Hz, CAN {}/{} Hz; listening on {}",
@@ -364,6 +449,10 @@ int main(int argc, char** argv) {
                scen.rates.can_dynamics_hz, scen.rates.can_body_hz,
                fmt::format("{}:{}", receiver->local_endpoint().address().to_string(),
                            receiver->local_endpoint().port()));
+  if (signal_receiver)
+    spdlog::info("signal feed: listening on {}:{}, {} RSUs",
+                 signal_receiver->local_endpoint().address().to_string(),
+                 signal_receiver->local_endpoint().port(), emulator->rsu_count());
 
   // The emulator's counters, then the sockets': datagrams the kernel took, and those it did not
   // (buffer full, an error of their own destination), and the ICMP errors read.

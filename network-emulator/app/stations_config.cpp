@@ -48,8 +48,8 @@ std::vector<StationEndpoints> parse_stations(std::string_view json_text, const s
   }
   if (!root.is_object() || !root.contains("stations") || !root["stations"].is_array())
     fail(file, "/stations", "expected an object with a \"stations\" array");
-  static const std::set<std::string> kKeys{"station_id", "address", "gnss_port",
-                                           "can_port",   "netns",   "can_interface"};
+  static const std::set<std::string> kKeys{"station_id", "address",       "gnss_port",  "can_port",
+                                           "netns",      "can_interface", "signal_port"};
   std::vector<StationEndpoints> out;
   std::set<std::uint32_t> seen;
   const auto& list = root["stations"];
@@ -66,9 +66,17 @@ std::vector<StationEndpoints> parse_stations(std::string_view json_text, const s
       fail(file, where + "/station_id", "required, an integer 0..4294967295");
     StationEndpoints e;
     e.station_id = static_cast<std::uint32_t>(j["station_id"].get<std::uint64_t>());
-    if (!scenario.find_station(e.station_id))
+    e.rsu = scenario.find_rsu(e.station_id) != nullptr;
+    if (!e.rsu && !scenario.find_station(e.station_id))
       fail(file, where + "/station_id",
            fmt::format("station {} is not in scenario {}", e.station_id, scenario.source));
+    for (const char* key : {"can_port", "can_interface"})
+      if (e.rsu && j.contains(key))
+        fail(file, where + "/" + key,
+             fmt::format("station {} is an RSU, which has no CAN bus", e.station_id));
+    if (!e.rsu && j.contains("signal_port"))
+      fail(file, where + "/signal_port",
+           fmt::format("station {} is a vehicle; only RSUs get the signal feed", e.station_id));
     if (!seen.insert(e.station_id).second)
       fail(file, where + "/station_id", fmt::format("station {} listed twice", e.station_id));
     e.address = string_field(j, "address", e.address, file, where);
@@ -78,6 +86,7 @@ std::vector<StationEndpoints> parse_stations(std::string_view json_text, const s
       fail(file, where + "/address", fmt::format("\"{}\" is not an IP address", e.address));
     e.gnss_port = port_field(j, "gnss_port", e.gnss_port, file, where);
     e.can_port = port_field(j, "can_port", e.can_port, file, where);
+    e.signal_port = port_field(j, "signal_port", e.signal_port, file, where);
     e.netns = string_field(j, "netns", e.netns, file, where);
     if (e.netns.find('/') != std::string::npos)
       fail(file, where + "/netns",
@@ -108,6 +117,16 @@ std::vector<StationEndpoints> default_stations(const scenario::Scenario& scenari
     e.station_id = scenario.vehicles[i].station_id;
     e.gnss_port = static_cast<std::uint16_t>(kDefaultGnssPort + i);
     e.can_port = static_cast<std::uint16_t>(kDefaultCanPort + i);
+    out.push_back(e);
+  }
+  for (std::size_t k = 0; k < scenario.rsus.size(); ++k) {
+    const std::size_t i = scenario.vehicles.size() + k;
+    StationEndpoints e;
+    e.station_id = scenario.rsus[k].station_id;
+    e.rsu = true;
+    e.gnss_port = static_cast<std::uint16_t>(kDefaultGnssPort + i);
+    e.can_port = 0;
+    e.signal_port = static_cast<std::uint16_t>(wire::kRsuSignalPort + k);
     out.push_back(e);
   }
   return out;

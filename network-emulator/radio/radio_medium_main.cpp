@@ -23,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/clock/asio_runtime.hpp"
+#include "common/map/rsu_site.hpp"
 #include "common/map/scenario_map.hpp"
 #include "common/scenario/loader.hpp"
 #include "common/trace/tracer.hpp"
@@ -49,7 +50,8 @@ struct Options {
   std::vector<std::string> pooled;
   std::string mode = "auto";
   std::string forwarding = "auto";
-  std::string positions = "udp://0.0.0.0:4701";
+  // 4702: the emulator hears the vehicle states on 4700 and the signal feed on 4701.
+  std::string positions = "udp://0.0.0.0:4702";
   std::string prefix = radio::kDefaultPrefix;
   std::string ethertype = "0x8947";
   std::string stats_file;
@@ -76,8 +78,11 @@ radio::StationId scenario_station(const std::string& key, const tb::scenario::Sc
                                   const std::string& option) {
   if (const auto* v = sc.find_vehicle(key))
     return v->station_id;
+  for (const auto& r : sc.rsus)  // an RSU (issue 34) by its scenario id
+    if (r.id == key)
+      return r.station_id;
   const radio::StationId id = parse_u32(key, option);
-  if (!sc.find_station(id))
+  if (!sc.find_station(id) && !sc.find_rsu(id))
     throw UsageError(option + ": station " + key + " is not in scenario " + sc.source);
   return id;
 }
@@ -128,7 +133,8 @@ std::vector<radio::PooledHostSpec> parse_pooled(const std::vector<std::string>& 
       if (key.empty())
         throw UsageError("--pooled: \"" + text + "\" has an empty station id");
       const radio::StationId id = scenario_station(key, sc, "--pooled");
-      if (sc.find_station(id)->station_kind != tb::scenario::StationKind::kPooled)
+      const auto* vehicle = sc.find_station(id);  // null: an RSU, always a full station
+      if (vehicle == nullptr || vehicle->station_kind != tb::scenario::StationKind::kPooled)
         throw UsageError("--pooled: station " + key + " is not \"pooled\" in scenario " +
                          sc.source + " (its vehicle's station.kind)");
       if (!seen.insert(id).second)
@@ -175,13 +181,18 @@ asio::ip::udp::endpoint parse_udp(const std::string& url) {
   return {addr, static_cast<unsigned short>(port)};
 }
 
-// Where each vehicle starts, so the channel has distances before the first state arrives.
+// Where each vehicle starts, so the channel has distances before the first state arrives; and
+// where each RSU's antenna stands for good (no state ever moves it: the stream has none).
 void seed_positions(const tb::scenario::Scenario& sc, radio::PositionTable& table) {
   const tb::map::ScenarioMap map(sc);
   for (const auto& v : sc.vehicles) {
     const tb::map::Placement p = map.place(v.spawn);
     table.set(v.station_id, radio::StationPosition{{p.x, p.y, p.z}, -1});
   }
+  const auto sites = tb::map::rsu_sites(sc.rsus, map);
+  for (std::size_t k = 0; k < sites.size(); ++k)
+    table.set(sc.rsus[k].station_id,
+              radio::StationPosition{{sites[k].x, sites[k].y, sites[k].antenna_z}, -1});
 }
 
 // Vehicle states (common/wire) on UDP keep the position table current.

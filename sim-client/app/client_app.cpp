@@ -126,10 +126,13 @@ ClientApp::ClientApp(boost::asio::io_context& io, AppOptions options)
   if (options_.forward && !options_.session.list_only) {
     sink_ = std::make_unique<UdpSink>(io_, options_.emulator);
     forwarder_ = std::make_unique<StateForwarder>(runtime_, *sink_);
+    signal_sink_ = std::make_unique<UdpSink>(io_, signal_feed_address(options_.emulator));
+    signal_forwarder_ = std::make_unique<SignalForwarder>(*signal_sink_);
   }
   session_ = std::make_unique<SimSession>(
       options_.session, [this](std::vector<std::uint8_t> b) { link_->send(std::move(b)); },
       forwarder_.get(), trace::global(), &runtime_);
+  session_->set_signal_forwarder(signal_forwarder_.get());
   const auto [host, port] = split_host_port(options_.server, 2000);
   link_ = std::make_unique<TcpLink>(io_, runtime_, host, port, *session_);
   if (feed_) {
@@ -174,8 +177,37 @@ void ClientApp::start_3d(bool window) {
   // Whether a driver saw the warning: the banner's appearance, its severity or case changing,
   // and its disappearance are traced (client.banner) and logged, from the frames the render
   // thread actually drew; not its TTC and distance, which change every frame.
-  render_->set_frame_observer([next = options_.frame_observer,
-                               shown = std::string()](const view3d::FrameStats& st) mutable {
+  render_->set_frame_observer([next = options_.frame_observer, shown = std::string(),
+                               red_light = std::string(),
+                               light = std::string()](const view3d::FrameStats& st) mutable {
+    // Likewise the red-light banner (without its countdown and distance) and every change of
+    // the signal panel's light: the end of "light change in the sim → state at the driver's
+    // HUD" (issue 34's figure).
+    const std::string rlvw_headline = st.rlvw_banner.substr(0, st.rlvw_banner.find(" · "));
+    if (rlvw_headline != red_light) {
+      red_light = rlvw_headline;
+      trace::global().record("client.rlvw_banner", {{"text", st.rlvw_banner}, {"frame", st.frame}});
+      if (red_light.empty())
+        spdlog::info("red-light banner gone");
+      else
+        spdlog::info("red-light banner: {}", st.rlvw_banner);
+    }
+    const std::string now_light =
+        st.signal ? fmt::format("{}/{}/{}/{}", st.signal->station, st.signal->intersection_id,
+                                st.signal->signal_group, v2x::to_string(st.signal->light))
+                  : std::string();
+    if (now_light != light) {
+      light = now_light;
+      if (st.signal) {
+        trace::global().record("client.signal", {{"station", st.signal->station},
+                                                 {"intersection_id", st.signal->intersection_id},
+                                                 {"signal_group", st.signal->signal_group},
+                                                 {"light", v2x::to_string(st.signal->light)},
+                                                 {"frame", st.frame}});
+      } else {
+        trace::global().record("client.signal", {{"light", ""}, {"frame", st.frame}});
+      }
+    }
     const std::string headline = st.banner.substr(0, st.banner.find(" · TTC"));
     if (headline != shown) {
       shown = headline;
@@ -243,6 +275,10 @@ void ClientApp::feed_3d() {
       feed_->set_world(world_);
       controls_.set_vehicle_count(static_cast<int>(world_->vehicles.size()));
     }
+  }
+  if (session_->signal_updates() != signals_fed_) {
+    signals_fed_ = session_->signal_updates();
+    feed_->set_signals(session_->signal_groups());
   }
   const int own = own_vehicle();
   controls_.set_own(own);
@@ -325,6 +361,7 @@ ViewScene ClientApp::scene() const {
   s.connection = link_->status();
   s.input = input_->status();
   s.help = input_->help_shown();
+  s.signals = session_->signal_groups();
   const auto* w = session_->welcome();
   const auto* f = session_->latest();
   if (w == nullptr || f == nullptr)
@@ -447,13 +484,12 @@ void ClientApp::frame() {
       return;
   }
   if (monitor_ && sound_) {
-    // The sound lasts as long as the own station's warning (none when watching).
+    // The sound lasts as long as the own station's warnings, LCRW and RLVW (none when watching).
     const int own = own_vehicle();
     v2x::Alarm alarm = v2x::Alarm::kOff;
     if (const auto* w = session_->welcome(); w != nullptr && own >= 0) {
-      const auto pic = monitor_->picture(now);
-      if (const auto* a = pic.alert_for(w->vehicles[static_cast<std::size_t>(own)].station_id))
-        alarm = a->severity == "critical" ? v2x::Alarm::kCritical : v2x::Alarm::kWarning;
+      alarm = v2x::alarm_for(monitor_->picture(now),
+                             w->vehicles[static_cast<std::size_t>(own)].station_id);
     }
     sound_->set(alarm);
   }

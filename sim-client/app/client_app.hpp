@@ -102,6 +102,8 @@ class ClientApp {
   std::unique_ptr<SdlInput> input_;
   std::unique_ptr<UdpSink> sink_;
   std::unique_ptr<StateForwarder> forwarder_;
+  std::unique_ptr<UdpSink> signal_sink_;  ///< the emulator's state port + 1 (issue 34)
+  std::unique_ptr<SignalForwarder> signal_forwarder_;
   std::unique_ptr<SimSession> session_;
   std::unique_ptr<TcpLink> link_;
   std::unique_ptr<Canvas> canvas_;
@@ -115,6 +117,7 @@ class ClientApp {
   std::unique_ptr<view3d::RenderLoop> render_;
   view3d::ViewControls controls_;
   std::shared_ptr<const view3d::World> world_;
+  std::uint64_t signals_fed_ = 0;  ///< the session's signal_updates() last handed to the view
   bool screenshot_pending_ = false;
   clock::SteadyTime started_{};
   clock::SteadyTime last_frame_{};

@@ -1,11 +1,14 @@
 // Speed of the client's per-tick work: one state frame in (decode, forward, scripted driver,
-// controls out), the lane-following driver alone, and one frame of the view.
+// controls out), the lane-following driver alone, one frame of the view, and a signal message
+// from MQTT to what the HUD's panel shows (issue 34).
 #include <benchmark/benchmark.h>
 
 #include "common/map/builtin_network.hpp"
 #include "sim-client/driver/scripted_driver.hpp"
 #include "sim-client/net/session.hpp"
 #include "sim-client/net/tests/fake_server.hpp"
+#include "sim-client/v2x/monitor.hpp"
+#include "sim-client/v2x/signal_panel.hpp"
 #include "sim-client/view/scene.hpp"
 
 namespace tb::client {
@@ -113,6 +116,28 @@ void BM_ViewFrameSoftware(benchmark::State& st) {
 }
 BENCHMARK(BM_ViewFrameSoftware)->Unit(benchmark::kMicrosecond);
 
+// One `its/<id>/app/signal` message (the contract's payload, as a station publishes it) parsed
+// and checked, then the picture and the panel the render thread makes of it.
+void BM_SignalMessageToPanel(benchmark::State& st) {
+  v2x::V2xMonitor m;
+  const std::string payload =
+      R"({"type":"signal","origin":"on_board_application","version":"1.0.0",)"
+      R"("source_uuid":"its-station-1001","timestamp":1795000000000,"message":)"
+      R"({"intersection_id":1,"signal_group":2,"lane_id":1,"state":"amber",)"
+      R"("event_state":"protected-clearance","time_to_change_s":2.5,)"
+      R"("likely_time_to_change_s":2.5,"distance_to_stop_line_m":38.4,)"
+      R"("advice":{"min_speed_kmh":28.0,"max_speed_kmh":45.5},"rlvw":true}})";
+  clock::SteadyTime now{std::chrono::seconds{100}};
+  for (auto _ : st) {
+    now += std::chrono::milliseconds{100};
+    benchmark::DoNotOptimize(m.on_message("its/1001/app/signal", payload, now));
+    const auto panel = v2x::signal_panel(m.picture(now), 1001);
+    benchmark::DoNotOptimize(panel);
+  }
+}
+BENCHMARK(BM_SignalMessageToPanel);
+
 }  // namespace
 }  // namespace tb::client
+
 BENCHMARK_MAIN();

@@ -14,6 +14,7 @@
 #include "common/map/opendrive/queries.hpp"
 #include "common/map/scenario_map.hpp"
 #include "common/wire/vehicle_state.hpp"
+#include "sim-client/driver/traffic_lights.hpp"
 
 namespace tb::client {
 
@@ -47,6 +48,9 @@ struct VehicleSize {
 /// built by hand) both scan every vehicle, with the same results.
 struct Traffic {
   std::vector<Observed> vehicles;
+  /// The traffic lights as of this frame (the session's latest SignalStates); null: the client
+  /// knows of none, and every junction runs on its priority rules.
+  const TrafficLights* lights = nullptr;
   const Observed* find(std::uint32_t station_id) const;
   /// Every vehicle whose position is within @p radius of (x, y) (and maybe some a little
   /// farther), in the order of `vehicles`.

@@ -43,6 +43,19 @@ constexpr double kStopLineMargin = 1.0;  // m between the bumper and a junction'
 constexpr double kChangeGap = 4.0;      // m
 constexpr double kChangeClosing = 1.5;  // s per m/s of closing speed
 constexpr double kChangeFollow = 0.8;   // s of the follower's speed behind
+// Traffic lights (issue 34). An amber is stopped for when the stop needs no more than the
+// comfortable deceleration of the issue's red-light warning rule (3 m/s², the RLVW of
+// TS 103 301), so that a scripted car and a vehicle station's RLVW judge one amber alike; a
+// red is stopped for with up to full braking, and run only by a car that cannot stop before
+// its line even so (it would otherwise stand in the junction). The front bumper stops
+// kSignalMargin before the stop line.
+constexpr double kAmberDecel = 3.0;    // m/s²
+constexpr double kSignalMargin = 0.4;  // m
+// A stop for a light is begun by the time a driver with kLightReaction of reaction still has
+// the comfortable stopping distance left (v·t + v²/(2·kAmberDecel)), as the RLVW rule expects of
+// a driver who stops: a scripted car that stopped later, if harder, would be warned by it.
+constexpr double kLightReaction = 1.5;  // s (the rule's 1 s, and half a second to show braking)
+constexpr double kSignalLagTime = 0.4;  // s
 
 wire::Controls to_controls(const scenario::ControlStep& c) {
   wire::Controls out;
@@ -285,8 +298,19 @@ double LaneFollowDriver::follow_speed(const wire::VehicleState& s, const Traffic
   return std::max(0.0, lead_speed + excess / kRelaxTime);
 }
 
-bool LaneFollowDriver::must_yield(const Traffic& traffic, const Observed* me,
-                                  std::size_t first) const {
+bool LaneFollowDriver::held_by_light(const Traffic& traffic, const Observed& o,
+                                     std::int64_t sim_time_ns) const {
+  if (traffic.lights == nullptr || !o.lane)
+    return false;
+  const map::odr::SignalApproach* ap =
+      map_->scenario_map().signals().approach(o.lane->ref.road, o.lane->ref.lane);
+  return ap != nullptr && static_cast<int>(ap->junction) == o.junction &&
+         traffic.lights->aspect_of(ap->intersection_id, ap->signal_group, sim_time_ns) ==
+             LightAspect::kStop;
+}
+
+bool LaneFollowDriver::must_yield(const Traffic& traffic, const Observed* me, std::size_t first,
+                                  std::int64_t sim_time_ns) const {
   const auto& steps = path_.steps();
   const int junction = steps[first].junction;
   std::vector<std::size_t> mine;
@@ -304,6 +328,10 @@ bool LaneFollowDriver::must_yield(const Traffic& traffic, const Observed* me,
         crosses = crosses || map_->conflict(a, b);
     }
     if (!crosses)
+      continue;
+    // One waiting at a red light (red + amber too) does not come: a driver with green counts
+    // on that, as at a real junction. Once inside, whoever it is, it is given way to.
+    if (!o.inside && held_by_light(traffic, o, sim_time_ns))
       continue;
     if (o.inside || !seen || goes_before(o, *me))
       return true;
@@ -366,7 +394,7 @@ void LaneFollowDriver::limit_traffic(const wire::VehicleState& s, const Traffic&
       // In the junction (centre past its entry, as the others see it): on through it.
       if (st.d0 <= d_ || (k > 0 && steps[k - 1].junction == st.junction))
         continue;
-      if (must_yield(traffic, me, k))
+      if (must_yield(traffic, me, k, s.sim_time_ns))
         stop_at(st.d0 - half_l - kStopLineMargin, SpeedLimit::kJunction);
       break;
     }
@@ -374,6 +402,95 @@ void LaneFollowDriver::limit_traffic(const wire::VehicleState& s, const Traffic&
       stop_at(st.d0 - 0.5, SpeedLimit::kLaneChange);
       break;
     }
+  }
+}
+
+void LaneFollowDriver::limit_signals(const wire::VehicleState& s, const Traffic& traffic,
+                                     double& target) {
+  status_.light = LightAspect::kNone;
+  status_.stop_line_gap = std::numeric_limits<double>::infinity();
+  status_.passing_light = false;
+  if (!spec_.obey_signals || traffic.lights == nullptr) {
+    decision_.reset();
+    return;
+  }
+  const map::odr::SignalLayout& layout = map_->scenario_map().signals();
+  if (layout.approaches().empty())
+    return;
+  const double v = std::max<double>(s.speed, 0.0);
+  const double half_l = model_.length_m / 2.0;
+  // The next junction entry on the path, and the light over the lane that leads into it.
+  const map::odr::SignalApproach* ap = nullptr;
+  double line = 0.0;
+  const auto& steps = path_.steps();
+  for (std::size_t k = 1; k < steps.size(); ++k) {
+    const LanePath::Step& st = steps[k];
+    const LanePath::Step& in = steps[k - 1];
+    if (st.junction < 0 || in.junction == st.junction || st.d1 <= d_)
+      continue;
+    if (in.d0 - d_ > DriveMap::approach_horizon(v))
+      break;
+    ap = layout.approach(in.road, in.lane);
+    if (ap == nullptr)
+      break;  // no light: the junction's priority rules
+    // The stop line's d: road s mapped linearly over the step, then the path's nearest point
+    // to the line's pose (exact where the lane is curved or offset).
+    const double ds = in.s1 - in.s0;
+    const double guess =
+        std::abs(ds) > 1e-9 ? in.d0 + (ap->stop_s - in.s0) / ds * (in.d1 - in.d0) : in.d1;
+    line = path_.project(ap->stop.x, ap->stop.y, guess).d;
+    break;
+  }
+  // Beyond the line with the car's centre: it is in the junction, the light is behind it.
+  if (ap == nullptr || line <= d_) {
+    decision_.reset();
+    return;
+  }
+  const LightAspect light =
+      traffic.lights->aspect_of(ap->intersection_id, ap->signal_group, s.sim_time_ns);
+  status_.light = light;
+  status_.stop_line_gap = line - d_ - half_l;
+  if (decision_ && (decision_->intersection_id != ap->intersection_id ||
+                    decision_->signal_group != ap->signal_group))
+    decision_.reset();
+  if (light == LightAspect::kGo || light == LightAspect::kNone) {
+    decision_.reset();
+    return;
+  }
+  const double room = status_.stop_line_gap - kSignalMargin;
+  if (!decision_) {
+    // The deceleration a stop at the line needs now; a standing car needs none.
+    const double need = v < kStandstill ? 0.0
+                        : room > 0.0    ? v * v / (2.0 * room)
+                                        : std::numeric_limits<double>::infinity();
+    const double limit =
+        light == LightAspect::kAmber ? kAmberDecel : std::min(kFullBrake, brake_accel());
+    LightDecision d;
+    d.intersection_id = ap->intersection_id;
+    d.signal_group = ap->signal_group;
+    d.go_on = need > limit;
+    // Planned a little harder than needed, so that the speed controller's lag still stops the
+    // car before the line; as gentle as the RLVW rule's early start asks (kLightReaction), else
+    // as any other planned stop.
+    const double early = v < kStandstill
+                             ? kStopPlanning * spec_.max_decel
+                             : v * v / (2.0 * (v * kLightReaction + v * v / (2.0 * kAmberDecel)));
+    d.decel = std::clamp(need * 1.1, std::min(kStopPlanning * spec_.max_decel, early), kFullBrake);
+    decision_ = d;
+  }
+  if (decision_->go_on) {
+    status_.passing_light = true;
+    return;
+  }
+  // The speed controller trails a falling reference (by up to about 1 m/s when the car brakes
+  // weaker than its model says): the stop is planned that much earlier, so that the car and
+  // not only its reference stops at the line.
+  const double lag = std::max(v - reference_, 0.0);
+  const double late = lag * kSignalLagTime + lag * lag / (2.0 * decision_->decel);
+  const double allowed = std::sqrt(2.0 * decision_->decel * std::max(room - late, 0.0));
+  if (allowed < target) {
+    target = allowed;
+    status_.limit = SpeedLimit::kSignal;
   }
 }
 
@@ -442,6 +559,7 @@ wire::Controls LaneFollowDriver::update(const wire::VehicleState& s, const Traff
   }
   if (!back) {
     limit_curves(target);
+    limit_signals(s, traffic, target);
     if (spec_.yield_to_traffic)
       limit_traffic(s, traffic, target);
   }

@@ -43,7 +43,7 @@ class TimelineDriver final : public ScriptedDriver {
 };
 
 /// What bounds the lane follower's target speed.
-enum class SpeedLimit { kProfile, kCurve, kEnd, kLeader, kJunction, kLaneChange };
+enum class SpeedLimit { kProfile, kCurve, kEnd, kLeader, kJunction, kLaneChange, kSignal };
 
 /// What the lane-following driver computed in its last update, for tests and the view.
 struct LaneFollowStatus {
@@ -58,6 +58,13 @@ struct LaneFollowStatus {
   double leader_gap = std::numeric_limits<double>::infinity();  ///< m, bumper to bumper
   int road = -1;  ///< road index and lane id of the path where the vehicle is
   int lane = 0;
+  /// The next traffic light on the path (issue 34): what it shows as this driver reads it, the
+  /// distance from the front bumper to its stop line (infinite: no light ahead within the
+  /// junction horizon), and whether the driver goes on over it whatever it shows (it decided
+  /// to pass an amber, or can no longer stop before a red).
+  LightAspect light = LightAspect::kNone;
+  double stop_line_gap = std::numeric_limits<double>::infinity();
+  bool passing_light = false;
 };
 
 /// Pure pursuit on the route's lane centres for steering and a speed controller (feed-forward
@@ -86,8 +93,12 @@ class LaneFollowDriver final : public ScriptedDriver {
   /// Bounds of the forward target speed; each lowers @p target and says why.
   void limit_curves(double& target);
   void limit_traffic(const wire::VehicleState& s, const Traffic& traffic, double& target);
+  void limit_signals(const wire::VehicleState& s, const Traffic& traffic, double& target);
   double follow_speed(const wire::VehicleState& s, const Traffic& traffic, const Observed* me);
-  bool must_yield(const Traffic& traffic, const Observed* me, std::size_t first_step) const;
+  /// Whether @p o waits at a light that shows it red (or red + amber).
+  bool held_by_light(const Traffic& traffic, const Observed& o, std::int64_t sim_time_ns) const;
+  bool must_yield(const Traffic& traffic, const Observed* me, std::size_t first_step,
+                  std::int64_t sim_time_ns) const;
   bool gap_free(const wire::VehicleState& s, const Traffic& traffic, const Observed* me,
                 const LanePath::Step& change) const;
 
@@ -101,6 +112,15 @@ class LaneFollowDriver final : public ScriptedDriver {
   double d_ = 0.0;  ///< where the vehicle is along the path
   double reference_ = 0.0;
   double integral_ = 0.0;
+  /// What the driver decided for the light it approaches, kept until that light shows go again
+  /// (a decision to stop is not undone by braking having made it harder, nor one to go on).
+  struct LightDecision {
+    std::uint16_t intersection_id = 0;
+    int signal_group = 0;
+    bool go_on = false;
+    double decel = 0.0;  ///< m/s², the planned stop's deceleration
+  };
+  std::optional<LightDecision> decision_;
   LaneFollowStatus status_;
 };
 

@@ -7,6 +7,8 @@
 #include <spdlog/spdlog.h>
 #include <boost/asio/ip/udp.hpp>
 
+#include "common/wire/signal_feed.hpp"
+
 namespace tb::client {
 
 std::pair<std::string, std::uint16_t> split_host_port(const std::string& text,
@@ -92,6 +94,35 @@ void StateForwarder::forward_tick(std::span<const wire::VehicleState> states,
                          {"yaw", static_cast<double>(state.yaw)}});
     }
   }
+}
+
+std::string signal_feed_address(const std::string& emulator) {
+  const auto [host, port] = split_host_port(emulator, 4700);
+  if (port > 65535 - wire::kSignalFeedPortOffset)
+    throw std::invalid_argument("\"" + emulator + "\": the signal feed goes to the port + " +
+                                std::to_string(wire::kSignalFeedPortOffset) + ", beyond 65535");
+  const std::string next = std::to_string(port + wire::kSignalFeedPortOffset);
+  return host.find(':') != std::string::npos ? "[" + host + "]:" + next : host + ":" + next;
+}
+
+void SignalForwarder::forward(const wire::sim::SignalStates& states) {
+  const auto datagram = wire::encode_signal_feed(states);
+  if (!datagram) {
+    if (too_large_++ == 0)
+      spdlog::warn("signal states of {} groups do not fit a datagram: not sent to the emulator",
+                   states.groups.size());
+    return;
+  }
+  if (!sink_.send(*datagram)) {
+    if (failed_++ % 1000 == 0)
+      spdlog::warn("cannot send signal states to the emulator ({} failed so far)", failed_);
+    return;
+  }
+  ++sent_;
+  // The first hop of a light change on its way to the SPATEM (issue 34's latency figure).
+  tracer_.record("client.signals",
+                 {{"world_ms", static_cast<long long>(states.world_time_ms)},
+                  {"groups", static_cast<unsigned long long>(states.groups.size())}});
 }
 
 }  // namespace tb::client

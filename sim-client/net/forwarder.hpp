@@ -14,6 +14,7 @@
 
 #include "common/clock/clock.hpp"
 #include "common/trace/tracer.hpp"
+#include "common/wire/sim_protocol.hpp"
 #include "common/wire/vehicle_state.hpp"
 
 namespace tb::client {
@@ -75,6 +76,31 @@ class StateForwarder {
   std::int64_t world_start_ns_ = wire::kUnknownWorldStart;
   std::vector<wire::VehicleState> chunk_;
   std::vector<std::uint8_t> buffer_;
+};
+
+/// Where the signal feed goes for an emulator whose state address is @p emulator ("HOST:PORT",
+/// default port 4700): the same host, the port + wire::kSignalFeedPortOffset (4700 → 4701).
+/// @throws std::invalid_argument naming the text (also for port 65535, which has no next).
+std::string signal_feed_address(const std::string& emulator);
+
+/// Passes every SignalStates the server sends on to the network emulator (issue 34), one
+/// sim-protocol frame per datagram (common/wire/signal_feed.hpp), at once: the emulator feeds
+/// each RSU its junction's groups. Every client that forwards vehicle states does this; the
+/// emulator keeps one copy per world_time_ms.
+class SignalForwarder {
+ public:
+  explicit SignalForwarder(DatagramSink& sink, trace::Tracer& tracer = trace::global())
+      : sink_(sink), tracer_(tracer) {}
+  void forward(const wire::sim::SignalStates& states);
+  std::uint64_t sent() const { return sent_; }      ///< datagrams
+  std::uint64_t failed() const { return failed_; }  ///< datagrams the socket refused
+  /// Messages with more groups than a datagram holds (wire::kMaxSignalFeedDatagram): dropped.
+  std::uint64_t too_large() const { return too_large_; }
+
+ private:
+  DatagramSink& sink_;
+  trace::Tracer& tracer_;
+  std::uint64_t sent_ = 0, failed_ = 0, too_large_ = 0;
 };
 
 }  // namespace tb::client

@@ -27,6 +27,13 @@ std::string_view driver_kind(sim::DriverKind k) {
 
 }  // namespace
 
+std::vector<sim::SignalGroupState> SimSession::signal_groups() const {
+  std::vector<sim::SignalGroupState> out;
+  for (const auto& [id, j] : signals_)
+    out.insert(out.end(), j.groups.begin(), j.groups.end());
+  return out;
+}
+
 std::string_view to_string(SimSession::Phase p) {
   switch (p) {
     case SimSession::Phase::kDisconnected:
@@ -127,6 +134,22 @@ bool SimSession::handle(const sim::ServerMessage& m) {
     on_state(*f);
     return true;
   }
+  if (const auto* s = std::get_if<sim::SignalStates>(&m)) {
+    // On to the RSUs first: the light change is on its way to the SPATEM before anything else.
+    if (signal_forwarder_ != nullptr)
+      signal_forwarder_->forward(*s);
+    // Every junction's groups come in each message; a junction missing from it has none left.
+    std::map<std::uint16_t, JunctionSignals> now;
+    for (const sim::SignalGroupState& g : s->groups) {
+      JunctionSignals& j = now[g.intersection_id];
+      j.world_time_ms = s->world_time_ms;
+      j.groups.push_back(g);
+    }
+    signals_ = std::move(now);
+    lights_.update(*s);
+    ++signal_updates_;
+    return true;
+  }
   if (const auto* d = std::get_if<sim::DriverChanged>(&m)) {
     if (d->vehicle < welcome_->vehicles.size())
       welcome_->vehicles[d->vehicle].driver = d->driver;
@@ -181,6 +204,9 @@ bool SimSession::on_welcome(const sim::Welcome& w) {
     }
   }
   welcome_ = w;
+  signals_.clear();  // the server sends the lights right after Welcome
+  ++signal_updates_;
+  lights_ = TrafficLights(w.world_start_ns);
 
   // Which vehicles to drive: by id, plus every scripted one with --scripted.
   std::vector<std::uint16_t> wanted;
@@ -296,8 +322,10 @@ void SimSession::on_state(const sim::StateFrame& f) {
     if (!d.attached || i >= f.vehicles.size())
       continue;
     const wire::VehicleState& s = f.vehicles[i];
-    if (d.script && !traffic)
+    if (d.script && !traffic) {
       traffic = drive_map_->observe(f.vehicles, sizes_);
+      traffic->lights = &lights_;
+    }
     sim::ControlsMsg c;
     c.vehicle = i;
     if (d.script) {

@@ -100,6 +100,19 @@ class SimSession {
     return map_ ? std::shared_ptr<const map::odr::RoadNetwork>(map_, &map_->network()) : nullptr;
   }
   const wire::sim::StateFrame* latest() const { return latest_ ? &*latest_ : nullptr; }
+  /// One junction's traffic lights as the latest SignalStates gave them (issue 34).
+  struct JunctionSignals {
+    std::int64_t world_time_ms = 0;                   ///< of the step the states are from
+    std::vector<wire::sim::SignalGroupState> groups;  ///< ascending by signal group
+  };
+  /// The latest signal states by IntersectionID (the OpenDRIVE junction id), for the views.
+  const std::map<std::uint16_t, JunctionSignals>& signals() const { return signals_; }
+  /// The same as the scripted drivers read them (each state frame's Traffic points here).
+  const TrafficLights& lights() const { return lights_; }
+  /// How many SignalStates arrived (on any connection): a view copies them when it changes.
+  std::uint64_t signal_updates() const { return signal_updates_; }
+  /// Every junction's groups of the latest SignalStates, ascending by (intersection, group).
+  std::vector<wire::sim::SignalGroupState> signal_groups() const;
   /// Indices (Welcome order) of the vehicles this connection drives.
   std::vector<std::uint16_t> driven() const;
   /// Whether the vehicle at @p index is driven by the human input (not a script).
@@ -110,6 +123,9 @@ class SimSession {
   void set_frame_observer(std::function<void(const wire::sim::StateFrame&)> f) {
     frame_observer_ = std::move(f);
   }
+  /// Where every SignalStates goes on to the emulator (issue 34); null: nowhere. Set on the
+  /// clients that forward vehicle states.
+  void set_signal_forwarder(SignalForwarder* f) { signal_forwarder_ = f; }
 
  private:
   struct Driven {
@@ -132,6 +148,7 @@ class SimSession {
   SessionOptions options_;
   Send send_;
   StateForwarder* forwarder_;
+  SignalForwarder* signal_forwarder_ = nullptr;
   std::vector<wire::VehicleState> tick_states_;  ///< the driven vehicles' states of one frame
   wire::sim::ControlsBatch batch_;               ///< the driven vehicles' controls of one frame
   trace::Tracer& tracer_;
@@ -143,6 +160,9 @@ class SimSession {
   std::unique_ptr<DriveMap> drive_map_;  ///< what the scripted drivers share about the map
   std::vector<VehicleSize> sizes_;       ///< of the scenario's vehicles, for Traffic
   std::optional<wire::sim::StateFrame> latest_;
+  std::map<std::uint16_t, JunctionSignals> signals_;
+  TrafficLights lights_;
+  std::uint64_t signal_updates_ = 0;
   std::map<std::uint16_t, Driven> driven_;
   DriverCommand human_;
   std::int64_t human_sampled_ns_ = 0;

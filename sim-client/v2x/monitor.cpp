@@ -54,6 +54,58 @@ std::string text(const json& obj, const char* key) {
   return it != obj.end() && it->is_string() ? it->get<std::string>() : std::string();
 }
 
+/// A finite number, or empty when absent; @p bad is set when present but not one.
+std::optional<double> number(const json& obj, const char* key, bool& bad) {
+  const auto it = obj.find(key);
+  if (it == obj.end())
+    return std::nullopt;
+  if (!it->is_number() || !std::isfinite(it->get<double>())) {
+    bad = true;
+    return std::nullopt;
+  }
+  return it->get<double>();
+}
+
+/// A number or null (the contract's "number|null"); @p bad when neither or absent.
+std::optional<double> number_or_null(const json& obj, const char* key, bool& bad) {
+  const auto it = obj.find(key);
+  if (it != obj.end() && it->is_null())
+    return std::nullopt;
+  if (it == obj.end())
+    bad = true;
+  return number(obj, key, bad);
+}
+
+/// An integer in [lo, hi].
+std::optional<std::uint32_t> id_in(const json& obj, const char* key, std::int64_t lo,
+                                   std::int64_t hi) {
+  const auto v = integer(obj, key);
+  if (!v || *v < lo || *v > hi)
+    return std::nullopt;
+  return static_cast<std::uint32_t>(*v);
+}
+
+// ISO TS 19091 DSRC MovementPhaseState (0..9), as the contract spells its names.
+constexpr std::string_view kMovementPhaseStates[] = {"unavailable",
+                                                     "dark",
+                                                     "stop-Then-Proceed",
+                                                     "stop-And-Remain",
+                                                     "pre-Movement",
+                                                     "permissive-Movement-Allowed",
+                                                     "protected-Movement-Allowed",
+                                                     "permissive-clearance",
+                                                     "protected-clearance",
+                                                     "caution-Conflicting-Traffic"};
+
+// The DSRC ranges (ISO TS 19091): IntersectionID 0..65535, SignalGroupID and LaneID 0..255.
+constexpr std::int64_t kMaxIntersectionId = 65535;
+constexpr std::int64_t kMaxSignalGroup = 255;
+constexpr std::int64_t kMaxLaneId = 255;
+// Times of change are within the TimeMark's hour; distances within a MapData's reach.
+constexpr double kMaxAbsSeconds = 3600.0;
+constexpr double kMaxAbsMetres = 100000.0;
+constexpr double kMaxSpeedKmh = 500.0;
+
 bool more_urgent(const LcrwAlert& a, const LcrwAlert& b) {
   const double inf = std::numeric_limits<double>::infinity();
   return a.ttc_s.value_or(inf) < b.ttc_s.value_or(inf);
@@ -68,6 +120,46 @@ std::optional<double> relevance_radius_m(std::int64_t relevance_distance) {
   return kRadius[relevance_distance];
 }
 
+std::string_view to_string(SignalLight l) {
+  switch (l) {
+    case SignalLight::kUnavailable:
+      return "unavailable";
+    case SignalLight::kDark:
+      return "dark";
+    case SignalLight::kRed:
+      return "red";
+    case SignalLight::kRedAmber:
+      return "red_amber";
+    case SignalLight::kAmber:
+      return "amber";
+    case SignalLight::kGreen:
+      return "green";
+  }
+  return "unavailable";
+}
+
+std::optional<SignalLight> parse_signal_light(std::string_view text) {
+  for (const SignalLight l : {SignalLight::kUnavailable, SignalLight::kDark, SignalLight::kRed,
+                              SignalLight::kRedAmber, SignalLight::kAmber, SignalLight::kGreen})
+    if (to_string(l) == text)
+      return l;
+  return std::nullopt;
+}
+
+const LaneSignal* V2xPicture::signal_for(std::uint32_t station) const {
+  for (const auto& s : signals)
+    if (s.station == station)
+      return &s;
+  return nullptr;
+}
+
+const RlvwAlert* V2xPicture::rlvw_for(std::uint32_t station) const {
+  for (const auto& r : rlvw)
+    if (r.station == station)
+      return &r;
+  return nullptr;
+}
+
 const LcrwAlert* V2xPicture::alert_for(std::uint32_t station) const {
   // alerts are sorted most urgent first.
   for (const auto& a : alerts)
@@ -79,7 +171,10 @@ const LcrwAlert* V2xPicture::alert_for(std::uint32_t station) const {
 V2xMonitor::V2xMonitor(MonitorConfig cfg) : cfg_(std::move(cfg)) {}
 
 std::vector<std::string> V2xMonitor::subscriptions() const {
-  return {cfg_.prefix + "/+/app/lcrw", cfg_.prefix + "/+/in/cam/+", cfg_.prefix + "/+/in/denm/+"};
+  // Every station's, as for LCRW: the view shows the followed car's when watching, and [ ]
+  // switches cars without a new subscription.
+  return {cfg_.prefix + "/+/app/lcrw", cfg_.prefix + "/+/in/cam/+", cfg_.prefix + "/+/in/denm/+",
+          cfg_.prefix + "/+/app/signal", cfg_.prefix + "/+/app/rlvw"};
 }
 
 bool V2xMonitor::reject(std::string_view topic, std::string why) {
@@ -100,6 +195,10 @@ bool V2xMonitor::on_message(std::string_view topic, std::string_view payload,
   bool ok = false;
   if (parts.size() == 4 && parts[2] == "app" && parts[3] == "lcrw") {
     ok = on_lcrw(*station, payload, now);
+  } else if (parts.size() == 4 && parts[2] == "app" && parts[3] == "signal") {
+    ok = on_signal(*station, payload, now);
+  } else if (parts.size() == 4 && parts[2] == "app" && parts[3] == "rlvw") {
+    ok = on_rlvw(*station, payload, now);
   } else if (parts.size() == 5 && parts[2] == "in" && parts[3] == "cam") {
     const auto source = station_id(parts[4]);
     if (!source)
@@ -240,6 +339,158 @@ bool V2xMonitor::on_denm(std::string_view payload, clock::SteadyTime now) {
   return true;
 }
 
+bool V2xMonitor::on_signal(std::uint32_t station, std::string_view payload, clock::SteadyTime now) {
+  const json doc = json::parse(payload, nullptr, false);
+  const json* m = message_of(doc);
+  if (m == nullptr) {
+    last_error_ = doc.is_discarded() ? "not JSON" : "not a signal envelope (no \"message\" object)";
+    return false;
+  }
+  // The station left the ingress lane: one message with "lane": null (issue 34's contract);
+  // a null lane_id is read the same way.
+  const auto lane = m->find("lane");
+  const auto lane_id_it = m->find("lane_id");
+  if ((lane != m->end() && lane->is_null()) || (lane_id_it != m->end() && lane_id_it->is_null())) {
+    signals_.erase(station);
+    return true;
+  }
+  LaneSignal s;
+  s.station = station;
+  const auto ix = id_in(*m, "intersection_id", 0, kMaxIntersectionId);
+  const auto group = id_in(*m, "signal_group", 0, kMaxSignalGroup);
+  const auto lane_id = id_in(*m, "lane_id", 0, kMaxLaneId);
+  if (!ix || !group || !lane_id) {
+    last_error_ = fmt::format("message.{}: missing or outside its DSRC range",
+                              !ix      ? "intersection_id (0..65535)"
+                              : !group ? "signal_group (0..255)"
+                                       : "lane_id (0..255)");
+    return false;
+  }
+  s.intersection_id = *ix;
+  s.signal_group = *group;
+  s.lane_id = *lane_id;
+  const std::string state = text(*m, "state");
+  const auto light = parse_signal_light(state);
+  if (!light) {
+    last_error_ = fmt::format(
+        "message.state: '{}' is not red, red_amber, amber, green, dark or unavailable", state);
+    return false;
+  }
+  s.light = *light;
+  s.event_state = text(*m, "event_state");
+  if (std::find(std::begin(kMovementPhaseStates), std::end(kMovementPhaseStates), s.event_state) ==
+      std::end(kMovementPhaseStates)) {
+    last_error_ =
+        fmt::format("message.event_state: '{}' is not a DSRC MovementPhaseState", s.event_state);
+    return false;
+  }
+  bool bad = false;
+  s.time_to_change_s = number_or_null(*m, "time_to_change_s", bad);
+  if (bad || (s.time_to_change_s && std::abs(*s.time_to_change_s) > kMaxAbsSeconds)) {
+    last_error_ = "message.time_to_change_s: not a number of seconds within the hour, nor null";
+    return false;
+  }
+  // Optional in practice: a station without a likelyTime may leave it out.
+  if (const auto it = m->find("likely_time_to_change_s"); it != m->end() && !it->is_null())
+    s.likely_time_to_change_s = number(*m, "likely_time_to_change_s", bad);
+  if (bad || (s.likely_time_to_change_s && std::abs(*s.likely_time_to_change_s) > kMaxAbsSeconds)) {
+    last_error_ =
+        "message.likely_time_to_change_s: not a number of seconds within the hour, nor null";
+    return false;
+  }
+  bad = false;
+  const auto distance = number(*m, "distance_to_stop_line_m", bad);
+  if (!distance || std::abs(*distance) > kMaxAbsMetres) {
+    last_error_ = "message.distance_to_stop_line_m: missing or not a distance in metres";
+    return false;
+  }
+  s.distance_to_stop_line_m = *distance;
+  if (const auto a = m->find("advice"); a != m->end() && !a->is_null()) {
+    // -1: missing or not a number, which the range check refuses.
+    const double lo = a->is_object() ? number(*a, "min_speed_kmh", bad).value_or(-1.0) : -1.0;
+    const double hi = a->is_object() ? number(*a, "max_speed_kmh", bad).value_or(-1.0) : -1.0;
+    if (lo < 0.0 || lo > hi || hi > kMaxSpeedKmh) {
+      last_error_ =
+          "message.advice: not null nor {min_speed_kmh, max_speed_kmh} with 0 <= min <= max";
+      return false;
+    }
+    s.advice = SpeedAdvice{lo, hi};
+  }
+  if (const auto r = m->find("rlvw"); r != m->end()) {
+    if (!r->is_boolean()) {
+      last_error_ = "message.rlvw: not true or false";
+      return false;
+    }
+    s.rlvw = r->get<bool>();
+  }
+  signals_[station] = Signal{std::move(s), now};
+  if (signals_.size() > 4096)
+    std::erase_if(signals_,
+                  [&](const auto& kv) { return now - kv.second.received > cfg_.signal_timeout; });
+  return true;
+}
+
+bool V2xMonitor::on_rlvw(std::uint32_t station, std::string_view payload, clock::SteadyTime now) {
+  const json doc = json::parse(payload, nullptr, false);
+  const json* m = message_of(doc);
+  if (m == nullptr) {
+    last_error_ =
+        doc.is_discarded() ? "not JSON" : "not an rlvw_warning envelope (no \"message\" object)";
+    return false;
+  }
+  const std::string event = text(*m, "event");
+  if (event != "raised" && event != "updated" && event != "cleared") {
+    last_error_ = fmt::format("message.event: '{}' is not raised, updated or cleared", event);
+    return false;
+  }
+  RlvwAlert a;
+  a.station = station;
+  const auto ix = id_in(*m, "intersection_id", 0, kMaxIntersectionId);
+  const auto group = id_in(*m, "signal_group", 0, kMaxSignalGroup);
+  if (!ix || !group) {
+    last_error_ = fmt::format("message.{}: missing or outside its DSRC range",
+                              !ix ? "intersection_id (0..65535)" : "signal_group (0..255)");
+    return false;
+  }
+  a.intersection_id = *ix;
+  a.signal_group = *group;
+  if (event == "cleared") {
+    // Only the warning it names: a late clear of a former lane leaves a newer warning up.
+    const auto it = rlvw_.find(station);
+    if (it != rlvw_.end() && it->second.alert.intersection_id == a.intersection_id &&
+        it->second.alert.signal_group == a.signal_group)
+      rlvw_.erase(it);
+    return true;
+  }
+  const auto lane_id = id_in(*m, "lane_id", 0, kMaxLaneId);
+  if (!lane_id) {
+    last_error_ = "message.lane_id: missing or outside its DSRC range (0..255)";
+    return false;
+  }
+  a.lane_id = *lane_id;
+  bool bad = false;
+  const auto distance = number(*m, "distance_to_stop_line_m", bad);
+  const auto speed = number(*m, "speed_mps", bad);
+  const auto stopping = number(*m, "stopping_distance_m", bad);
+  a.time_to_red_s = number_or_null(*m, "time_to_red_s", bad);
+  if (bad || !distance || !speed || !stopping || std::abs(*distance) > kMaxAbsMetres ||
+      *speed < 0.0 || *speed > kMaxSpeedKmh / 3.6 || *stopping < 0.0 || *stopping > kMaxAbsMetres ||
+      (a.time_to_red_s && std::abs(*a.time_to_red_s) > kMaxAbsSeconds)) {
+    last_error_ =
+        "message: distance_to_stop_line_m, speed_mps, stopping_distance_m or time_to_red_s "
+        "missing or out of range";
+    return false;
+  }
+  a.distance_to_stop_line_m = *distance;
+  a.speed_mps = *speed;
+  a.stopping_distance_m = *stopping;
+  rlvw_[station] = Rlvw{a, now};
+  if (rlvw_.size() > 4096)
+    std::erase_if(rlvw_,
+                  [&](const auto& kv) { return now - kv.second.received > cfg_.rlvw_timeout; });
+  return true;
+}
+
 V2xPicture V2xMonitor::picture(clock::SteadyTime now) const {
   std::lock_guard lock(mu_);
   V2xPicture p;
@@ -253,6 +504,28 @@ V2xPicture V2xMonitor::picture(clock::SteadyTime now) const {
   for (const auto& [key, d] : denms_)
     if (now < d.expires)
       p.denms.push_back(d.event);
+  // Times to a change count from the message's receipt: aged to now, so that a countdown
+  // runs on between messages (at most 10 a second, maybe far fewer).
+  const auto aged = [&](std::optional<double>& t, clock::SteadyTime received) {
+    if (t)
+      *t -= std::chrono::duration<double>(now - received).count();
+  };
+  for (const auto& [station, s] : signals_) {
+    if (now - s.received > cfg_.signal_timeout)
+      continue;
+    LaneSignal sig = s.signal;
+    aged(sig.time_to_change_s, s.received);
+    aged(sig.likely_time_to_change_s, s.received);
+    p.signals.push_back(std::move(sig));
+  }
+  for (const auto& [station, r] : rlvw_) {
+    const LaneSignal* lane = p.signal_for(station);
+    if (now - r.received <= cfg_.rlvw_timeout || (lane != nullptr && lane->rlvw)) {
+      RlvwAlert a = r.alert;
+      aged(a.time_to_red_s, r.received);
+      p.rlvw.push_back(a);
+    }
+  }
   return p;
 }
 

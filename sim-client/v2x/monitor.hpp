@@ -1,7 +1,8 @@
 #pragma once
 /// @file What the stations publish on MQTT (its-station/apps/README.md, "Topic tree"), as the
 /// driver's view needs it: LCRW warnings per station, which station heard whose CAM in the
-/// last second (the V2X links), and the DENM events in force. Pure logic: messages and time
+/// last second (the V2X links), the DENM events in force, and (issue 34) the signal of each
+/// station's own lane and its red-light violation warning (RLVW). Pure logic: messages and time
 /// come from outside; thread-safe, because the MQTT network thread writes while the view's
 /// threads read.
 
@@ -56,12 +57,60 @@ struct DenmEvent {
 /// value outside the CDD.
 std::optional<double> relevance_radius_m(std::int64_t relevance_distance);
 
+/// A signal head's state as the `its/<id>/app/signal` message names it: the DSRC
+/// MovementPhaseState (ISO TS 19091) folded into what a driver sees.
+enum class SignalLight : std::uint8_t { kUnavailable, kDark, kRed, kRedAmber, kAmber, kGreen };
+/// "unavailable", "dark", "red", "red_amber", "amber", "green" (the MQTT contract's names).
+std::string_view to_string(SignalLight l);
+std::optional<SignalLight> parse_signal_light(std::string_view text);
+
+/// GLOSA: a speed range that reaches the stop line on green (km/h).
+struct SpeedAdvice {
+  double min_kmh = 0.0;
+  double max_kmh = 0.0;
+};
+
+/// The signal for a station's own ingress lane (`its/<id>/app/signal`, issue 34).
+struct LaneSignal {
+  std::uint32_t station = 0;
+  std::uint32_t intersection_id = 0;  ///< DSRC IntersectionReferenceID.id
+  std::uint32_t signal_group = 0;     ///< DSRC SignalGroupID
+  std::uint32_t lane_id = 0;          ///< DSRC LaneID
+  SignalLight light = SignalLight::kUnavailable;
+  std::string event_state;  ///< the DSRC MovementPhaseState name, e.g. "stop-And-Remain"
+  /// minEndTime − now and likelyTime − now; in a picture, aged by the time since receipt.
+  std::optional<double> time_to_change_s;
+  std::optional<double> likely_time_to_change_s;
+  double distance_to_stop_line_m = 0.0;
+  std::optional<SpeedAdvice> advice;
+  bool rlvw = false;  ///< the station's RLVW is active (the message's own flag)
+};
+
+/// An active red-light violation warning (`its/<id>/app/rlvw`, TS 103 301's RLVW use case).
+struct RlvwAlert {
+  std::uint32_t station = 0;
+  std::uint32_t intersection_id = 0;
+  std::uint32_t signal_group = 0;
+  std::uint32_t lane_id = 0;
+  double distance_to_stop_line_m = 0.0;
+  double speed_mps = 0.0;
+  /// Empty: the payload's null (red already, or unknown); in a picture, aged since receipt.
+  std::optional<double> time_to_red_s;
+  double stopping_distance_m = 0.0;
+};
+
 struct V2xPicture {
   std::vector<LcrwAlert> alerts;  ///< every station's, most urgent first
   std::vector<V2xLink> links;
   std::vector<DenmEvent> denms;
+  std::vector<LaneSignal> signals;  ///< fresh ones only, by station
+  std::vector<RlvwAlert> rlvw;      ///< active ones, by station
   /// The most urgent warning of @p station (smallest TTC), if it has one.
   const LcrwAlert* alert_for(std::uint32_t station) const;
+  /// The own lane's signal of @p station, while fresh.
+  const LaneSignal* signal_for(std::uint32_t station) const;
+  /// The red-light warning of @p station, while active.
+  const RlvwAlert* rlvw_for(std::uint32_t station) const;
 };
 
 struct MonitorConfig {
@@ -73,6 +122,12 @@ struct MonitorConfig {
   clock::Duration warning_timeout = std::chrono::seconds{2};
   /// Upper bound for a DENM's validityDuration when it gives none (CDD default 600 s).
   clock::Duration denm_default_validity = std::chrono::seconds{600};
+  /// A lane signal shows while its last message is at most this old (the station publishes
+  /// it at up to 10 Hz while on an ingress lane, issue 34).
+  clock::Duration signal_timeout = std::chrono::seconds{1};
+  /// An RLVW warning neither updated nor cleared for this long is dropped, as LCRW's; a fresh
+  /// lane signal whose `rlvw` flag is set keeps it up meanwhile.
+  clock::Duration rlvw_timeout = std::chrono::seconds{2};
 };
 
 class V2xMonitor {
@@ -104,6 +159,8 @@ class V2xMonitor {
   bool on_lcrw(std::uint32_t station, std::string_view payload, clock::SteadyTime now);
   bool on_cam(std::uint32_t station, std::uint32_t source, clock::SteadyTime now);
   bool on_denm(std::string_view payload, clock::SteadyTime now);
+  bool on_signal(std::uint32_t station, std::string_view payload, clock::SteadyTime now);
+  bool on_rlvw(std::uint32_t station, std::string_view payload, clock::SteadyTime now);
   bool reject(std::string_view topic, std::string why);
 
   MonitorConfig cfg_;
@@ -111,6 +168,16 @@ class V2xMonitor {
   std::map<std::pair<std::uint32_t, std::uint32_t>, Warning> warnings_;  ///< (station, other)
   std::map<std::pair<std::uint32_t, std::uint32_t>, clock::SteadyTime> heard_;  ///< (from, to)
   std::map<std::pair<std::uint32_t, std::uint32_t>, Denm> denms_;  ///< (originator, sequence)
+  struct Signal {
+    LaneSignal signal;
+    clock::SteadyTime received{};
+  };
+  std::map<std::uint32_t, Signal> signals_;  ///< by station
+  struct Rlvw {
+    RlvwAlert alert;
+    clock::SteadyTime received{};
+  };
+  std::map<std::uint32_t, Rlvw> rlvw_;  ///< by station: one own lane, one warning
   std::uint64_t accepted_ = 0;
   std::uint64_t rejected_ = 0;
   std::string last_error_;

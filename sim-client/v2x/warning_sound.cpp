@@ -8,12 +8,23 @@
 
 namespace tb::client::v2x {
 
+Alarm alarm_for(const V2xPicture& picture, std::uint32_t station) {
+  const LcrwAlert* a = picture.alert_for(station);
+  if (a != nullptr && a->severity == "critical")
+    return Alarm::kCritical;
+  if (picture.rlvw_for(station) != nullptr)
+    return Alarm::kRedLight;
+  return a != nullptr ? Alarm::kWarning : Alarm::kOff;
+}
+
 WarningTone::Pattern WarningTone::pattern(Alarm a) {
   switch (a) {
     case Alarm::kCritical:
       return {1500.0, 0.08, 0.06};
     case Alarm::kWarning:
       return {1000.0, 0.15, 0.15};
+    case Alarm::kRedLight:
+      return {1250.0, 0.09, 0.36, 2, 0.06};
     case Alarm::kOff:
       break;
   }
@@ -34,14 +45,17 @@ void WarningTone::fill(std::span<std::int16_t> out) {
     return;
   }
   const Pattern p = pattern(alarm_);
-  const double period = p.on_s + p.off_s;
+  const double period = p.period_s();
   const double ramp = 0.005;  // 5 ms fade in and out
   for (auto& s : out) {
     const double t = static_cast<double>(n_++) / rate_;
     const double phase = std::fmod(t, period);
+    // Which beep of the group, and how far into it.
+    const int beep = static_cast<int>(phase / (p.on_s + p.gap_s));
+    const double in_beep = phase - beep * (p.on_s + p.gap_s);
     double gain = 0.0;
-    if (phase < p.on_s)
-      gain = std::min({1.0, phase / ramp, (p.on_s - phase) / ramp});
+    if (beep < p.beeps && in_beep < p.on_s)
+      gain = std::min({1.0, in_beep / ramp, (p.on_s - in_beep) / ramp});
     s = static_cast<std::int16_t>(
         std::lround(9000.0 * gain * std::sin(2.0 * std::numbers::pi * p.frequency_hz * t)));
   }

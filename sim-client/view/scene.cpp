@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <png.h>
 
+#include "common/map/opendrive/signal_layout.hpp"
 #include "sim-client/input/keyboard.hpp"
 #include "sim-client/view/font.hpp"
 
@@ -102,10 +103,79 @@ void SceneRenderer::draw_chunks(const std::vector<MapLayer::Chunk>& chunks) {
 void SceneRenderer::draw_map(const map::odr::RoadNetwork& net) {
   if (layer_of_ != &net) {
     layer_ = std::make_unique<MapLayer>(net);
+    markers_ = signal_markers(net);
     layer_of_ = &net;
   }
   draw_chunks(layer_->surfaces());
   draw_chunks(layer_->marks());
+}
+
+std::vector<SignalMarker> signal_markers(const map::odr::RoadNetwork& net) {
+  std::vector<SignalMarker> out;
+  try {
+    const map::odr::SignalLayout layout(net);
+    for (const map::odr::SignalApproach& a : layout.approaches())
+      out.push_back({a.stop.x, a.stop.y, a.stop.heading, a.intersection_id, a.signal_group});
+  } catch (const std::exception&) {
+    // Lights the layout refuses (the scenario loader refuses such a map first): no markers.
+  }
+  return out;
+}
+
+std::pair<SDL_Color, SDL_Color> marker_colours(std::optional<wire::sim::MovementPhaseState> s) {
+  using P = wire::sim::MovementPhaseState;
+  constexpr SDL_Color red{235, 30, 20, 255}, amber{255, 170, 0, 255}, green{30, 220, 90, 255},
+      dark{70, 70, 70, 255};
+  if (!s)
+    return {dark, dark};
+  switch (*s) {
+    case P::kStopAndRemain:
+    case P::kStopThenProceed:
+      return {red, red};
+    case P::kPreMovement:
+      return {red, amber};
+    case P::kPermissiveClearance:
+    case P::kProtectedClearance:
+    case P::kCautionConflictingTraffic:
+      return {amber, amber};
+    case P::kPermissiveMovementAllowed:
+    case P::kProtectedMovementAllowed:
+      return {green, green};
+    case P::kUnavailable:
+    case P::kDark:
+      break;
+  }
+  return {dark, dark};
+}
+
+void SceneRenderer::draw_signals(const std::vector<wire::sim::SignalGroupState>& states) {
+  const double reach = std::hypot(width_, height_) / pixels_per_metre;
+  for (const SignalMarker& m : markers_) {
+    if (std::abs(m.x - cam_.x) > reach || std::abs(m.y - cam_.y) > reach)
+      continue;
+    std::optional<wire::sim::MovementPhaseState> state;
+    for (const auto& g : states)
+      if (g.intersection_id == m.intersection_id && g.signal_group == m.signal_group)
+        state = g.state;
+    const auto [far, near] = marker_colours(state);
+    // A square on the lane centred on the stop line, in a black frame so that it reads on any
+    // asphalt; red + amber splits it across the lane.
+    const double c = std::cos(m.heading), sn = std::sin(m.heading);
+    const auto square = [&](double a0, double a1, double half, Point(&q)[4]) {
+      const double along[4] = {a0, a1, a1, a0};
+      const double across[4] = {-half, -half, half, half};
+      for (int i = 0; i < 4; ++i)
+        q[i] = {m.x + along[i] * c - across[i] * sn, m.y + along[i] * sn + across[i] * c};
+    };
+    const double h = kMarkerSize / 2;
+    Point q[4];
+    square(-h - 0.2, h + 0.2, h + 0.2, q);
+    quad(q, SDL_Color{0, 0, 0, 255});
+    square(-h, 0.0, h, q);
+    quad(q, near);
+    square(0.0, h, h, q);
+    quad(q, far);
+  }
 }
 
 void SceneRenderer::draw_vehicle(const ViewVehicle& v) {
@@ -282,8 +352,10 @@ void SceneRenderer::draw(const ViewScene& scene) {
   SDL_SetRenderDrawBlendMode(r_, SDL_BLENDMODE_NONE);
   SDL_SetRenderDrawColor(r_, kGrass.r, kGrass.g, kGrass.b, 255);
   SDL_RenderClear(r_);
-  if (scene.network != nullptr)
+  if (scene.network != nullptr) {
     draw_map(*scene.network);
+    draw_signals(scene.signals);
+  }
   for (const auto& v : scene.vehicles) {
     if (!v.own)
       draw_vehicle(v);

@@ -8,11 +8,13 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <SDL.h>
 
 #include "common/map/opendrive/road_network.hpp"
+#include "common/wire/sim_protocol.hpp"
 #include "common/wire/vehicle_state.hpp"
 #include "sim-client/view/map_layer.hpp"
 
@@ -34,7 +36,26 @@ struct ViewScene {
   std::string connection;  ///< connection status line
   std::string input;       ///< input status line ("keyboard", "controller ...")
   bool help = false;       ///< show the key map
+  /// The traffic lights (every junction's groups of the latest SignalStates): a marker at each
+  /// signalised approach's stop line in its group's colour (issue 34).
+  std::vector<wire::sim::SignalGroupState> signals;
 };
+
+/// One signalised approach's marker: on the lane's centre at the stop line (map frame), which
+/// light it shows.
+struct SignalMarker {
+  double x = 0.0, y = 0.0;
+  double heading = 0.0;  ///< rad, the direction of travel
+  std::uint16_t intersection_id = 0;
+  int signal_group = 0;
+};
+/// The markers of @p net's SignalLayout approaches; none when the layout refuses the map.
+std::vector<SignalMarker> signal_markers(const map::odr::RoadNetwork& net);
+
+/// The colours a marker shows for a state, far half then near half (the same for all but
+/// red + amber: red beyond amber, as the lamps stand in a head): red, amber, green, or dark
+/// grey when the light is dark, unavailable or not in the message.
+std::pair<SDL_Color, SDL_Color> marker_colours(std::optional<wire::sim::MovementPhaseState> state);
 
 /// "#rrggbb" to a colour; empty for anything else.
 std::optional<SDL_Color> parse_colour(const std::string& text);
@@ -52,6 +73,10 @@ class SceneRenderer {
   /// Where the own car sits on screen (centre horizontally, a little below the middle so
   /// that more of the road ahead shows).
   SDL_FPoint anchor() const { return {width_ / 2.0f, height_ * 0.6f}; }
+  /// Where a map point was drawn in the last frame (window pixels, origin top left).
+  SDL_FPoint screen_of(double x, double y) const { return to_screen(x, y); }
+  /// A marker's side (m); 1.4 m is 11 px at the default scale.
+  static constexpr double kMarkerSize = 1.4;
   double pixels_per_metre = 8.0;
 
  private:
@@ -66,6 +91,7 @@ class SceneRenderer {
   void draw_map(const map::odr::RoadNetwork& net);
   void draw_chunks(const std::vector<MapLayer::Chunk>& chunks);
   void draw_vehicle(const ViewVehicle& v);
+  void draw_signals(const std::vector<wire::sim::SignalGroupState>& states);
   void draw_hud(const ViewScene& scene, const ViewVehicle* own);
   void text(int x, int y, std::string_view s, int scale, SDL_Color c);
   void bar(int x, int y, int w, int h, double from, double to, SDL_Color c);
@@ -75,7 +101,8 @@ class SceneRenderer {
   Camera cam_;
   std::unique_ptr<MapLayer> layer_;
   const map::odr::RoadNetwork* layer_of_ = nullptr;
-  std::vector<SDL_Vertex> screen_;  ///< reused each frame
+  std::vector<SignalMarker> markers_;  ///< of layer_of_
+  std::vector<SDL_Vertex> screen_;     ///< reused each frame
 };
 
 /// Where the view is drawn: a window, or an off-screen surface (--headless --screenshot).

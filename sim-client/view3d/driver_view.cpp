@@ -292,6 +292,10 @@ void DriverView::build_world(const World& w) {
     roads_->addChild(make_road_node(*w.network, &road_stats_));
     roads_->addChild(make_junction_marks_node(*w.network));
     roads_->addChild(make_road_objects_node(*w.network));
+    signal_heads_ = std::make_unique<SignalHeadsNode>(*w.network);
+    roads_->addChild(signal_heads_->node());
+  } else {
+    signal_heads_.reset();
   }
   cars_->removeChildren(0, cars_->getNumChildren());
   vehicles_.clear();
@@ -317,6 +321,8 @@ void DriverView::render(const FrameInput& in, double dt_s) {
     vehicles_[i]->set_own(static_cast<int>(i) == in.own);
     vehicles_[i]->update(in.vehicles[i]);
   }
+  if (signal_heads_)
+    signal_heads_->update(in.signals, in.sim_time_ns);
 
   // Who the camera follows: the chosen target, else the own car, else the first.
   int subject = in.choice.target;

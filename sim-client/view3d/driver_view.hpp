@@ -21,6 +21,7 @@
 #include "sim-client/view3d/hud.hpp"
 #include "sim-client/view3d/overlay.hpp"
 #include "sim-client/view3d/road_node.hpp"
+#include "sim-client/view3d/signal_heads_node.hpp"
 #include "sim-client/view3d/vehicle_node.hpp"
 
 namespace tb::client::view3d {
@@ -59,6 +60,8 @@ class DriverView {
   const V2xOverlay& overlay() const { return *overlay_; }
   const std::vector<std::unique_ptr<VehicleNode>>& vehicles() const { return vehicles_; }
   const RoadNodeStats& road_stats() const { return road_stats_; }
+  /// The traffic lights of the world drawn last; null before a world with a network.
+  const SignalHeadsNode* signal_heads() const { return signal_heads_.get(); }
 
  private:
   class Capture;
@@ -76,6 +79,7 @@ class DriverView {
   std::unique_ptr<Hud> hud_;
   std::unique_ptr<V2xOverlay> overlay_;
   std::vector<std::unique_ptr<VehicleNode>> vehicles_;
+  std::unique_ptr<SignalHeadsNode> signal_heads_;
   std::array<std::unique_ptr<CameraRig>, kCameraModes> rigs_;
   MirrorCamera mirror_rig_;
   RoadNodeStats road_stats_;

@@ -25,6 +25,11 @@ void ViewFeed::set_view(int own, const ViewChoice& choice, const HudStatus& stat
   status_ = status;
 }
 
+void ViewFeed::set_signals(std::vector<wire::sim::SignalGroupState> signals) {
+  std::lock_guard lock(mu_);
+  signals_ = std::move(signals);
+}
+
 FrameInput ViewFeed::frame_at(clock::SteadyTime now, double fps) const {
   FrameInput in;
   {
@@ -33,6 +38,7 @@ FrameInput ViewFeed::frame_at(clock::SteadyTime now, double fps) const {
     in.own = own_;
     in.choice = choice_;
     in.status = status_;
+    in.signals = signals_;
     if (auto s = interpolator_.sample(now)) {
       in.vehicles = std::move(s->vehicles);
       in.sim_time_ns = s->sim_time_ns;

@@ -24,6 +24,8 @@ class ViewFeed {
   std::shared_ptr<const World> world() const;
   void push_frame(const wire::sim::StateFrame& frame, clock::SteadyTime arrival);
   void set_view(int own, const ViewChoice& choice, const HudStatus& status);
+  /// The latest traffic lights (every junction's groups), drawn from the next frame on.
+  void set_signals(std::vector<wire::sim::SignalGroupState> signals);
 
   /// What to draw at @p now. @p fps is the render thread's measured rate, for the HUD.
   FrameInput frame_at(clock::SteadyTime now, double fps) const;
@@ -36,6 +38,7 @@ class ViewFeed {
   int own_ = -1;
   ViewChoice choice_;
   HudStatus status_;
+  std::vector<wire::sim::SignalGroupState> signals_;
 };
 
 }  // namespace tb::client::view3d

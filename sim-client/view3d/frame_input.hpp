@@ -11,6 +11,7 @@
 
 #include "common/geodesy/local_frame.hpp"
 #include "common/map/opendrive/road_network.hpp"
+#include "common/wire/sim_protocol.hpp"
 #include "common/wire/vehicle_state.hpp"
 #include "sim-client/v2x/monitor.hpp"
 
@@ -71,6 +72,8 @@ struct FrameInput {
   std::shared_ptr<const World> world;
   std::vector<wire::VehicleState> vehicles;  ///< interpolated, Welcome order
   std::int64_t sim_time_ns = 0;
+  /// The traffic lights: every junction's signal groups as the latest SignalStates gave them.
+  std::vector<wire::sim::SignalGroupState> signals;
   int own = -1;  ///< the vehicle this client's input drives; -1 when watching
   ViewChoice choice;
   HudStatus status;

@@ -106,6 +106,21 @@ void Shapes2D::frame(float x, float y, float w, float h, float width, const osg:
   rect(x + w, y, width, h, c);
 }
 
+void Shapes2D::disc(float cx, float cy, float r, const osg::Vec4& c, int segments) {
+  for (int i = 0; i < segments; ++i) {
+    const double a0 = 2.0 * std::numbers::pi * i / segments;
+    const double a1 = 2.0 * std::numbers::pi * (i + 1) / segments;
+    for (const osg::Vec3& p : {osg::Vec3(cx, cy, 0),
+                               osg::Vec3(cx + r * static_cast<float>(std::cos(a0)),
+                                         cy + r * static_cast<float>(std::sin(a0)), 0),
+                               osg::Vec3(cx + r * static_cast<float>(std::cos(a1)),
+                                         cy + r * static_cast<float>(std::sin(a1)), 0)}) {
+      v_->push_back(p);
+      c_->push_back(c);
+    }
+  }
+}
+
 void Shapes2D::finish() {
   draw_->setCount(static_cast<GLsizei>(v_->size()));
   v_->dirty();
@@ -268,16 +283,24 @@ void Hud::dashboard(const wire::VehicleState& s, float k, int width) {
        13 * k, beams ? kBlue : osg::Vec4(0.25f, 0.25f, 0.28f, 1), Align::CENTER_BASE_LINE);
 }
 
-void Hud::warning(const FrameInput& in, int subject, float k, int width, int height,
-                  const Rect* mirror) {
-  banner_.clear();
+std::optional<std::uint32_t> Hud::warned_station(const FrameInput& in, int subject) const {
   if (!in.v2x_enabled)
-    return;
+    return std::nullopt;
   // The driver's own HMI, whichever car the camera shows; the followed car's when watching.
   const int warned = in.own >= 0 ? in.own : subject;
   if (!in.world || warned < 0 || static_cast<std::size_t>(warned) >= in.world->vehicles.size())
+    return std::nullopt;
+  return in.world->vehicles[static_cast<std::size_t>(warned)].station_id;
+}
+
+void Hud::warning(const FrameInput& in, int subject, float k, int width, int height,
+                  const Rect* mirror) {
+  banner_.clear();
+  const auto station_id = warned_station(in, subject);
+  if (!station_id)
     return;
-  const std::uint32_t station = in.world->vehicles[static_cast<std::size_t>(warned)].station_id;
+  const std::uint32_t station = *station_id;
+  const int warned = in.own >= 0 ? in.own : subject;
   const v2x::LcrwAlert* a = in.v2x.alert_for(station);
   if (a == nullptr)
     return;
@@ -303,6 +326,87 @@ void Hud::warning(const FrameInput& in, int subject, float k, int width, int hei
   back_.frame(static_cast<float>(banner_rect_.x), static_cast<float>(banner_rect_.y), bw, bh, 3 * k,
               osg::Vec4(1, 0.85f, 0.2f, 1));
   text("banner", "⚠ " + banner_, width / 2.0f, banner_rect_.y + bh / 2, 24 * k, kWhite,
+       Align::CENTER_CENTER, Font::kBold);
+}
+
+void Hud::signal_panel(const FrameInput& in, int subject, float k, int width, int height) {
+  signal_.reset();
+  const auto station = warned_station(in, subject);
+  if (!station)
+    return;
+  signal_ = v2x::signal_panel(in.v2x, *station);
+  if (!signal_)
+    return;
+  const v2x::SignalPanel& p = *signal_;
+  // On the right, its top 282 px (of 720) under the window's: below the mirror and both
+  // banners stacked under it (the lower one ends 266 px down), above the status lines
+  // (bottom right) and clear of the instruments (bottom left).
+  const float pw = 236 * k, ph = 172 * k;
+  const float x0 = width - 14 * k - pw, y0 = height - 282 * k - ph;
+  signal_rect_ = {static_cast<int>(x0), static_cast<int>(y0), static_cast<int>(pw),
+                  static_cast<int>(ph)};
+  back_.rect(x0, y0, pw, ph, kPanel);
+  // The icon: a housing with three lamps, lit in the colours of a real head, unlit ones dark;
+  // dark and unavailable leave all three grey.
+  const float hx = x0 + 10 * k, hy = y0 + 10 * k, hw = 56 * k, hh = ph - 20 * k;
+  back_.rect(hx, hy, hw, hh, osg::Vec4(0.08f, 0.08f, 0.09f, 1));
+  back_.frame(hx, hy, hw, hh, 2 * k, osg::Vec4(0.3f, 0.3f, 0.32f, 1));
+  const bool off = p.light == v2x::SignalLight::kDark || p.light == v2x::SignalLight::kUnavailable;
+  const osg::Vec4 unlit = off ? osg::Vec4(0.42f, 0.42f, 0.44f, 1) : osg::Vec4(0.2f, 0.2f, 0.2f, 1);
+  const std::array<bool, 3> lit{p.red, p.amber, p.green};
+  const std::array<osg::Vec4, 3> colour{osg::Vec4(1.0f, 0.12f, 0.1f, 1),
+                                        osg::Vec4(1.0f, 0.72f, 0.0f, 1),
+                                        osg::Vec4(0.1f, 0.95f, 0.3f, 1)};
+  for (std::size_t i = 0; i < 3; ++i) {
+    lamps_[i] = {hx + hw / 2, hy + hh * (5.0f - 2.0f * static_cast<float>(i)) / 6.0f, 20 * k};
+    back_.disc(lamps_[i].x, lamps_[i].y, lamps_[i].r, lit[i] ? colour[i] : unlit);
+  }
+  const osg::Vec4 accent = p.green             ? colour[2]
+                           : p.amber && !p.red ? colour[1]
+                           : p.red             ? colour[0]
+                                               : kDim;
+  const float tx = x0 + 80 * k;
+  text("sig_caption", p.caption, tx, y0 + ph - 26 * k, 13 * k, osg::Vec4(0.8f, 0.8f, 0.82f, 1),
+       Align::LEFT_BASE_LINE);
+  text("sig_countdown", p.countdown.empty() ? "–" : p.countdown, tx, y0 + ph - 72 * k, 40 * k,
+       accent, Align::LEFT_BASE_LINE, Font::kBold);
+  text("sig_distance", p.distance + " to stop line", tx, y0 + 64 * k, 15 * k, kWhite,
+       Align::LEFT_BASE_LINE);
+  if (!p.advice.empty()) {
+    text("sig_advice_label", "speed for green", tx, y0 + 40 * k, 12 * k, kDim,
+         Align::LEFT_BASE_LINE);
+    text("sig_advice", p.advice, tx, y0 + 16 * k, 20 * k, kGreen, Align::LEFT_BASE_LINE,
+         Font::kBold);
+  }
+}
+
+void Hud::rlvw(const FrameInput& in, int subject, float k, int width, int height,
+               const Rect* mirror) {
+  rlvw_banner_.clear();
+  const auto station = warned_station(in, subject);
+  if (!station)
+    return;
+  rlvw_banner_ = v2x::rlvw_banner(in.v2x, *station);
+  if (rlvw_banner_.empty())
+    return;
+  if (in.own < 0)
+    rlvw_banner_ = fmt::format("{}: {}", *station, rlvw_banner_);
+  const float bw = std::min(820 * k, width - 40 * k), bh = 54 * k;
+  // Where the collision banner goes, or under it when both are up.
+  const float top = !banner_.empty()    ? banner_rect_.y - 10 * k
+                    : mirror != nullptr ? mirror->y - 14 * k
+                                        : height - 62 * k;
+  rlvw_banner_rect_ = {static_cast<int>((width - bw) / 2), static_cast<int>(top - bh),
+                       static_cast<int>(bw), static_cast<int>(bh)};
+  // Pulses (2 Hz) between two deep reds, slower than a critical collision warning's flash.
+  const bool pulse = std::fmod(static_cast<double>(in.sim_time_ns) * 1e-9, 0.5) < 0.25;
+  const osg::Vec4 fill =
+      pulse ? osg::Vec4(0.85f, 0.0f, 0.02f, 0.95f) : osg::Vec4(0.68f, 0.0f, 0.02f, 0.95f);
+  const float x = static_cast<float>(rlvw_banner_rect_.x),
+              y = static_cast<float>(rlvw_banner_rect_.y);
+  back_.rect(x, y, bw, bh, fill);
+  back_.frame(x, y, bw, bh, 3 * k, kWhite);
+  text("rlvw_banner", "⚠ " + rlvw_banner_, width / 2.0f, y + bh / 2, 24 * k, kWhite,
        Align::CENTER_CENTER, Font::kBold);
 }
 
@@ -365,6 +469,8 @@ void Hud::update(const FrameInput& in, int subject, int width, int height, const
     telemetry(in, *s, k);
   }
   warning(in, subject, k, width, height, mirror);
+  rlvw(in, subject, k, width, height, mirror);
+  signal_panel(in, subject, k, width, height);
 
   // Bottom right: the links to the outside world.
   const float sy = in.choice.camera == CameraMode::kCockpit ? 160 * k : 12 * k;

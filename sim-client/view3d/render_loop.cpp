@@ -214,6 +214,8 @@ void RenderLoop::run() {
       if (st.subject >= 0 && static_cast<std::size_t>(st.subject) < in.vehicles.size())
         st.subject_controls = in.vehicles[static_cast<std::size_t>(st.subject)].controls;
       st.banner = view->hud().banner();
+      st.rlvw_banner = view->hud().rlvw_banner();
+      st.signal = view->hud().signal();
       observer_(st);
     }
     next += period;

@@ -19,6 +19,7 @@
 
 #include "common/clock/clock.hpp"
 #include "common/wire/vehicle_state.hpp"
+#include "sim-client/v2x/signal_panel.hpp"
 #include "sim-client/view3d/feed.hpp"
 
 namespace tb::client::view3d {
@@ -42,6 +43,9 @@ struct FrameStats {
   int subject = -1;
   wire::Controls subject_controls;  ///< as drawn (the HUD's bars)
   std::string banner;               ///< the V2X warning banner's text; empty: none shown
+  std::string rlvw_banner;          ///< the red-light warning banner's text; empty: none shown
+  /// The signal panel as drawn; empty: none.
+  std::optional<v2x::SignalPanel> signal;
 };
 
 class RenderLoop {

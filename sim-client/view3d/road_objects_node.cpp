@@ -169,8 +169,10 @@ void add_signal(const odr::Road& road, const odr::RoadSignal& g, Tile& tile) {
   tile.small.box(foot, p.heading, 0.08, 0.08, bottom + (light ? 0.0 : h * 0.5), kPole, kPole);
   const osg::Vec3 at = foot + osg::Vec3(0, 0, static_cast<float>(bottom));
   if (light) {
-    tile.small.box(at, p.heading, 0.25, 0.35, 1.0, rgba(0.12f, 0.12f, 0.12f),
-                   rgba(0.12f, 0.12f, 0.12f));
+    // A dynamic signal's head, with lamps lit by its group, is signal_heads_node.hpp's.
+    if (!g.dynamic)
+      tile.small.box(at, p.heading, 0.25, 0.35, 1.0, rgba(0.12f, 0.12f, 0.12f),
+                     rgba(0.12f, 0.12f, 0.12f));
     return;
   }
   const auto c = plate_colour(g);

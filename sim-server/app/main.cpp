@@ -144,6 +144,13 @@ int main(int argc, char** argv) {
         "ground triangles)",
         o.source, o.origin->latitude_deg, o.origin->longitude_deg, o.origin->altitude_m,
         world->mesh_cast() ? "the road mesh" : "the flat ground", world->ground_triangles());
+    // The loader checked the plans against the map; the controllers refuse what they cannot run.
+    const tb::server::SignalSet lights(scenario.signals, 0);
+    for (const auto& p : scenario.signals) {
+      spdlog::info("traffic lights at junction {}: {} signal groups, {} phases, a {:g} s cycle{}",
+                   p.junction, p.groups.size(), p.phases.size(), p.cycle_s(),
+                   p.default_plan ? " (the default plan: the scenario gives none)" : "");
+    }
   } catch (const std::exception& e) {
     spdlog::error("{}: cannot build the world: {}", scenario_file, e.what());
     return tb::scenario::kExitBadScenario;

@@ -39,7 +39,10 @@ Hub::Hub(physics::World& world, const scenario::Scenario& scenario, std::string 
       world_start_ns_(clock::to_unix_ns(scenario::world_start(
           scenario, clock.wall_now() + std::chrono::duration_cast<clock::WallClock::duration>(
                                            std::chrono::duration<double>(scenario.warmup_s))))),
+      signals_(scenario.signals, world_start_ns_ / 1'000'000),
       vehicles_(world.size()) {
+  // The lights as of the world's present (the first warm-up step), for the first Welcome.
+  signals_.step(world_time_ms());
   for (std::size_t v = 0; v < vehicles_.size(); ++v) {
     // A car spawned with speed rolls on until before_step() finds nobody drives it.
     vehicles_[v].lights = world_.states()[v].lights;
@@ -97,6 +100,9 @@ void Hub::handle(ClientId id, Client& c, const sim::ClientMessage& m) {
     c.conversation.on_hello();
     spdlog::info("client {} is {}", id, label(c));
     c.link->send(share(sim::encode(welcome())), FrameKind::kReply);
+    // The lights right away, so that a new client need not wait for the next change.
+    if (!signals_.empty())
+      c.link->send(share(sim::encode(signals_.latest())), FrameKind::kReply);
   } else if (const auto* a = std::get_if<sim::Attach>(&m)) {
     attach(id, c, *a);
   } else if (const auto* in = std::get_if<sim::ControlsMsg>(&m)) {
@@ -241,7 +247,29 @@ void Hub::before_step() {
   }
 }
 
+std::int64_t Hub::world_time_ms() const {
+  const std::int64_t ns = world_start_ns_ + world_.sim_time_ns();
+  return ns >= 0 ? ns / 1'000'000 : -((-ns + 999'999) / 1'000'000);
+}
+
 void Hub::after_step() {
+  const std::int64_t now_ms = world_time_ms();
+  const auto changed = signals_.step(now_ms);
+  if (!changed.empty()) {
+    auto& tracer = trace::global();
+    for (const sim::SignalGroupState& g : changed) {
+      spdlog::debug("junction {} signal group {}: {} until {}", g.intersection_id, g.signal_group,
+                    sim::to_string(g.state), g.next_change_ms);
+      // Start of the light's way to the driver's HUD (issue 34's latency figure).
+      if (tracer.enabled()) {
+        tracer.record("server.signal", {{"intersection", g.intersection_id},
+                                        {"group", g.signal_group},
+                                        {"state", static_cast<int>(g.state)},
+                                        {"world_ms", now_ms},
+                                        {"next_change_ms", g.next_change_ms}});
+      }
+    }
+  }
   bool any = false;
   for (const auto& [id, c] : clients_)
     any = any || c.streaming;
@@ -253,6 +281,12 @@ void Hub::after_step() {
                                     states.empty() ? 0 : states.front().step_wall_ns, states,
                                     clock::to_unix_ns(clock_.wall_now()))),
             FrameKind::kState);
+  // After the state of the same step: a client sees where the cars were when the light changed.
+  if (!signals_.empty() &&
+      (!changed.empty() || now_ms - signals_sent_ms_ >= kSignalStatesPeriodMs)) {
+    broadcast(share(sim::encode(signals_.latest())), FrameKind::kReply);
+    signals_sent_ms_ = now_ms;
+  }
 }
 
 bool Hub::drivers_answered() const {

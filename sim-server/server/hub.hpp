@@ -23,6 +23,7 @@
 #include "common/scenario/scenario.hpp"
 #include "common/wire/sim_protocol.hpp"
 #include "sim-server/physics/world.hpp"
+#include "sim-server/signals/signal_set.hpp"
 
 namespace tb::server {
 
@@ -84,8 +85,13 @@ class Hub {
 
   /// Before each physics step: vehicles without a live driver get brake-to-stop controls.
   void before_step();
-  /// After each physics step: the State frame to every attached client.
+  /// After each physics step: the traffic lights evaluated at the step's world time, the State
+  /// frame to every attached client, and SignalStates when a light changed or a second passed.
   void after_step();
+  /// SignalStates go out at least this often (and in every step where a light changes).
+  static constexpr std::int64_t kSignalStatesPeriodMs = 1000;
+  /// The traffic lights as of the latest step (issue 34).
+  const SignalSet& signals() const { return signals_; }
   /// UTC of sim time 0, Unix ns: fixed when the hub was made (scenario::world_start()).
   std::int64_t world_start_ns() const { return world_start_ns_; }
   /// Whether the driver of every driven vehicle has answered the latest State frame with
@@ -141,6 +147,8 @@ class Hub {
   void broadcast(const SharedBytes& frame, FrameKind kind);
   void stop_vehicle(std::size_t vehicle);
   wire::sim::Welcome welcome() const;
+  /// The step's world time, UTC Unix ms (start time + sim time).
+  std::int64_t world_time_ms() const;
   std::string label(const Client& c) const;
 
   physics::World& world_;
@@ -149,6 +157,8 @@ class Hub {
   const clock::Clock& clock_;
   std::string server_name_;
   std::int64_t world_start_ns_ = 0;  ///< Unix ns of sim time 0 (Welcome, docs/time.md)
+  SignalSet signals_;
+  std::int64_t signals_sent_ms_ = 0;  ///< world time of the last SignalStates broadcast
   std::map<ClientId, Client> clients_;
   std::vector<VehicleSlot> vehicles_;
   ClientId next_id_ = 1;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <deque>
+#include <map>
 
 #include "common/clock/runtime.hpp"
 #include "common/scenario/loader.hpp"
@@ -443,6 +444,65 @@ TEST_F(HubTest, FastLoopStartsOnceTheScriptedVehiclesHaveDrivers) {
   ASSERT_EQ(posted.size(), 1u) << "did not start without them after the start timeout";
   posted.front()();
   EXPECT_EQ(world.tick(), 2u);
+}
+
+TEST(HubSignals, TheLightsGoOutAfterWelcomeOnEveryChangeAndEverySecond) {
+  // scenarios/signals-junction.json: groups 1+3 and 2+4 of junction 100, 20 s each, amber 3 s,
+  // all-red 2 s, red+amber 1 s, offset 31 s: at sim time 0 groups 1 and 3 are amber until
+  // 2 s; 2 and 4 turn red+amber at 4 s and green at 5 s (docs/scenario.md).
+  const scenario::Scenario sc = scenario::load_file("scenarios/signals-junction.json");
+  physics::World world{sc, physics::WorldOptions{.step_s = 0.01}};
+  clock::ManualRuntime rt;
+  Hub hub{world, sc, "{}", rt};
+  FakeLink a;
+  const auto id = hub.connect(a, "test:a");
+  hub.receive(id, sim::encode(sim::Hello{"a"}));
+  ASSERT_EQ(a.got.size(), 2u);
+  ASSERT_TRUE(std::holds_alternative<sim::Welcome>(a.got[0]));
+  const std::int64_t t0 = hub.world_start_ns() / 1'000'000;
+  using P = sim::MovementPhaseState;
+  auto states = [](const sim::SignalStates& s) {
+    std::vector<P> out;
+    for (const auto& g : s.groups) {
+      EXPECT_EQ(g.intersection_id, 100);
+      out.push_back(g.state);
+    }
+    return out;
+  };
+  const auto& first = std::get<sim::SignalStates>(a.got[1]);
+  EXPECT_EQ(first.world_time_ms, t0);
+  EXPECT_EQ(states(first), (std::vector<P>{P::kProtectedClearance, P::kStopAndRemain,
+                                           P::kProtectedClearance, P::kStopAndRemain}));
+  EXPECT_EQ(first.groups[0].next_change_ms, t0 + 2000);
+  EXPECT_EQ(first.groups[1].next_change_ms, t0 + 4000);
+
+  hub.receive(id, sim::encode(sim::Attach{sim::Role::kWatcher, 0}));
+  for (int i = 0; i < 600; ++i) {
+    hub.before_step();
+    world.step();
+    hub.after_step();
+    rt.advance(10ms);
+  }
+  const auto got = a.all<sim::SignalStates>();
+  std::map<std::int64_t, std::vector<P>> by_time;
+  for (std::size_t i = 1; i < got.size(); ++i) {
+    EXPECT_LE(got[i].world_time_ms - got[i - 1].world_time_ms, Hub::kSignalStatesPeriodMs);
+    by_time[got[i].world_time_ms - t0] = states(got[i]);
+  }
+  // The changes, each in the step it happens in: 1 and 3 red at 2 s, 2 and 4 red+amber at 4 s
+  // and green at 5 s.
+  ASSERT_TRUE(by_time.count(2000));
+  EXPECT_EQ(by_time[2000], (std::vector<P>{P::kStopAndRemain, P::kStopAndRemain, P::kStopAndRemain,
+                                           P::kStopAndRemain}));
+  ASSERT_TRUE(by_time.count(4000));
+  EXPECT_EQ(by_time[4000], (std::vector<P>{P::kStopAndRemain, P::kPreMovement, P::kStopAndRemain,
+                                           P::kPreMovement}));
+  ASSERT_TRUE(by_time.count(5000));
+  EXPECT_EQ(by_time[5000], (std::vector<P>{P::kStopAndRemain, P::kProtectedMovementAllowed,
+                                           P::kStopAndRemain, P::kProtectedMovementAllowed}));
+  EXPECT_EQ(by_time.rbegin()->first, 6000);
+  // Nothing else changed: between the changes only the once-a-second repeats (a handful).
+  EXPECT_LE(got.size(), 10u);
 }
 
 }  // namespace

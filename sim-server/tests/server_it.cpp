@@ -166,6 +166,11 @@ class Client {
                          [](const auto& m) { return std::holds_alternative<T>(m); });
   }
   std::size_t states() const { return states_; }
+  /// For each SignalStates in arrival order: the sim time of the State frame before it.
+  std::vector<std::optional<std::int64_t>> signals_after() const {
+    std::lock_guard lock(mutex_);
+    return signals_after_;
+  }
 
  private:
   /// Runs @p f on the io thread and returns its result.
@@ -202,6 +207,9 @@ class Client {
               last_state_ = std::move(*s);
               ++states_;
             } else {
+              if (std::holds_alternative<sim::SignalStates>(*m))
+                signals_after_.push_back(last_state_ ? std::optional(last_state_->sim_time_ns)
+                                                     : std::nullopt);
               others_.push_back(std::move(*m));
             }
           }
@@ -216,6 +224,7 @@ class Client {
   mutable std::mutex mutex_;
   std::optional<sim::StateFrame> last_state_;
   std::vector<sim::ServerMessage> others_;
+  std::vector<std::optional<std::int64_t>> signals_after_;
   std::atomic<std::size_t> states_{0};
   std::atomic<bool> eof_{false};
   bool read_ended_ = false;  // touched on the io thread only
@@ -511,6 +520,107 @@ TEST(SimServerIT, RunStopsAfterItsDurationAndSaysTheScenarioFinished) {
   ASSERT_TRUE(eventually([&] { return w.eof(); }, 2s));
   ASSERT_TRUE(w.find<sim::Closing>());
   EXPECT_EQ(w.find<sim::Closing>()->reason, sim::CloseReason::kScenarioFinished);
+  w.close();
+}
+
+TEST(SimServerIT, SignalStatesFollowThePlanOnTheWorldClock) {
+  // The shipped four-way junction's lights (issue 34), a short plan on a pinned clock:
+  // groups 1+3 green 2 s, amber 1 s, all-red 0.5 s, red+amber 0.5 s for 2+4, their green 2 s,
+  // ...: an 8 s cycle from 12:00:00Z. Worked out by hand, ms from the start (the 1 s warm-up
+  // begins at 7 s into a cycle, all-red): 1+3 red+amber at -500, green at 0, amber at 2000,
+  // red at 3000; 2+4 red+amber at 3500, green at 4000.
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("simserver-it-sig-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto file = (dir / "lights.json").string();
+  {
+    std::ofstream out(file);
+    out << R"({"name":"lights","map":{"type":"opendrive","file":")"
+        << std::filesystem::absolute("scenarios/maps/four_way_junction.xodr").string()
+        << R"("},"origin":{"lat":48.137,"lon":11.575},"start_time":"2026-11-27T12:00:00Z",)"
+        << R"("warmup_s":1,"signals":[{"junction":"100","amber_s":1,"all_red_s":0.5,)"
+        << R"("red_amber_s":0.5,"phases":[{"green":[1,3],"duration_s":2},)"
+        << R"({"green":[2,4],"duration_s":2}]}],)"
+        << R"("vehicles":[{"id":"h","station_id":1,"spawn":{"road":"1","lane":1,"s":50},)"
+        << R"("driver":"human"}]})";
+  }
+  const auto port = free_port();
+  ServerProcess server({"--scenario", file, "--port", std::to_string(port), "--bind", "127.0.0.1",
+                        "--duration", "5", "--log-level", "warn"});
+  ASSERT_TRUE(server.started());
+  asio::io_context io;
+  auto work = asio::make_work_guard(io);
+  std::thread io_thread([&] { io.run(); });
+  struct Join {
+    std::function<void()> fn;
+    ~Join() { fn(); }
+  } join{[&] {
+    work.reset();
+    io.stop();
+    io_thread.join();
+    std::filesystem::remove_all(dir);
+  }};
+  Client w(io, port);
+  ASSERT_TRUE(w.connected());
+  w.send(sim::Hello{"watcher"});
+  w.send(sim::Attach{sim::Role::kWatcher, 0});
+  const auto rc = server.wait(30s);
+  ASSERT_TRUE(rc) << "6 s of sim time in real time should end well within 30 s";
+  EXPECT_EQ(*rc, 0);
+  ASSERT_TRUE(eventually([&] { return w.eof(); }, 2s));
+
+  const auto msgs = w.others();
+  ASSERT_GE(msgs.size(), 2u);
+  const auto* welcome = std::get_if<sim::Welcome>(&msgs[0]);
+  ASSERT_NE(welcome, nullptr);
+  const std::int64_t t0 = 1'795'780'800'000;  // 2026-11-27T12:00:00Z
+  EXPECT_EQ(welcome->world_start_ns, t0 * 1'000'000);
+  // Right after Welcome: the lights as of the world's present (before the first step).
+  ASSERT_TRUE(std::holds_alternative<sim::SignalStates>(msgs[1]));
+  std::vector<sim::SignalStates> got;
+  for (const auto& m : msgs)
+    if (const auto* s = std::get_if<sim::SignalStates>(&m))
+      got.push_back(*s);
+  const auto after = w.signals_after();
+  ASSERT_EQ(after.size(), got.size());
+  using P = sim::MovementPhaseState;
+  const P g = P::kProtectedMovementAllowed, r = P::kStopAndRemain, a = P::kProtectedClearance,
+          ra = P::kPreMovement;
+  struct Change {
+    std::int64_t at_ms;
+    P odd, even;  // groups 1 and 3, groups 2 and 4
+  };
+  const Change plan[] = {{-500, ra, r}, {0, g, r},     {2000, a, r},
+                         {3000, r, r},  {3500, r, ra}, {4000, r, g}};
+  std::size_t seen = 0;
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    const auto& s = got[i];
+    ASSERT_EQ(s.groups.size(), 4u);
+    // Each comes after the State of its own step: world time = start + that step's sim time.
+    if (i > 0 && after[i]) {
+      EXPECT_EQ(s.world_time_ms, t0 + *after[i] / 1'000'000) << "message " << i;
+    }
+    if (i > 0) {
+      EXPECT_LE(s.world_time_ms - got[i - 1].world_time_ms, 1000 + 10) << "message " << i;
+    }
+    for (const Change& c : plan) {
+      if (std::llabs(s.world_time_ms - (t0 + c.at_ms)) > 10)
+        continue;
+      ++seen;
+      EXPECT_EQ(s.groups[0].state, c.odd) << "at " << c.at_ms;
+      EXPECT_EQ(s.groups[2].state, c.odd) << "at " << c.at_ms;
+      EXPECT_EQ(s.groups[1].state, c.even) << "at " << c.at_ms;
+      EXPECT_EQ(s.groups[3].state, c.even) << "at " << c.at_ms;
+    }
+    // Between the changes the states are those of the stretch the plan says.
+    const std::int64_t t = s.world_time_ms - t0;
+    if (t > 10 && t < 1990) {
+      EXPECT_EQ(s.groups[0].state, g) << t;
+      EXPECT_EQ(s.groups[0].next_change_ms, t0 + 2000) << t;
+      EXPECT_EQ(s.groups[1].next_change_ms, t0 + 3500) << t;
+    }
+  }
+  EXPECT_EQ(seen, std::size(plan)) << "every change of the plan, in the step it happens";
   w.close();
 }
 

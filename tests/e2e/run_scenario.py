@@ -58,6 +58,13 @@ CASE is one of:
                    with tracing (issue 21): scripts/report must find records for every stage
                    from the client's input to the CAM received by the others' LDM and LCRW
                    (no HMI, no warnings on the ring), and state → CAM on the air p99 ≤ 250 ms
+  signals          scenarios/signals-junction.json with its RSU (issue 34): fast (60 km/h, can
+                   no longer stop) gets the red-light warning (its.rlvw raised) while its front
+                   is at least 2 s (its physics speed) before the stop line of the OpenDRIVE
+                   file, measured on the physics' own state (client.forward), not the
+                   application's numbers; slow (30 km/h, stops) is on its lane (signal messages)
+                   and never warned; every signal message's time to change, put on the world
+                   clock, is within 200 ms of the change sim-server made (server.signal)
 
 A run that fails while the virtual machine's host stole ≥ 10 % of the CPU (steal time,
 /proc/stat) is run once more; each run prints the steal.
@@ -75,6 +82,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -94,6 +102,7 @@ CASES = {
     "foreign-root": (None, 15),  # generated: lcrw-frontal with black from another PKI
     "frontal-pooled": (None, 40),  # generated: lcrw-frontal with black pooled
     "pooled-scale": (None, 20),  # generated: POOLED_FULL + POOLED_POOLED on the ring
+    "signals": ("signals-junction.json", 15),
 }
 POOLED_STATION = 1002  # frontal-pooled: black, warned about by red's full station
 POOLED_FULL = 3
@@ -606,6 +615,135 @@ def check_reversing_geometry(out, scenario, warning):
     return failures + lcrw_figures_failures(got_gap, got_ttc, gap, ttc)
 
 
+SIGNALS_FAST = 3401  # signals: 60 km/h, warned
+SIGNALS_SLOW = 3402  # signals: 30 km/h, stops
+RLVW_MIN_LEAD_S = 2.0  # issue 34: the warning at least 2 s before the stop line
+SPAT_TOLERANCE_MS = 200  # issue 34: SPATEM times vs the sim's light
+# DSRC MovementPhaseState (server.signal's state) → the light the signal message names.
+DSRC_LIGHT = {2: "red", 3: "red", 4: "red_amber", 5: "green", 6: "green", 7: "amber", 8: "amber",
+              9: "amber"}
+
+
+def stop_lines(xodr):
+    """The stop lines (OpenDRIVE signals of type 294) of the roads whose plan view is one
+    straight line, as points in the map frame: the signal's s along the road, t to its left."""
+    points = []
+    for road in ET.parse(xodr).getroot().iter("road"):
+        geometries = road.findall("./planView/geometry")
+        if len(geometries) != 1 or geometries[0].find("line") is None:
+            continue
+        g = geometries[0]
+        x0, y0, hdg, s0 = (float(g.get(k)) for k in ("x", "y", "hdg", "s"))
+        for sig in road.iter("signal"):
+            if sig.get("type") != "294":
+                continue
+            ds, t = float(sig.get("s")) - s0, float(sig.get("t"))
+            points.append((x0 + ds * math.cos(hdg) - t * math.sin(hdg),
+                           y0 + ds * math.sin(hdg) + t * math.cos(hdg)))
+    return points
+
+
+def front_to_stop_line(state, length_m, lines, lane_half_width=2.5):
+    """Metres from the front of a car in @p state (x, y, vx, vy of its centre) to the nearest
+    stop line ahead of it in its lane (None when none is)."""
+    x, y, vx, vy = state
+    v = math.hypot(vx, vy)
+    if v < 0.1:
+        return None
+    ux, uy = vx / v, vy / v
+    fx, fy = x + ux * length_m / 2, y + uy * length_m / 2
+    ahead = [(px - fx) * ux + (py - fy) * uy for px, py in lines
+             if abs(-(px - fx) * uy + (py - fy) * ux) < lane_half_width and
+             (px - fx) * ux + (py - fy) * uy > -1.0]
+    return min(ahead) if ahead else None
+
+
+def check_signals(out, scenario, messages):
+    """issue 34's e2e figures on signals-junction.json (CASES "signals" above)."""
+    failures = []
+    by = trace_events(out)
+    lines = stop_lines(ROOT / "scenarios" / scenario["map"]["file"])
+    if not lines:
+        return [f"no stop line in {scenario['map']['file']}"]
+    lengths = {v["station_id"]: v.get("model", {}).get("length_m", DEFAULT_LENGTH_M)
+               for v in scenario["vehicles"]}
+    rlvw = by.get("its.rlvw", [])
+    raised = sorted((r for r in rlvw if r.get("station") == SIGNALS_FAST and
+                     r.get("event") == "raised"), key=lambda r: r["ts"])
+    if not raised:
+        failures.append(f"no RLVW raised at {SIGNALS_FAST} (its.rlvw)")
+    else:
+        # The warm-up's steps count: the cars drive their run-ups then, and a station that
+        # hears the RSU early warns before sim time 0.
+        state = state_at(by, SIGNALS_FAST, raised[0]["ts"], warmup=True)
+        d = front_to_stop_line(state, lengths[SIGNALS_FAST], lines) if state else None
+        if d is None:
+            failures.append(f"{SIGNALS_FAST}: no physics state before a stop line at the raise")
+        else:
+            v = math.hypot(state[2], state[3])
+            print(f"e2e: RLVW at {SIGNALS_FAST}: front {d:.1f} m before the stop line at "
+                  f"{v:.2f} m/s = {d / v:.2f} s (the station said {raised[0].get('dist')} m)")
+            if d / v < RLVW_MIN_LEAD_S:
+                failures.append(f"RLVW {d / v:.2f} s before the stop line, not >= "
+                                f"{RLVW_MIN_LEAD_S} s")
+    if any(r.get("station") == SIGNALS_SLOW and r.get("event") == "raised" for r in rlvw):
+        failures.append(f"an RLVW was raised at {SIGNALS_SLOW}, which stops")
+    mqtt_raised = {m["message"].get("station_id") for t, m in messages
+                   if t.endswith("/app/rlvw") and m["message"].get("event") == "raised"}
+    if SIGNALS_FAST not in mqtt_raised:
+        failures.append(f"no raised rlvw message from {SIGNALS_FAST} on MQTT")
+    if SIGNALS_SLOW in mqtt_raised:
+        failures.append(f"a raised rlvw message from {SIGNALS_SLOW} on MQTT")
+    on_lane = [(t, m) for t, m in messages
+               if t.endswith("/app/signal") and "lane_id" in m.get("message", {})]
+    for sid in (SIGNALS_FAST, SIGNALS_SLOW):
+        if not any(t == f"its/{sid}/app/signal" for t, _ in on_lane):
+            failures.append(f"{sid} never had its lane's signal (its/{sid}/app/signal)")
+
+    # SPATEM times against the sim's light: the message's host timestamp put on the world
+    # clock (the offset of the clients' states: world = start + sim time, host = step time).
+    start_ms = world_start_ms(by, scenario)
+    offsets = sorted(start_ms + r["sim_ns"] / 1e6 - r["step_ns"] / 1e6
+                     for r in by.get("client.forward", [])
+                     if r.get("sim_ns", 0) > 0 and r.get("step_ns"))
+    # Each change with the light it ended (the group's state before it): a message's time to
+    # change is compared with the next change that ends the light the message shows.
+    changes = {}
+    before = {}
+    for r in sorted(by.get("server.signal", []), key=lambda r: r["world_ms"]):
+        key = (r.get("intersection"), r.get("group"))
+        if key in before:
+            changes.setdefault(key, []).append((r["world_ms"], DSRC_LIGHT.get(before[key])))
+        before[key] = r.get("state")
+    if not offsets or not before:
+        failures.append("no client.forward or server.signal records to date the lights")
+        return failures
+    offset = offsets[len(offsets) // 2]
+    worst, compared = 0.0, 0
+    for _, m in on_lane:
+        msg = m["message"]
+        ttc = msg.get("time_to_change_s")
+        if ttc is None or msg.get("state") not in DSRC_LIGHT.values():
+            continue
+        world = m["timestamp"] + offset
+        predicted = world + ttc * 1000.0
+        ends = [c for c, light in changes.get((msg["intersection_id"], msg["signal_group"]), [])
+                if light == msg["state"] and c >= world - 1000]
+        if not ends:
+            continue  # the light ends beyond the run
+        err = min(ends, key=lambda c: abs(c - predicted)) - predicted
+        compared += 1
+        worst = max(worst, abs(err))
+    print(f"e2e: {compared} signal messages' time to change vs server.signal: worst "
+          f"{worst:.0f} ms")
+    if compared == 0:
+        failures.append("no signal message with a time to change to compare with the sim")
+    elif worst > SPAT_TOLERANCE_MS:
+        failures.append(f"a signal message's time to change is {worst:.0f} ms off the sim's "
+                        f"light (> {SPAT_TOLERANCE_MS} ms)")
+    return failures
+
+
 def wait_port(port, timeout):
     end = time.monotonic() + timeout
     while time.monotonic() < end:
@@ -876,6 +1014,7 @@ def run_case(args):
         sub_out = open(out / "mqtt-messages.txt", "w")
         sub = subprocess.Popen(["stdbuf", "-oL", "mosquitto_sub", "-h", "127.0.0.1", "-u", "hmi", "-P", "hmi",
                                 "-t", "its/+/app/lcrw", "-t", "its/+/in/cam/+",
+                                "-t", "its/+/app/rlvw", "-t", "its/+/app/signal",
                                 "-t", "its/+/in/denm/+", "-t", "its/+/out/denm", "-v"],
                                stdout=sub_out, text=True)
         if args.case == "latency":
@@ -959,6 +1098,8 @@ def run_case(args):
             failures += check_frontal_ttc(out, json.loads(scenario_file.read_text()))
         if args.case != "frontal-xodr":
             failures += check_denms(out, json.loads(scenario_file.read_text()), messages)
+    elif args.case == "signals":
+        failures += check_signals(out, json.loads(scenario_file.read_text()), messages)
     elif args.case == "start":
         failures += check_start(out, json.loads(scenario_file.read_text()), messages)
         if any(w.get("event") == "raised" for _, w in warnings):

@@ -45,15 +45,13 @@ class Reader {
     for (pugi::xml_node j : root.children("junction"))
       read_junction(j);
     for (pugi::xml_node c : root.children("controller"))
-      (void)c, ++controllers_;
+      read_controller(c);
     if (net_.roads.empty())
       fail("", "no <road>");
     resolve_links();
+    resolve_controllers();
     if (skipped_structures_ > 0) {
       net_.warnings.push_back(std::to_string(skipped_structures_) + " <tunnel>/<bridge> skipped");
-    }
-    if (controllers_ > 0) {
-      net_.warnings.push_back(std::to_string(controllers_) + " <controller> skipped");
     }
     for (const std::string& w : ignored_)
       net_.warnings.push_back(w);
@@ -468,6 +466,11 @@ class Reader {
     g.text = n.attribute("text").value();
     g.height = size_or(n, "height", 0.0, path);
     g.width = size_or(n, "width", 0.0, path);
+    int vi = 0;
+    for (pugi::xml_node v : n.children("validity")) {
+      const std::string vp = indexed(path, "validity", ++vi);
+      g.validity.push_back({integer(v, "fromLane", vp), integer(v, "toLane", vp)});
+    }
     return g;
   }
 
@@ -736,7 +739,108 @@ class Reader {
       }
       junction.connections.push_back(std::move(con));
     }
+    int ki = 0;
+    for (pugi::xml_node c : j.children("controller")) {
+      const std::string kp = indexed(path, "controller", ++ki);
+      JunctionController jc;
+      jc.id = text(c, "id", kp);
+      jc.type = c.attribute("type").value();
+      if (c.attribute("sequence"))
+        jc.sequence = integer(c, "sequence", kp);
+      junction.controllers.push_back(std::move(jc));
+    }
     net_.junctions.push_back(std::move(junction));
+  }
+
+  /// A top-level <controller> (14.7) with its <control>s.
+  void read_controller(pugi::xml_node c) {
+    Controller k;
+    k.id = text(c, "id", indexed("", "controller", static_cast<int>(net_.controllers.size()) + 1));
+    const std::string path = "controller[@id='" + k.id + "']";
+    // The testbed's contract (issue 34): a controller is a signal group, its id the
+    // SignalGroupID (ISO TS 19091 DSRC, 0 and 255 reserved), so it must be a decimal 1..254.
+    if (!decimal_in(k.id, 1, 254)) {
+      fail(path, "attribute 'id' is '" + k.id +
+                     "': a controller's id is its signal group (SignalGroupID), a decimal 1..254");
+    }
+    if (!controller_ids_.emplace(k.id, net_.controllers.size()).second)
+      fail(path, "duplicate controller id '" + k.id + "'");
+    k.name = c.attribute("name").value();
+    if (c.attribute("sequence"))
+      k.sequence = integer(c, "sequence", path);
+    int i = 0;
+    for (pugi::xml_node n : c.children("control")) {
+      const std::string cp = indexed(path, "control", ++i);
+      k.controls.push_back({text(n, "signalId", cp), n.attribute("type").value()});
+    }
+    net_.controllers.push_back(std::move(k));
+  }
+
+  /// Whether @p text is a plain decimal (digits only) within [lo, hi].
+  static bool decimal_in(const std::string& text, long lo, long hi) {
+    if (text.empty() || text.size() > 6 ||
+        !std::all_of(text.begin(), text.end(), [](char ch) { return ch >= '0' && ch <= '9'; }))
+      return false;
+    const long v = std::stol(text);
+    return v >= lo && v <= hi;
+  }
+
+  /// Controllers name dynamic signals that exist, each signal at most one controller; the
+  /// junctions name controllers that exist and, having any, carry an id that can be an
+  /// IntersectionID (a decimal 0..65535, ISO TS 19091 IntersectionReferenceID.id).
+  void resolve_controllers() {
+    struct Where {
+      const Road* road;
+      const RoadSignal* signal;
+      int count;
+    };
+    std::unordered_map<std::string, Where> signals;
+    for (const Road& r : net_.roads) {
+      for (const RoadSignal& g : r.signals) {
+        auto [it, fresh] = signals.emplace(g.id, Where{&r, &g, 1});
+        if (!fresh)
+          ++it->second.count;
+      }
+    }
+    std::unordered_map<std::string, std::string> owner;  // signal id -> controller id
+    for (const Controller& k : net_.controllers) {
+      int i = 0;
+      for (const Control& c : k.controls) {
+        const std::string cp = indexed("controller[@id='" + k.id + "']", "control", ++i);
+        auto it = signals.find(c.signal_id);
+        if (it == signals.end())
+          fail(cp, "attribute 'signalId' is '" + c.signal_id + "': no road has that signal");
+        if (it->second.count > 1) {
+          fail(cp, "attribute 'signalId' is '" + c.signal_id +
+                       "': " + std::to_string(it->second.count) + " signals have that id");
+        }
+        if (!it->second.signal->dynamic) {
+          fail(cp, "attribute 'signalId' is '" + c.signal_id + "': signal '" + c.signal_id +
+                       "' of road '" + it->second.road->id +
+                       "' is not dynamic (dynamic=\"yes\"), a controller cannot switch it");
+        }
+        auto [o, fresh] = owner.emplace(c.signal_id, k.id);
+        if (!fresh) {
+          fail(cp, "attribute 'signalId' is '" + c.signal_id + "': signal '" + c.signal_id +
+                       "' is already controlled by controller '" + o->second +
+                       "'; a signal belongs to one controller (one signal group)");
+        }
+      }
+    }
+    for (const Junction& j : net_.junctions) {
+      const std::string path = "junction[@id='" + j.id + "']";
+      int i = 0;
+      for (const JunctionController& jc : j.controllers) {
+        const std::string kp = indexed(path, "controller", ++i);
+        if (controller_ids_.find(jc.id) == controller_ids_.end())
+          fail(kp, "attribute 'id' is '" + jc.id + "': no <controller> has that id");
+      }
+      if (!j.controllers.empty() && !decimal_in(j.id, 0, 65535)) {
+        fail(path, "attribute 'id' is '" + j.id +
+                       "': a junction with controllers is an intersection whose id "
+                       "(IntersectionID) must be a decimal 0..65535");
+      }
+    }
   }
 
   /// The lane section of @p road at the end given by @p c (start: first, end: last).
@@ -876,10 +980,10 @@ class Reader {
   RoadNetwork net_;
   std::unordered_map<std::string, int> road_ids_;
   std::unordered_map<std::string, int> junction_ids_;
+  std::unordered_map<std::string, std::size_t> controller_ids_;
   std::set<std::string> ignored_;
   std::vector<std::string> not_applied_;
   bool has_superelevation_ = false;  ///< the road being read banks somewhere
-  std::size_t controllers_ = 0;
   std::size_t skipped_structures_ = 0;
   double total_length_ = 0.0;
 };

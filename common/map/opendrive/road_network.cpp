@@ -138,6 +138,16 @@ std::optional<double> Road::speed_limit(double s) const {
   return v;
 }
 
+bool RoadSignal::valid_for(int lane_id) const {
+  if (validity.empty())
+    return true;
+  for (const LaneRange& r : validity) {
+    if (lane_id >= std::min(r.from, r.to) && lane_id <= std::max(r.from, r.to))
+      return true;
+  }
+  return false;
+}
+
 int RoadNetwork::road_index(const std::string& id) const {
   for (std::size_t i = 0; i < roads.size(); ++i) {
     if (roads[i].id == id)

@@ -159,6 +159,12 @@ struct RoadObject {
   std::vector<OutlineCorner> outline;  ///< the first <outline>'s <cornerLocal>s, if any
 };
 
+/// Lanes from..to of a road, inclusive (a <validity> element).
+struct LaneRange {
+  int from = 0;
+  int to = 0;
+};
+
 /// <signal> (OpenDRIVE 1.7, 14): a sign, a light or a road mark (e.g. DE 294 stop line) of a
 /// national catalogue, placed at road coordinates.
 struct RoadSignal {
@@ -177,6 +183,11 @@ struct RoadSignal {
   std::string unit;
   std::string text;
   double height = 0.0, width = 0.0;  ///< m; 0 where the file gives none
+  /// <validity> (14.3): the lanes it holds for, from..to inclusive each; empty: every lane of
+  /// its orientation.
+  std::vector<LaneRange> validity;
+  /// Whether it holds for lane @p lane_id by its validity (orientation not considered).
+  bool valid_for(int lane_id) const;
 };
 
 /// <signalReference> / <objectReference>: an item of another road also valid on this one.
@@ -233,11 +244,36 @@ struct Connection {
   std::vector<LaneLink> lane_links;
 };
 
+/// <controller> inside a <junction> (10.9): a controller the junction's signals run by.
+struct JunctionController {
+  std::string id;  ///< a top-level Controller's id
+  std::string type;
+  std::optional<int> sequence;
+};
+
 struct Junction {
   std::string id;
   std::string name;
   std::string type = "default";  ///< default, direct (1.7), virtual
   std::vector<Connection> connections;
+  std::vector<JunctionController> controllers;
+};
+
+/// <control> of a controller: one dynamic signal it switches.
+struct Control {
+  std::string signal_id;
+  std::string type;
+};
+
+/// Top-level <controller> (14.7): dynamic signals that always show the same state. In the
+/// testbed its id is a decimal 1..254, the SignalGroupID (ISO TS 19091) of the manoeuvres its
+/// signals govern; the reader refuses any other.
+struct Controller {
+  std::string id;
+  std::string name;
+  std::optional<int> sequence;
+  std::vector<Control> controls;
+  int signal_group() const { return std::stoi(id); }
 };
 
 struct Header {
@@ -257,6 +293,7 @@ struct RoadNetwork {
   Header header;
   std::vector<Road> roads;
   std::vector<Junction> junctions;
+  std::vector<Controller> controllers;
   std::vector<std::string> warnings;  ///< things read but not modelled, each named once
 
   /// Index of the road / junction with that id; -1 when there is none.

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <numbers>
 #include <string>
 
 #include "common/map/opendrive/lane_graph.hpp"
@@ -14,6 +15,7 @@
 #include "common/map/opendrive/queries.hpp"
 #include "common/map/opendrive/reader.hpp"
 #include "common/map/opendrive/road_objects.hpp"
+#include "common/map/opendrive/signal_layout.hpp"
 
 namespace tb::map::odr {
 namespace {
@@ -158,6 +160,72 @@ TEST(ShippedMaps, FourWayJunctionHasEveryTurnAndNoDeadEnd) {
   for (const Road& r : net.roads)
     top = std::max(top, r.elevation.value(r.length / 2));
   EXPECT_GT(top, 5.0);
+}
+
+/// generate.py's four-way junction: arm k (1..4) starts 12 m from the centre at angle
+/// (k - 1) * 90 degrees and runs outwards, rising 3 m over 68 m (level at both ends); lane 1
+/// (3.5 m) runs towards the junction on the arm's left.
+struct ArmFrame {
+  double phi;
+  /// The point @p s along the arm and @p t left of its reference line, in the map.
+  double x(double s, double t) const { return (12.0 + s) * std::cos(phi) - t * std::sin(phi); }
+  double y(double s, double t) const { return (12.0 + s) * std::sin(phi) + t * std::cos(phi); }
+  static double z(double s) {
+    const double f = s / 68.0;
+    return 3.0 * (3 * f * f - 2 * f * f * f);
+  }
+};
+
+double angle_diff(double a, double b) {
+  return std::remainder(a - b, 2 * std::numbers::pi);
+}
+
+TEST(ShippedMaps, FourWayJunctionHasALightPerArmRunByItsOwnSignalGroup) {
+  const RoadNetwork net = load_opendrive((maps_dir() / "four_way_junction.xodr").string());
+  const SignalLayout layout(net);
+  ASSERT_EQ(layout.junctions().size(), 1u);
+  EXPECT_EQ(layout.junctions()[0].intersection_id, 100);
+  EXPECT_EQ(layout.junctions()[0].groups, (std::vector<int>{1, 2, 3, 4}));
+  ASSERT_EQ(layout.heads().size(), 4u);
+  ASSERT_EQ(layout.groups().size(), 4u);
+  for (int arm = 1; arm <= 4; ++arm) {
+    SCOPED_TRACE("arm " + std::to_string(arm));
+    const ArmFrame f{(arm - 1) * std::numbers::pi / 2};
+    const int road = net.road_index(std::to_string(arm));
+    // One light, in the middle of the 2 m sidewalk beside lane 1, level with the stop line
+    // (4.5 m into the arm), its lower edge 2.1 m above the road, facing the traffic that
+    // comes towards the junction (heading: the arm's own turned round).
+    const SignalGroup* g = layout.group(arm);
+    ASSERT_NE(g, nullptr);
+    ASSERT_EQ(g->heads.size(), 1u);
+    const SignalHead& h = layout.heads()[g->heads[0]];
+    EXPECT_EQ(h.road, road);
+    EXPECT_EQ(h.signal->type, "1000001");
+    EXPECT_EQ(h.orientation, "-");
+    ASSERT_EQ(h.validity.size(), 1u);
+    EXPECT_EQ(h.validity[0].from, 1);
+    EXPECT_EQ(h.validity[0].to, 1);
+    EXPECT_NEAR(h.pose.x, f.x(4.5, 4.5), 1e-9);
+    EXPECT_NEAR(h.pose.y, f.y(4.5, 4.5), 1e-9);
+    EXPECT_NEAR(h.pose.z, ArmFrame::z(4.5) + 2.1, 1e-9);
+    EXPECT_NEAR(angle_diff(h.pose.heading, f.phi + std::numbers::pi), 0.0, 1e-9);
+    EXPECT_EQ(h.height, 0.9);
+    // The lane towards the junction stops at the stop line, on its centre; the lane away from
+    // it has no light.
+    const SignalApproach* a = layout.approach(road, 1);
+    ASSERT_NE(a, nullptr);
+    EXPECT_EQ(a->signal_group, arm);
+    EXPECT_EQ(a->intersection_id, 100);
+    EXPECT_EQ(net.junctions[a->junction].id, "100");
+    EXPECT_TRUE(a->has_stop_line);
+    EXPECT_DOUBLE_EQ(a->stop_s, 4.5);
+    EXPECT_NEAR(a->stop.x, f.x(4.5, 1.75), 1e-9);
+    EXPECT_NEAR(a->stop.y, f.y(4.5, 1.75), 1e-9);
+    EXPECT_NEAR(a->stop.z, ArmFrame::z(4.5), 1e-9);
+    EXPECT_NEAR(angle_diff(a->stop.heading, f.phi + std::numbers::pi), 0.0, 1e-9);
+    EXPECT_EQ(layout.approach(road, -1), nullptr);
+  }
+  EXPECT_EQ(layout.approaches().size(), 4u);
 }
 
 TEST(ShippedMaps, MotorwayMergeHasAnEndingAccelerationLaneAndNoDeadEnd) {

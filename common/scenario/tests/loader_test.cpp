@@ -87,6 +87,10 @@ const BadCase kBadCases[] = {
     // OpenDRIVE maps (issue 17, "Bad input"); the maps are in tests/maps.
     {"opendrive-missing-file.json", "/map/file", "../maps/no-such-map.xodr: no such file"},
     {"opendrive-malformed.json", "/map/file", "malformed XML"},
+    // Traffic lights (issue 34): a signal group naming a signal the map lacks.
+    {"opendrive-controller-unknown-signal.json", "/map/file",
+     "controller-unknown-signal.xodr: controller[@id='8']/control[1]: attribute 'signalId' is "
+     "'light-9': no road has that signal"},
     {"opendrive-bad-proj.json", "/map/file",
      "header/geoReference: unreadable PROJ string '+proj=no_such_projection +lat_0=48'"},
     {"opendrive-no-origin.json", "/origin",
@@ -220,7 +224,8 @@ TEST(ScenarioLoader, ReadsRoutesTrafficAndTheSeed) {
                   "route": "random", "max_lateral_accel": 2.5}},
       {"id": "b", "station_id": 2, "spawn": {"lane": 0, "s": 40},
        "driver": {"type": "lane_follow", "speed_profile": [{"t": 0, "speed": 10}],
-                  "to": {"road": 0, "lane": -1, "s": 500}, "traffic": "ignore"}},
+                  "to": {"road": 0, "lane": -1, "s": 500}, "traffic": "ignore",
+                  "obey_signals": false}},
       {"id": "c", "station_id": 3, "spawn": {"lane": 1, "s": 40},
        "driver": {"type": "lane_follow", "speed_profile": [{"t": 0, "speed": 10}],
                   "route": ["0"]}},
@@ -244,6 +249,8 @@ TEST(ScenarioLoader, ReadsRoutesTrafficAndTheSeed) {
   EXPECT_EQ(driver(1).route.to.lane, -1);
   EXPECT_DOUBLE_EQ(driver(1).route.to.s, 500.0);
   EXPECT_FALSE(driver(1).yield_to_traffic);
+  EXPECT_FALSE(driver(1).obey_signals);
+  EXPECT_TRUE(driver(0).obey_signals);  // lights are obeyed unless a test runs one
   EXPECT_EQ(driver(2).route.kind, Kind::kRoads);
   EXPECT_EQ(driver(2).route.roads, std::vector<std::string>{"0"});
   EXPECT_TRUE(driver(3).yield_to_traffic);
@@ -276,6 +283,7 @@ TEST(ScenarioLoader, ReadsRoutesTrafficAndTheSeed) {
             "/vehicles/0/driver/to/s: s 5000 is outside roa");
   EXPECT_EQ(error(R"("traffic": "maybe")").substr(0, 38),
             "/vehicles/0/driver/traffic: \"maybe\" is");
+  EXPECT_EQ(error(R"("obey_signals": "yes")").substr(0, 32), "/vehicles/0/driver/obey_signals:");
 }
 
 TEST(ScenarioLoader, AVehicleMayBringItsOwnStationProgram) {
@@ -312,10 +320,10 @@ TEST(ScenarioLoader, StationKindAndItsDefaults) {
        "station": {"kind": "pooled"}},
       {"id": "p2", "station_id": 3, "spawn": {"lane": 0, "s": 70},
        "driver": {"type": "lane_follow", "speed_profile": [{"t": 0, "speed": 10}]},
-       "station": {"kind": "pooled", "mqtt": true, "lcrw": true}},
+       "station": {"kind": "pooled", "mqtt": true, "lcrw": true, "signals": true}},
       {"id": "f1", "station_id": 4, "spawn": {"lane": 0, "s": 100},
        "driver": {"type": "lane_follow", "speed_profile": [{"t": 0, "speed": 10}]},
-       "station": {"kind": "full", "mqtt": false, "lcrw": false}}]
+       "station": {"kind": "full", "mqtt": false, "lcrw": false, "signals": false}}]
   })",
                            "inline.json");
   ASSERT_EQ(s.vehicles.size(), 4u);
@@ -323,16 +331,20 @@ TEST(ScenarioLoader, StationKindAndItsDefaults) {
   EXPECT_EQ(s.vehicles[0].station_kind, StationKind::kFull);
   EXPECT_TRUE(s.vehicles[0].station_mqtt);
   EXPECT_TRUE(s.vehicles[0].station_lcrw);
+  EXPECT_TRUE(s.vehicles[0].station_signals);
   // Pooled: silent on MQTT and without LCRW unless asked.
   EXPECT_EQ(s.vehicles[1].station_kind, StationKind::kPooled);
   EXPECT_FALSE(s.vehicles[1].station_mqtt);
   EXPECT_FALSE(s.vehicles[1].station_lcrw);
+  EXPECT_FALSE(s.vehicles[1].station_signals);
   EXPECT_EQ(s.vehicles[2].station_kind, StationKind::kPooled);
   EXPECT_TRUE(s.vehicles[2].station_mqtt);
   EXPECT_TRUE(s.vehicles[2].station_lcrw);
+  EXPECT_TRUE(s.vehicles[2].station_signals);
   EXPECT_EQ(s.vehicles[3].station_kind, StationKind::kFull);
   EXPECT_FALSE(s.vehicles[3].station_mqtt);
   EXPECT_FALSE(s.vehicles[3].station_lcrw);
+  EXPECT_FALSE(s.vehicles[3].station_signals);
 }
 
 TEST(ScenarioLoader, AStationMayComeFromAnotherPki) {

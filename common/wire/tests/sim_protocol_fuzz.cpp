@@ -2,11 +2,13 @@
 // parser (in two slices, to exercise resumption), the decoders and the conversation checks.
 // Whatever decodes must re-encode to a frame that decodes to the same message.
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <span>
 
+#include "common/wire/signal_feed.hpp"
 #include "common/wire/sim_protocol.hpp"
 
 namespace sim = tb::wire::sim;
@@ -64,5 +66,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const auto from = (data[0] & 1) ? sim::Sender::kServer : sim::Sender::kClient;
   std::span<const std::uint8_t> bytes(data + 2, size - 2);
   run(from, bytes, std::min<std::size_t>(data[1], bytes.size()));
+  // The same bytes as one signal-feed datagram (issue 34): what decodes must re-encode to
+  // exactly these bytes, the feed's frames being canonical.
+  if (const auto states = tb::wire::decode_signal_feed(bytes)) {
+    const auto again = tb::wire::encode_signal_feed(*states);
+    if (!again || !std::equal(again->begin(), again->end(), bytes.begin(), bytes.end()))
+      std::abort();
+  }
   return 0;
 }

@@ -100,6 +100,17 @@ Welcome sample_welcome() {
   return w;
 }
 
+/// Junction 100's four groups and junction 7's one, as a fixed-time plan sends them.
+SignalStates sample_signals() {
+  const std::int64_t t = 1'795'000'000'000;  // 2026-11-19T09:46:40Z
+  return SignalStates{t,
+                      {{7, 254, MovementPhaseState::kDark, 0, 0},
+                       {100, 1, MovementPhaseState::kProtectedClearance, t + 2000, t + 2000},
+                       {100, 2, MovementPhaseState::kStopAndRemain, t + 5000, t + 5000},
+                       {100, 3, MovementPhaseState::kProtectedMovementAllowed, t + 1, t + 1},
+                       {100, 4, MovementPhaseState::kPreMovement, t + 1000, t + 900}}};
+}
+
 TEST(SimProtocol, ClientMessagesRoundTrip) {
   const std::vector<ClientMessage> msgs = {
       Hello{"sim-client alice"},
@@ -121,7 +132,7 @@ TEST(SimProtocol, ControlsLayout) {
   const auto b = encode(
       ControlsMsg{0x0102, Controls{1.0f, 0.0f, 0.0f, true, false}, 0x0304, 0x1122334455667788});
   ASSERT_EQ(b.size(), kHeaderSize + 25);
-  EXPECT_EQ(b[2], 6);          // version
+  EXPECT_EQ(b[2], 7);          // version
   EXPECT_EQ(b[4], 25);         // payload length
   EXPECT_EQ(b[8], 0x02);       // vehicle, little-endian
   EXPECT_EQ(b[8 + 14], 0x01);  // flags: reverse
@@ -143,6 +154,8 @@ TEST(SimProtocol, ServerMessagesRoundTrip) {
       DriverChanged{1, "carol"},
       Closing{CloseReason::kTooSlow, "send queue full"},
       Closing{CloseReason::kScenarioFinished, "scenario finished"},
+      sample_signals(),
+      SignalStates{1'795'000'000'000, {}},
   };
   for (const auto& m : msgs)
     EXPECT_EQ(server_roundtrip(m), m);
@@ -292,7 +305,15 @@ TEST(SimProtocol, RejectsUnknownTypeBadMagicAndVersion) {
   EXPECT_EQ(*feed(d, Bytes{'G', 'E', 'T', ' ', '/', ' ', 'H', 'T'}, 64).error,
             ProtocolError::kBadMagic);
   FrameParser e(Sender::kClient);
-  EXPECT_EQ(*feed(e, header(0x01, 1, 7), 64).error, ProtocolError::kUnsupportedVersion);
+  EXPECT_EQ(*feed(e, header(0x01, 1, 8), 64).error, ProtocolError::kUnsupportedVersion);
+  // Version 6 (no SignalStates) is refused: a version-6 client would close on the lights.
+  FrameParser e6(Sender::kServer);
+  EXPECT_EQ(*feed(e6, header(0x83, 26, 6), 64).error, ProtocolError::kUnsupportedVersion);
+  FrameParser c6(Sender::kClient);
+  EXPECT_EQ(*feed(c6, header(0x01, 1, 6), 64).error, ProtocolError::kUnsupportedVersion);
+  // SignalStates only come from the server.
+  FrameParser s86(Sender::kClient);
+  EXPECT_EQ(*feed(s86, header(0x86, 10), 64).error, ProtocolError::kUnknownType);
   // Version 5 (no ControlsBatch) is refused: a version-5 server would close on the batch.
   FrameParser e5(Sender::kClient);
   EXPECT_EQ(*feed(e5, header(0x01, 1, 5), 64).error, ProtocolError::kUnsupportedVersion);
@@ -552,6 +573,63 @@ TEST(SimProtocol, ConversationRefusesABatchWithAnyVehicleNotDriven) {
   EXPECT_TRUE(c.drives(4000));
   EXPECT_EQ(c.check(ControlsBatch{{entry(2), entry(3)}}).error(), ProtocolError::kOutOfOrder);
   EXPECT_EQ(c.driven(), (std::vector<std::uint16_t>{2, 4000}));
+}
+
+TEST(SimProtocol, SignalStatesLayout) {
+  // PROTOCOL.md: i64 world_time_ms, u16 count, count × (u16 intersection, u8 signal group,
+  // u8 MovementPhaseState, i64 next_change_ms, i64 likely_change_ms), little-endian.
+  const SignalStates m{0x0102030405060708,
+                       {{0x1234, 9, MovementPhaseState::kProtectedClearance, 0x1122, 0x3344}}};
+  const auto b = encode(m);
+  ASSERT_EQ(b.size(), kHeaderSize + 10 + 20);
+  EXPECT_EQ(b[2], 7);
+  EXPECT_EQ(b[3], 0x86);
+  EXPECT_EQ(b[4], 30);
+  EXPECT_EQ(b[8], 0x08);  // world time, least significant byte first
+  EXPECT_EQ(b[15], 0x01);
+  EXPECT_EQ(b[16], 1);  // count
+  EXPECT_EQ(b[18], 0x34);
+  EXPECT_EQ(b[19], 0x12);
+  EXPECT_EQ(b[20], 9);
+  EXPECT_EQ(b[21], 8);  // protected-clearance (amber)
+  EXPECT_EQ(b[22], 0x22);
+  EXPECT_EQ(b[30], 0x44);
+}
+
+TEST(SimProtocol, RejectsMalformedSignalStates) {
+  const auto good = encode(sample_signals());
+  const Bytes payload(good.begin() + kHeaderSize, good.end());
+  ASSERT_TRUE(decode_server(frame(MessageType::kSignalStates, payload)));
+  // Cut anywhere: never accepted, never read past the end.
+  for (std::size_t n = 0; n < payload.size(); ++n) {
+    EXPECT_FALSE(decode_server(
+        frame(MessageType::kSignalStates, Bytes(payload.begin(), payload.begin() + n))))
+        << "accepted SignalStates cut at " << n;
+  }
+  auto with = [&](std::size_t at, std::uint8_t v) {
+    Bytes p = payload;
+    p[at] = v;
+    return decode_server(frame(MessageType::kSignalStates, p));
+  };
+  const std::size_t e1 = 10 + 20;                            // second entry: (100, 1)
+  EXPECT_EQ(with(8, 4).error(), ProtocolError::kBadLength);  // claims 4 entries, carries 5
+  EXPECT_EQ(with(8, 6).error(), ProtocolError::kBadLength);
+  EXPECT_EQ(with(e1 + 3, 10).error(), ProtocolError::kBadValue);     // no MovementPhaseState 10
+  EXPECT_EQ(with(e1 + 2, 0).error(), ProtocolError::kBadValue);      // SignalGroupID 0 reserved
+  EXPECT_EQ(with(10 + 2, 255).error(), ProtocolError::kBadValue);    // and 255
+  EXPECT_EQ(with(e1 + 2, 2).error(), ProtocolError::kBadValue);      // (100, 2) twice
+  EXPECT_EQ(with(e1 + 0, 6).error(), ProtocolError::kBadValue);      // (6, 1) after (7, 254)
+  EXPECT_EQ(with(e1 + 11, 0x80).error(), ProtocolError::kBadValue);  // next change < 0
+  EXPECT_EQ(with(e1 + 19, 0x80).error(), ProtocolError::kBadValue);  // likely time < 0
+  EXPECT_EQ(with(7, 0x80).error(), ProtocolError::kBadValue);        // world time < 0
+  // Bounded: more groups than a frame may hold are refused on the header alone.
+  FrameParser p(Sender::kServer);
+  const auto over = static_cast<std::uint32_t>(10 + (kMaxSignalGroupStates + 1) * 20);
+  EXPECT_EQ(*feed(p, header(0x86, over), 64).error, ProtocolError::kOversized);
+  EXPECT_EQ(to_string(MovementPhaseState::kStopAndRemain), "stop-And-Remain");
+  EXPECT_EQ(to_string(MovementPhaseState::kProtectedMovementAllowed), "protected-Movement-Allowed");
+  EXPECT_EQ(to_string(MovementPhaseState::kPreMovement), "pre-Movement");
+  EXPECT_EQ(to_string(MovementPhaseState::kProtectedClearance), "protected-clearance");
 }
 
 TEST(SimProtocol, ErrorsHaveNames) {

@@ -215,4 +215,49 @@ json lcrw_message(const LcrwWarning& w) {
               {"other_state_time", unix_ms(w.other_state_time)}};
 }
 
+namespace {
+
+json optional_number(const std::optional<double>& v) {
+  return v && std::isfinite(*v) ? json(*v) : json(nullptr);
+}
+
+}  // namespace
+
+json signal_message(const signal::SignalStatus& s) {
+  if (!s.on_lane) {
+    return json{{"intersection_id", s.intersection_id}, {"lane", nullptr}};
+  }
+  json advice = nullptr;
+  if (s.advice) {
+    advice = json{{"min_speed_kmh", s.advice->min_speed_mps * 3.6},
+                  {"max_speed_kmh", s.advice->max_speed_mps * 3.6}};
+  }
+  return json{{"intersection_id", s.intersection_id},
+              {"signal_group", s.signal_group},
+              {"lane_id", s.lane_id},
+              {"state", signal::light_name(s.state)},
+              {"event_state", signal::dsrc_name(s.state)},
+              {"time_to_change_s", optional_number(s.time_to_change_s)},
+              {"likely_time_to_change_s", optional_number(s.likely_time_to_change_s)},
+              {"distance_to_stop_line_m", s.distance_to_stop_line_m},
+              {"advice", std::move(advice)},
+              {"rlvw", s.rlvw}};
+}
+
+json rlvw_message(const signal::RlvwWarning& w) {
+  return json{{"station_id", w.station_id},
+              {"intersection_id", w.intersection_id},
+              {"signal_group", w.signal_group},
+              {"lane_id", w.lane_id},
+              {"event", signal::to_string(w.event)},
+              {"severity", "warning"},
+              {"distance_to_stop_line_m", w.distance_to_stop_line_m},
+              {"speed_mps", w.speed_mps},
+              {"time_to_red_s", optional_number(w.time_to_red_s)},
+              {"stopping_distance_m", w.stopping_distance_m},
+              {"clear_reason", signal::to_string(w.clear_reason)},
+              {"raised_at", unix_ms(w.raised_at)},
+              {"updated_at", unix_ms(w.updated_at)}};
+}
+
 }  // namespace tb::its::apps::mqtt

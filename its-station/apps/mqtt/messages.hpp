@@ -16,6 +16,8 @@
 #include "its-station/apps/den/den_port.hpp"
 #include "its-station/apps/its_time.hpp"
 #include "its-station/apps/lcrw/lcrw.hpp"
+#include "its-station/apps/signal/rlvw.hpp"
+#include "its-station/apps/signal/signal_app.hpp"
 
 namespace tb::its::apps::mqtt {
 
@@ -33,6 +35,9 @@ class Topics {
   std::string denm_in(std::uint32_t originating) const;
   std::string denm_out() const { return root_ + "/out/denm"; }
   std::string lcrw() const { return root_ + "/app/lcrw"; }
+  /// The own lane's signal (issue 34), QoS 0, and the red light violation warning, QoS 1.
+  std::string signal() const { return root_ + "/app/signal"; }
+  std::string rlvw() const { return root_ + "/app/rlvw"; }
 
  private:
   std::string root_;
@@ -108,5 +113,10 @@ nlohmann::json cam_message(const ReceivedCam& c);
 std::string received_cam_payload(std::uint32_t source, clock::WallTime now, const ReceivedCam& c);
 nlohmann::json denm_message(const DenmView& d);
 nlohmann::json lcrw_message(const LcrwWarning& w);
+/// The `signal` message: the own lane's light, its timing, the stop-line distance and the GLOSA
+/// advice in km/h; `{"intersection_id": id, "lane": null}` when the vehicle has left the lane.
+nlohmann::json signal_message(const signal::SignalStatus& s);
+/// The `rlvw_warning` message (SI units, times in ms since the Unix epoch).
+nlohmann::json rlvw_message(const signal::RlvwWarning& w);
 
 }  // namespace tb::its::apps::mqtt

@@ -76,4 +76,32 @@ void StationPublisher::publish_warning(const LcrwWarning& w) {
   }
 }
 
+void StationPublisher::publish_signal(const signal::SignalStatus& s) {
+  const std::string topic = topics_.signal();
+  send(topic, "signal", kOriginApplication, signal_message(s), tb::mqtt::Qos::kAtMostOnce, false);
+  if (tracer_ != nullptr) {
+    // intersection, lane and state name the status an HMI shows; own_ms its evaluation.
+    tracer_->record("its.mqtt", {{"station", cfg_.station_id},
+                                 {"topic", std::string_view{topic}},
+                                 {"intersection", unsigned{s.intersection_id}},
+                                 {"lane", s.on_lane ? int{s.lane_id} : -1},
+                                 {"state", static_cast<int>(s.state)},
+                                 {"own_ms", unix_ms(s.time)}});
+  }
+}
+
+void StationPublisher::publish_rlvw(const signal::RlvwWarning& w) {
+  const std::string topic = topics_.rlvw();
+  send(topic, "rlvw_warning", kOriginApplication, rlvw_message(w), tb::mqtt::Qos::kAtLeastOnce,
+       false);
+  if (tracer_ != nullptr) {
+    tracer_->record("its.mqtt", {{"station", cfg_.station_id},
+                                 {"topic", std::string_view{topic}},
+                                 {"intersection", unsigned{w.intersection_id}},
+                                 {"lane", int{w.lane_id}},
+                                 {"own_ms", unix_ms(w.updated_at)},
+                                 {"event", to_string(w.event)}});
+  }
+}
+
 }  // namespace tb::its::apps::mqtt

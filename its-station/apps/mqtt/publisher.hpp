@@ -34,9 +34,14 @@ class StationPublisher {
   void publish_denm_sent(const DenmView& d);
   /// QoS 1, not retained (a stale warning must not greet a late subscriber).
   void publish_warning(const LcrwWarning& w);
+  /// The own lane's signal: QoS 0, not retained (a status a moment old is worthless; the
+  /// application sends it at most once per fix).
+  void publish_signal(const signal::SignalStatus& s);
+  /// Red light violation warning events: QoS 1, not retained, like LCRW's.
+  void publish_rlvw(const signal::RlvwWarning& w);
 
   /// `its.mqtt` records (docs/tracing.md: station, topic, from, gdt) for received CAMs and
-  /// LCRW warnings go to @p tracer; null: none.
+  /// LCRW warnings, and for signal messages and RLVW events, go to @p tracer; null: none.
   void set_tracer(trace::Tracer* tracer) { tracer_ = tracer; }
 
   const Topics& topics() const { return topics_; }

@@ -24,6 +24,8 @@ TEST(Topics, EverythingUnderTheStationPrefix) {
   EXPECT_EQ(t.denm_in(8), "its/1001/in/denm/8");
   EXPECT_EQ(t.denm_out(), "its/1001/out/denm");
   EXPECT_EQ(t.lcrw(), "its/1001/app/lcrw");
+  EXPECT_EQ(t.signal(), "its/1001/app/signal");
+  EXPECT_EQ(t.rlvw(), "its/1001/app/rlvw");
 }
 
 TEST(Envelope, CarriesTypeOriginVersionSourceAndMilliseconds) {
@@ -188,6 +190,106 @@ TEST(LcrwMessage, WarningFieldsAndInfiniteTtcAsNull) {
   EXPECT_EQ(m["updated_at"], 2000);
   // Serialisable: JSON has no infinity.
   EXPECT_NO_THROW((void)m.dump());
+}
+
+TEST(SignalMessage, TheContractsFieldsWithDsrcNames) {
+  signal::SignalStatus s;
+  s.station_id = 1001;
+  s.intersection_id = 12;
+  s.on_lane = true;
+  s.lane_id = 2;
+  s.signal_group = 3;
+  s.state = signal::MovementPhaseState::kPreMovement;
+  s.time_to_change_s = 1.5;
+  s.distance_to_stop_line_m = 42.25;
+  s.advice = signal::SpeedAdvice{25.0 / 3.6, 50.0 / 3.6, {}};
+  s.rlvw = false;
+  const json m = signal_message(s);
+  EXPECT_EQ(m["intersection_id"], 12);
+  EXPECT_EQ(m["signal_group"], 3);
+  EXPECT_EQ(m["lane_id"], 2);
+  EXPECT_EQ(m["state"], "red_amber");
+  EXPECT_EQ(m["event_state"], "pre-Movement");
+  EXPECT_DOUBLE_EQ(m["time_to_change_s"].get<double>(), 1.5);
+  EXPECT_TRUE(m["likely_time_to_change_s"].is_null());
+  EXPECT_DOUBLE_EQ(m["distance_to_stop_line_m"].get<double>(), 42.25);
+  EXPECT_NEAR(m["advice"]["min_speed_kmh"].get<double>(), 25.0, 1e-9);
+  EXPECT_NEAR(m["advice"]["max_speed_kmh"].get<double>(), 50.0, 1e-9);
+  EXPECT_EQ(m["rlvw"], false);
+  EXPECT_FALSE(m.contains("lane")) << "only the message on leaving carries lane: null";
+  s.advice.reset();
+  EXPECT_TRUE(signal_message(s)["advice"].is_null());
+
+  // Each state's light and DSRC name.
+  using signal::MovementPhaseState;
+  const std::pair<MovementPhaseState, std::pair<const char*, const char*>> names[] = {
+      {MovementPhaseState::kUnavailable, {"unavailable", "unavailable"}},
+      {MovementPhaseState::kDark, {"dark", "dark"}},
+      {MovementPhaseState::kStopThenProceed, {"red", "stop-Then-Proceed"}},
+      {MovementPhaseState::kStopAndRemain, {"red", "stop-And-Remain"}},
+      {MovementPhaseState::kPreMovement, {"red_amber", "pre-Movement"}},
+      {MovementPhaseState::kPermissiveMovementAllowed, {"green", "permissive-Movement-Allowed"}},
+      {MovementPhaseState::kProtectedMovementAllowed, {"green", "protected-Movement-Allowed"}},
+      {MovementPhaseState::kPermissiveClearance, {"amber", "permissive-clearance"}},
+      {MovementPhaseState::kProtectedClearance, {"amber", "protected-clearance"}},
+      {MovementPhaseState::kCautionConflictingTraffic, {"amber", "caution-Conflicting-Traffic"}},
+  };
+  for (const auto& [state, n] : names) {
+    s.state = state;
+    EXPECT_EQ(signal_message(s)["state"], n.first) << static_cast<int>(state);
+    EXPECT_EQ(signal_message(s)["event_state"], n.second) << static_cast<int>(state);
+  }
+}
+
+TEST(SignalMessage, LeavingTheLane) {
+  signal::SignalStatus s;
+  s.intersection_id = 12;
+  s.on_lane = false;
+  const json m = signal_message(s);
+  EXPECT_EQ(m, (json{{"intersection_id", 12}, {"lane", nullptr}}));
+}
+
+TEST(RlvwMessage, TheContractsFields) {
+  signal::RlvwWarning w;
+  w.event = signal::RlvwEvent::kCleared;
+  w.station_id = 1001;
+  w.intersection_id = 12;
+  w.signal_group = 3;
+  w.lane_id = 2;
+  w.clear_reason = signal::RlvwClearReason::kLeftLane;
+  w.distance_to_stop_line_m = 30.5;
+  w.speed_mps = 16.5;
+  w.stopping_distance_m = 61.9;
+  w.raised_at = at_ms(1000);
+  w.updated_at = at_ms(2500);
+  json m = rlvw_message(w);
+  EXPECT_EQ(m["station_id"], 1001);
+  EXPECT_EQ(m["intersection_id"], 12);
+  EXPECT_EQ(m["signal_group"], 3);
+  EXPECT_EQ(m["lane_id"], 2);
+  EXPECT_EQ(m["event"], "cleared");
+  EXPECT_EQ(m["severity"], "warning");
+  EXPECT_EQ(m["clear_reason"], "left_lane");
+  EXPECT_DOUBLE_EQ(m["distance_to_stop_line_m"].get<double>(), 30.5);
+  EXPECT_DOUBLE_EQ(m["speed_mps"].get<double>(), 16.5);
+  EXPECT_TRUE(m["time_to_red_s"].is_null());
+  EXPECT_DOUBLE_EQ(m["stopping_distance_m"].get<double>(), 61.9);
+  EXPECT_EQ(m["raised_at"], 1000);
+  EXPECT_EQ(m["updated_at"], 2500);
+  w.time_to_red_s = 0.0;
+  w.event = signal::RlvwEvent::kRaised;
+  w.clear_reason = signal::RlvwClearReason::kNone;
+  m = rlvw_message(w);
+  EXPECT_EQ(m["time_to_red_s"], 0.0);
+  EXPECT_EQ(m["event"], "raised");
+  EXPECT_EQ(m["clear_reason"], "none");
+  for (const auto& [r, name] : {std::pair{signal::RlvwClearReason::kStopped, "stopped"},
+                                {signal::RlvwClearReason::kPassed, "passed"},
+                                {signal::RlvwClearReason::kGreen, "green"},
+                                {signal::RlvwClearReason::kStale, "stale"}}) {
+    w.clear_reason = r;
+    EXPECT_EQ(rlvw_message(w)["clear_reason"], name);
+  }
 }
 
 TEST(Outbox, FifoAndDropsOldestWhenFull) {

@@ -106,6 +106,31 @@ TEST_F(PublisherTest, WarningsAreQos1AndNotRetained) {
   EXPECT_DOUBLE_EQ(sink.sent[0].payload["message"]["ttc_s"].get<double>(), 2.5);
 }
 
+TEST_F(PublisherTest, SignalIsQos0AndRlvwQos1NeitherRetained) {
+  signal::SignalStatus st;
+  st.station_id = 1001;
+  st.intersection_id = 5;
+  st.on_lane = true;
+  st.state = signal::MovementPhaseState::kStopAndRemain;
+  pub.publish_signal(st);
+  signal::RlvwWarning w;
+  w.station_id = 1001;
+  w.intersection_id = 5;
+  pub.publish_rlvw(w);
+  ASSERT_EQ(sink.sent.size(), 2u);
+  EXPECT_EQ(sink.sent[0].topic, "its/1001/app/signal");
+  EXPECT_EQ(sink.sent[0].qos, tb::mqtt::Qos::kAtMostOnce);
+  EXPECT_FALSE(sink.sent[0].retain);
+  EXPECT_EQ(sink.sent[0].payload["type"], "signal");
+  EXPECT_EQ(sink.sent[0].payload["origin"], "on_board_application");
+  EXPECT_EQ(sink.sent[0].payload["message"]["state"], "red");
+  EXPECT_EQ(sink.sent[1].topic, "its/1001/app/rlvw");
+  EXPECT_EQ(sink.sent[1].qos, tb::mqtt::Qos::kAtLeastOnce);
+  EXPECT_FALSE(sink.sent[1].retain);
+  EXPECT_EQ(sink.sent[1].payload["type"], "rlvw_warning");
+  EXPECT_EQ(sink.sent[1].payload["message"]["intersection_id"], 5);
+}
+
 TEST_F(PublisherTest, DenmsByDirection) {
   DenmView d;
   d.action_id = {1002, 5};
@@ -189,6 +214,55 @@ TEST_F(PublisherTest, TracesPublishedCamsAndWarnings) {
   EXPECT_EQ(r[1]["gdt"], 70000 - 65536);
   EXPECT_EQ(r[1]["own_ms"], kItsEpochUnixMs + 70040);
   EXPECT_EQ(r[1]["event"], "raised");
+}
+
+}  // namespace
+}  // namespace tb::its::apps::mqtt
+
+namespace tb::its::apps::mqtt {
+namespace {
+
+TEST_F(PublisherTest, TracesSignalMessagesAndRlvwEvents) {
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("signal-mqtt-trace-" + std::to_string(::getpid()) + ".jsonl");
+  {
+    trace::Tracer tracer(path.string(), "its-station");
+    pub.set_tracer(&tracer);
+    signal::SignalStatus s;
+    s.station_id = 1001;
+    s.intersection_id = 5;
+    s.on_lane = true;
+    s.lane_id = 2;
+    s.state = signal::MovementPhaseState::kProtectedClearance;
+    s.time = clock::WallTime{std::chrono::milliseconds{1'763'770'000'100}};
+    pub.publish_signal(s);
+    s.on_lane = false;
+    pub.publish_signal(s);
+    signal::RlvwWarning w;
+    w.intersection_id = 5;
+    w.lane_id = 2;
+    w.updated_at = clock::WallTime{std::chrono::milliseconds{1'763'770'000'200}};
+    pub.publish_rlvw(w);
+    pub.set_tracer(nullptr);
+    tracer.flush();
+  }
+  std::ifstream in(path);
+  std::vector<json> records;
+  for (std::string line; std::getline(in, line);) {
+    records.push_back(json::parse(line));
+  }
+  std::filesystem::remove(path);
+  ASSERT_EQ(records.size(), 3u);
+  EXPECT_EQ(records[0]["ev"], "its.mqtt");
+  EXPECT_EQ(records[0]["topic"], "its/1001/app/signal");
+  EXPECT_EQ(records[0]["intersection"], 5);
+  EXPECT_EQ(records[0]["lane"], 2);
+  EXPECT_EQ(records[0]["state"], 8);
+  EXPECT_EQ(records[0]["own_ms"], 1'763'770'000'100);
+  EXPECT_EQ(records[1]["lane"], -1) << "leaving the lane";
+  EXPECT_EQ(records[2]["topic"], "its/1001/app/rlvw");
+  EXPECT_EQ(records[2]["event"], "raised");
+  EXPECT_EQ(records[2]["own_ms"], 1'763'770'000'200);
 }
 
 }  // namespace

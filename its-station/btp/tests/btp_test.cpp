@@ -172,7 +172,9 @@ TEST_F(BtpPair, ASecuredPacketMustBeSignedForItsPortsService) {
   EXPECT_EQ(cams, std::vector<std::uint64_t>{36});
   EXPECT_EQ(drops, std::vector{DropReason::kItsAidMismatch});
   EXPECT_EQ(its_aid_of(kPortDenm), 37u);
-  EXPECT_EQ(its_aid_of(2003), 0u);
+  EXPECT_EQ(its_aid_of(kPortMapem), 138u);   // TS 102 965 RLT
+  EXPECT_EQ(its_aid_of(kPortSpatem), 137u);  // TLM
+  EXPECT_EQ(its_aid_of(2005), 0u);
   router_a.set_security(nullptr);
   router_b.set_security(nullptr);
 }

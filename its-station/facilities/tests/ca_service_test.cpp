@@ -48,9 +48,11 @@ std::ostream& operator<<(std::ostream& os, const CamAt& c) {
 class CaHarness {
  public:
   explicit CaHarness(scenario::CamPolicy policy = {},
-                     messages::VehicleRole role = messages::VehicleRole::default_) {
+                     messages::VehicleRole role = messages::VehicleRole::default_,
+                     messages::StationType type = messages::station_type::kPassengerCar) {
     CaConfig cfg;
     cfg.station_id = 1001;
+    cfg.station_type = type;
     cfg.policy = policy;
     cfg.vehicle_length_m = 4.255;
     cfg.vehicle_width_m = 1.799;
@@ -221,6 +223,39 @@ TEST(CaService, FixedPolicySendsAtItsPeriodWhateverTheDynamics) {
   for (std::size_t i = 0; i < h.cams.size(); ++i)
     EXPECT_EQ(h.cams[i].ms, static_cast<std::int64_t>(i) * 100);
   EXPECT_EQ(h.cams[1].why, CamTrigger::kFixed);
+}
+
+TEST(CaService, ARoadSideUnitSendsItsContainerOnceASecondWhateverItsFixSays) {
+  // EN 302 637-2 clause 6.1.4: an RSU's CAM at a fixed interval (T_GenCamMax), none of the
+  // vehicle's dynamic triggers — even when its GNSS fix wanders by metres and degrees, as a
+  // receiver's noise does.
+  CaHarness h({}, messages::VehicleRole::default_, messages::station_type::kRoadSideUnit);
+  h.drive(
+      [](double t) {
+        const double wobble = (static_cast<int>(t * 10) % 2 == 0) ? 5.0 : -5.0;
+        return Motion{wobble, 0.0, 90.0 + 10 * wobble, 0.0};
+      },
+      3.05);
+  ASSERT_EQ(h.cams.size(), 4u);
+  for (std::size_t i = 0; i < h.cams.size(); ++i)
+    EXPECT_EQ(h.cams[i].ms, static_cast<std::int64_t>(i) * 1000);
+  for (const messages::Cam& cam : h.sent) {
+    EXPECT_EQ(cam.cam.camParameters.basicContainer.stationType,
+              messages::station_type::kRoadSideUnit);
+    EXPECT_TRUE(std::holds_alternative<messages::RSUContainerHighFrequency>(
+        cam.cam.camParameters.highFrequencyContainer));
+    EXPECT_EQ(messages::vehicle_hf(cam.cam.camParameters), nullptr);
+    EXPECT_FALSE(cam.cam.camParameters.lowFrequencyContainer.has_value());
+    EXPECT_FALSE(cam.cam.camParameters.specialVehicleContainer.has_value());
+  }
+  // What went on the air decodes to an RSU's CAM at the fix's position.
+  ASSERT_FALSE(h.sender.packets.empty());
+  const auto back = messages::decode_cam(h.sender.packets.back().payload);
+  ASSERT_TRUE(back.has_value());
+  EXPECT_TRUE(std::holds_alternative<messages::RSUContainerHighFrequency>(
+      back->cam.camParameters.highFrequencyContainer));
+  EXPECT_EQ(back->cam.camParameters.basicContainer.referencePosition.latitude,
+            std::lround(h.fixes.back().latitude_deg * 1e7));
 }
 
 TEST(CaService, CamNamesItsFixAndCarriesLowFrequencyEvery500ms) {

@@ -11,14 +11,17 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "its-station/messages/cam.hpp"
 #include "its-station/messages/denm.hpp"
+#include "its-station/messages/tests/bits.hpp"
 #include "its-station/messages/tests/run_command.hpp"
 #include "its-station/messages/tests/samples.hpp"
+#include "its-station/messages/tests/signal_samples.hpp"
 
 namespace tb::its::messages {
 namespace {
@@ -47,8 +50,9 @@ void long_position_vector(Bytes& b) {
   put16(b, 900);            // heading 0.1 degree
 }
 
-/// Ethernet + GN basic/common header + SHB or GBC (circle) extended header + BTP-B + payload.
-Bytes frame(const Bytes& payload, bool geobroadcast) {
+/// Ethernet + GN basic/common header + SHB or GBC (circle) extended header + BTP-B + payload,
+/// to BTP port @p port (0: CAM's 2001 in an SHB, DENM's 2002 in a GBC).
+Bytes frame(const Bytes& payload, bool geobroadcast, std::uint16_t port = 0) {
   Bytes f;
   f.reserve(128 + payload.size());
   // Ethernet: broadcast destination, a local source address, ethertype 0x8947.
@@ -88,7 +92,7 @@ Bytes frame(const Bytes& payload, bool geobroadcast) {
     put32(f, 0);
   }
   // BTP-B (EN 302 636-5-1 7.3): destination port, destination port info.
-  put16(f, geobroadcast ? 2002 : 2001);
+  put16(f, port != 0 ? port : geobroadcast ? 2002 : 2001);
   put16(f, 0);
   f.insert(f.end(), payload.begin(), payload.end());
   return f;
@@ -430,6 +434,311 @@ TEST_F(TsharkInterop, RoadSideUnitCamDecodesToTheValuesSent) {
   ASSERT_EQ(got1.size(), 2u);
   EXPECT_EQ(got1[1], "15|1|0|410260000|50|12345");
   expect_clean();
+}
+
+// ---- SPATEM and MAPEM (TS 103 301 v2.1.1, ISO TS 19091) -----------------------------------
+
+// BTP-B ports of TS 103 248: MAPEM 2003, SPATEM 2004.
+constexpr std::uint16_t kPortMapem = 2003;
+constexpr std::uint16_t kPortSpatem = 2004;
+
+/// The values tshark should show per field, in the order the dissector meets them.
+class Expected {
+ public:
+  void add(const std::string& field, std::int64_t v) {
+    values_[field].push_back(std::to_string(v));
+  }
+  /// One line as fields() gives it: per field its values joined by ';', fields by '|'.
+  std::string line(const std::vector<std::string>& names) const {
+    std::string s;
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      if (i > 0)
+        s += '|';
+      const auto it = values_.find(names[i]);
+      if (it == values_.end())
+        continue;
+      for (std::size_t k = 0; k < it->second.size(); ++k)
+        s += (k > 0 ? ";" : "") + it->second[k];
+    }
+    return s;
+  }
+
+ private:
+  std::map<std::string, std::vector<std::string>> values_;
+};
+
+void expect_header(Expected& e, std::uint16_t port, const ItsPduHeader& h) {
+  e.add("btpb.dstport", port);
+  e.add("its.messageID", h.messageID);
+  e.add("its.stationID", h.stationID);
+}
+
+void expect_id(Expected& e, const IntersectionReferenceID& id) {
+  if (id.region)
+    e.add("dsrc.region", *id.region);
+  e.add("dsrc.id", id.id);
+}
+
+Expected expected_spatem(const Spatem& m) {
+  Expected e;
+  expect_header(e, kPortSpatem, m.header);
+  if (m.spat.timeStamp)
+    e.add("dsrc.timeStamp", *m.spat.timeStamp);
+  for (const IntersectionState& is : m.spat.intersections) {
+    expect_id(e, is.id);
+    e.add("dsrc.revision", is.revision);
+    if (is.moy)
+      e.add("dsrc.moy", *is.moy);
+    if (is.timeStamp)
+      e.add("dsrc.timeStamp", *is.timeStamp);
+    if (is.enabledLanes)
+      for (LaneID l : *is.enabledLanes)
+        e.add("dsrc.LaneID", l);
+    auto assists = [&](const std::optional<ManeuverAssistList>& l) {
+      if (l)
+        for (const ConnectionManeuverAssist& c : *l) {
+          e.add("dsrc.connectionID", c.connectionID);
+          if (c.queueLength)
+            e.add("dsrc.queueLength", *c.queueLength);
+          if (c.availableStorageLength)
+            e.add("dsrc.availableStorageLength", *c.availableStorageLength);
+        }
+    };
+    for (const MovementState& s : is.states) {
+      e.add("dsrc.signalGroup", s.signalGroup);
+      for (const MovementEvent& ev : s.state_time_speed) {
+        e.add("dsrc.eventState", static_cast<int>(ev.eventState));
+        if (ev.timing) {
+          const TimeChangeDetails& t = *ev.timing;
+          if (t.startTime)
+            e.add("dsrc.startTime", *t.startTime);
+          e.add("dsrc.minEndTime", t.minEndTime);
+          if (t.maxEndTime)
+            e.add("dsrc.maxEndTime", *t.maxEndTime);
+          if (t.likelyTime)
+            e.add("dsrc.likelyTime", *t.likelyTime);
+          if (t.confidence)
+            e.add("dsrc.confidence", *t.confidence);
+          if (t.nextTime)
+            e.add("dsrc.nextTime", *t.nextTime);
+        }
+        if (ev.speeds)
+          for (const AdvisorySpeed& a : *ev.speeds) {
+            e.add("dsrc.type", static_cast<int>(a.type));
+            if (a.speed)
+              e.add("dsrc.speed", *a.speed);
+            if (a.confidence)
+              e.add("dsrc.confidence", static_cast<int>(*a.confidence));
+            if (a.distance)
+              e.add("dsrc.distance", *a.distance);
+            if (a.class_)
+              e.add("dsrc.class", *a.class_);
+          }
+      }
+      assists(s.maneuverAssistList);
+    }
+    assists(is.maneuverAssistList);
+  }
+  return e;
+}
+
+const std::vector<std::string> kSpatemFields = {
+    "btpb.dstport",    "its.messageID",     "its.stationID",    "dsrc.timeStamp",
+    "dsrc.region",     "dsrc.id",           "dsrc.revision",    "dsrc.moy",
+    "dsrc.LaneID",     "dsrc.signalGroup",  "dsrc.eventState",  "dsrc.startTime",
+    "dsrc.minEndTime", "dsrc.maxEndTime",   "dsrc.likelyTime",  "dsrc.confidence",
+    "dsrc.nextTime",   "dsrc.type",         "dsrc.speed",       "dsrc.distance",
+    "dsrc.class",      "dsrc.connectionID", "dsrc.queueLength", "dsrc.availableStorageLength"};
+
+Bytes enc(const Spatem& m) {
+  auto b = encode(m);
+  EXPECT_TRUE(b) << asn1::to_string(b.error());
+  return b ? *b : Bytes{};
+}
+Bytes enc(const Mapem& m) {
+  auto b = encode(m);
+  EXPECT_TRUE(b) << asn1::to_string(b.error());
+  return b ? *b : Bytes{};
+}
+
+TEST_F(TsharkInterop, SpatemsDecodeToTheValuesSentWithoutWarnings) {
+  std::vector<std::unique_ptr<Spatem>> msgs;
+  msgs.push_back(samples::spatem_two_groups());
+  msgs.push_back(samples::spatem_typical());
+  msgs.push_back(samples::spatem_at_bounds(false));
+  msgs.push_back(samples::spatem_every_optional());
+  std::vector<Bytes> frames;
+  for (const auto& m : msgs)
+    frames.push_back(frame(enc(*m), false, kPortSpatem));
+  const auto got = fields(frames, kSpatemFields);
+  ASSERT_EQ(got.size(), msgs.size());
+  for (std::size_t i = 0; i < msgs.size(); ++i)
+    EXPECT_EQ(got[i], expected_spatem(*msgs[i]).line(kSpatemFields)) << "SPATEM " << i;
+  // The IntersectionStatusObject's named bits in their places.
+  const auto status = fields(frames, {"dsrc.IntersectionStatusObject.fixedTimeOperation",
+                                      "dsrc.IntersectionStatusObject.manualControlIsEnabled"});
+  ASSERT_EQ(status.size(), msgs.size());
+  EXPECT_EQ(status[0], "1|0");
+  EXPECT_EQ(status[2], "0|0");
+  EXPECT_EQ(status[3], "1|1");
+  expect_clean();
+}
+
+Expected expected_mapem(const Mapem& m) {
+  Expected e;
+  expect_header(e, kPortMapem, m.header);
+  const MapData& d = m.map;
+  if (d.timeStamp)
+    e.add("dsrc.timeStamp", *d.timeStamp);
+  e.add("dsrc.msgIssueRevision", d.msgIssueRevision);
+  if (d.layerID)
+    e.add("dsrc.layerID", *d.layerID);
+  if (d.intersections)
+    for (const IntersectionGeometry& g : *d.intersections) {
+      expect_id(e, g.id);
+      e.add("dsrc.revision", g.revision);
+      e.add("dsrc.lat", g.refPoint.lat);
+      e.add("dsrc.long", g.refPoint.long_);
+      if (g.refPoint.elevation)
+        e.add("dsrc.position3D.elevation", *g.refPoint.elevation);
+      if (g.laneWidth)
+        e.add("dsrc.laneWidth", *g.laneWidth);
+      if (g.speedLimits)
+        for (const RegulatorySpeedLimit& s : *g.speedLimits)
+          e.add("dsrc.speed", s.speed);
+      for (const GenericLane& l : g.laneSet) {
+        e.add("dsrc.laneID", l.laneID);
+        if (l.ingressApproach)
+          e.add("dsrc.ingressApproach", *l.ingressApproach);
+        if (l.egressApproach)
+          e.add("dsrc.egressApproach", *l.egressApproach);
+        if (const auto* nodes = std::get_if<NodeSetXY>(&l.nodeList)) {
+          for (const NodeXY& n : *nodes) {
+            if (n.delta.choice == NodeOffsetPointXY::Choice::node_LatLon) {
+              e.add("dsrc.lon", n.delta.x);
+              e.add("dsrc.lat", n.delta.y);
+            } else {
+              e.add("dsrc.x", n.delta.x);
+              e.add("dsrc.y", n.delta.y);
+            }
+            if (n.attributes) {
+              if (n.attributes->localNode)
+                for (NodeAttributeXY a : *n.attributes->localNode)
+                  e.add("dsrc.NodeAttributeXY", static_cast<int>(a));
+              if (n.attributes->dWidth)
+                e.add("dsrc.dWidth", *n.attributes->dWidth);
+              if (n.attributes->dElevation)
+                e.add("dsrc.dElevation", *n.attributes->dElevation);
+            }
+          }
+        } else {
+          const ComputedLane& c = std::get<ComputedLane>(l.nodeList);
+          e.add("dsrc.referenceLaneId", c.referenceLaneId);
+          e.add(c.offsetXaxis.large ? "dsrc.large" : "dsrc.small", c.offsetXaxis.value);
+          e.add(c.offsetYaxis.large ? "dsrc.large" : "dsrc.small", c.offsetYaxis.value);
+          if (c.rotateXY)
+            e.add("dsrc.rotateXY", *c.rotateXY);
+        }
+        if (l.connectsTo)
+          for (const Connection& c : *l.connectsTo) {
+            e.add("dsrc.lane", c.connectingLane.lane);
+            if (c.remoteIntersection)
+              expect_id(e, *c.remoteIntersection);
+            if (c.signalGroup)
+              e.add("dsrc.signalGroup", *c.signalGroup);
+            if (c.userClass)
+              e.add("dsrc.userClass", *c.userClass);
+            if (c.connectionID)
+              e.add("dsrc.connectionID", *c.connectionID);
+          }
+      }
+    }
+  if (d.restrictionList)
+    for (const RestrictionClassAssignment& a : *d.restrictionList) {
+      e.add("dsrc.id", a.id);
+      for (RestrictionAppliesTo u : a.users)
+        e.add("dsrc.basicType", u);
+    }
+  return e;
+}
+
+const std::vector<std::string> kMapemFields = {"btpb.dstport",
+                                               "its.messageID",
+                                               "its.stationID",
+                                               "dsrc.timeStamp",
+                                               "dsrc.msgIssueRevision",
+                                               "dsrc.layerID",
+                                               "dsrc.region",
+                                               "dsrc.id",
+                                               "dsrc.revision",
+                                               "dsrc.lat",
+                                               "dsrc.long",
+                                               "dsrc.position3D.elevation",
+                                               "dsrc.laneWidth",
+                                               "dsrc.speed",
+                                               "dsrc.laneID",
+                                               "dsrc.ingressApproach",
+                                               "dsrc.egressApproach",
+                                               "dsrc.x",
+                                               "dsrc.y",
+                                               "dsrc.lon",
+                                               "dsrc.NodeAttributeXY",
+                                               "dsrc.dWidth",
+                                               "dsrc.dElevation",
+                                               "dsrc.referenceLaneId",
+                                               "dsrc.small",
+                                               "dsrc.large",
+                                               "dsrc.rotateXY",
+                                               "dsrc.lane",
+                                               "dsrc.signalGroup",
+                                               "dsrc.userClass",
+                                               "dsrc.connectionID",
+                                               "dsrc.basicType"};
+
+TEST_F(TsharkInterop, MapemsDecodeToTheValuesSentWithoutWarnings) {
+  std::vector<std::unique_ptr<Mapem>> msgs;
+  msgs.push_back(samples::mapem_one_lane());
+  msgs.push_back(samples::mapem_typical());
+  msgs.push_back(samples::mapem_at_bounds(false));
+  msgs.push_back(samples::mapem_every_optional());
+  std::vector<Bytes> frames;
+  for (const auto& m : msgs)
+    frames.push_back(frame(enc(*m), false, kPortMapem));
+  const auto got = fields(frames, kMapemFields);
+  ASSERT_EQ(got.size(), msgs.size());
+  for (std::size_t i = 0; i < msgs.size(); ++i)
+    EXPECT_EQ(got[i], expected_mapem(*msgs[i]).line(kMapemFields)) << "MAPEM " << i;
+  // Named bits and enumerations in their places.
+  const auto bits =
+      fields(frames, {"dsrc.LaneDirection.ingressPath", "dsrc.LaneDirection.egressPath",
+                      "dsrc.AllowedManeuvers.maneuverRightAllowed", "dsrc.layerType"});
+  ASSERT_EQ(bits.size(), msgs.size());
+  EXPECT_EQ(bits[0], "1|0|1;0;1|");                     // lane, then its two connections
+  EXPECT_EQ(bits[2].substr(bits[2].size() - 2), "|0");  // layerType none
+  expect_clean();
+}
+
+TEST_F(TsharkInterop, ARegionalExtensionAsWiresharkReadsItIsSkippedByOurDecoder) {
+  // samples::spatem_two_groups() with a MovementEvent-addGrpC on its first event (the layout of
+  // spatem_test.cpp's table): the regional presence bit (167), then after the event's timing
+  // (bit 209) SIZE(1..4) = 1, regionId addGrpC (3) and the open type: one octet holding
+  // {ext 0, stateChangeReason present, ExceptionalCondition ext 0, trainPriority (3)}.
+  const Bytes plain = enc(*samples::spatem_two_groups());
+  std::string bits = testing::to_bits(plain).substr(0, 274);
+  bits.replace(167, 1, "1");
+  bits.insert(209, "00" + testing::bits_of(3, 8) + testing::bits_of(1, 8) + "01000110");
+  const Bytes with_regional = testing::from_bits(bits);
+  const auto got =
+      fields({frame(with_regional, false, kPortSpatem)},
+             {"dsrc.regionId", "AddGrpC.stateChangeReason", "dsrc.signalGroup", "dsrc.minEndTime"});
+  ASSERT_EQ(got.size(), 1u);
+  EXPECT_EQ(got[0], "3|3|1;2|1234;1264");
+  expect_clean();
+  auto ours = std::make_unique<Spatem>();
+  auto n = decode(with_regional, *ours);
+  ASSERT_TRUE(n) << asn1::to_string(n.error());
+  EXPECT_EQ(*ours, *samples::spatem_two_groups());
+  EXPECT_EQ(enc(*ours), plain);
 }
 
 }  // namespace

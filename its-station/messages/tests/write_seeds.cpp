@@ -1,4 +1,4 @@
-// Writes the fuzz seed corpora (tests/fuzz/cam, tests/fuzz/denm) from the sample messages, so
+// Writes the fuzz seed corpora (tests/fuzz/cam, denm, spatem, mapem) from the sample messages, so
 // that the committed seeds stay the encodings of the golden and boundary samples.
 // Usage: its_messages_write_seeds <repository root>
 
@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "its-station/messages/tests/samples.hpp"
+#include "its-station/messages/tests/signal_samples.hpp"
 
 namespace {
 
@@ -75,6 +76,29 @@ int main(int argc, char** argv) {
   for (const auto& [name, denm] : denms) {
     auto bytes = encode(denm);
     ok = ok && bytes && write(root / "tests/fuzz/denm" / name, *bytes);
+  }
+  // SPATEM and MAPEM: the worked examples, the typical junction, the lower bounds and every
+  // optional component and alternative (not the largest messages: their hundreds of kilobytes
+  // would make every fuzz input that long).
+  const std::pair<const char*, std::unique_ptr<Spatem>> spatems[] = {
+      {"spatem_two_groups.uper", samples::spatem_two_groups()},
+      {"spatem_typical.uper", samples::spatem_typical()},
+      {"spatem_lower.uper", samples::spatem_at_bounds(false)},
+      {"spatem_every_optional.uper", samples::spatem_every_optional()},
+  };
+  for (const auto& [name, m] : spatems) {
+    auto bytes = encode(*m);
+    ok = ok && bytes && write(root / "tests/fuzz/spatem" / name, *bytes);
+  }
+  const std::pair<const char*, std::unique_ptr<Mapem>> mapems[] = {
+      {"mapem_one_lane.uper", samples::mapem_one_lane()},
+      {"mapem_typical.uper", samples::mapem_typical()},
+      {"mapem_lower.uper", samples::mapem_at_bounds(false)},
+      {"mapem_every_optional.uper", samples::mapem_every_optional()},
+  };
+  for (const auto& [name, m] : mapems) {
+    auto bytes = encode(*m);
+    ok = ok && bytes && write(root / "tests/fuzz/mapem" / name, *bytes);
   }
   if (!ok) {
     std::cerr << "cannot write the seeds under " << root << "\n";

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <functional>
 
@@ -44,6 +45,44 @@ TEST(PkiFiles, MakesWhatIsMissingAndStationsVerifyEachOther) {
   EXPECT_EQ(v.verify(cam, kPsidCam, to_time64(kWall)).result, VerifyResult::kOk);
 }
 
+// Issue 34: a road-side unit's AT carries SPATEM (137) and MAPEM (138) too, a vehicle's does not;
+// the RSU signs both, a vehicle's verifier accepts them, and a vehicle cannot sign them.
+TEST(PkiFiles, ARoadSideUnitsAtSignsSpatemAndMapem) {
+  const PkiPaths paths{fresh_dir("i34-pki-rsu")};
+  PkiOptions o;
+  o.now = to_time32(kWall);
+  o.road_side_units = {5001};
+  ASSERT_EQ(make_pki(paths, {1001, 5001}, o).size(), 8u);
+  auto rsu = load_station_credentials(paths, 5001);
+  auto car = load_station_credentials(paths, 1001);
+  EXPECT_EQ(*rsu.at.tbs.app_permissions, ticket_permissions(true));
+  EXPECT_EQ(*car.at.tbs.app_permissions, ticket_permissions(false));
+  Verifier v({car.root});
+  ASSERT_EQ(v.add_authority(car.aa, to_time64(kWall)), VerifyResult::kOk);
+  Signer rsu_signer(rsu.at, std::move(rsu.at_key), rsu.aa);
+  Signer car_signer(car.at, std::move(car.at_key), car.aa);
+  EXPECT_TRUE(rsu_signer.permits(kPsidSpatem));
+  EXPECT_TRUE(rsu_signer.permits(kPsidMapem));
+  EXPECT_TRUE(rsu_signer.permits(kPsidCam));
+  EXPECT_FALSE(car_signer.permits(kPsidSpatem));
+  EXPECT_FALSE(car_signer.permits(kPsidMapem));
+  for (const Psid psid : {kPsidSpatem, kPsidMapem}) {
+    const Bytes signed_data = rsu_signer.sign_other(psid, Bytes{4, 5, 6}, to_time64(kWall));
+    EXPECT_EQ(v.verify(signed_data, psid, to_time64(kWall)).result, VerifyResult::kOk) << psid;
+    // A car's AT signing it anyway is refused by the receiver.
+    const Bytes forged = car_signer.sign_other(psid, Bytes{4, 5, 6}, to_time64(kWall));
+    EXPECT_EQ(v.verify(forged, psid, to_time64(kWall)).result, VerifyResult::kPsidNotPermitted)
+        << psid;
+  }
+  // Nothing to do again; a station that stops being an RSU gets a vehicle's AT.
+  EXPECT_TRUE(make_pki(paths, {1001, 5001}, o).empty());
+  PkiOptions no_rsu = o;
+  no_rsu.road_side_units.clear();
+  EXPECT_EQ(make_pki(paths, {1001, 5001}, no_rsu),
+            (std::vector{paths.at_key(5001), paths.at_cert(5001)}));
+  EXPECT_EQ(*read_certificate(paths.at_cert(5001)).tbs.app_permissions, ticket_permissions());
+}
+
 TEST(PkiFiles, MakesAgainWhatWouldNoLongerWork) {
   const PkiPaths paths{fresh_dir("i20-pki-renew")};
   PkiOptions o;
@@ -68,8 +107,11 @@ TEST(PkiFiles, MakesAgainWhatWouldNoLongerWork) {
   const Certificate root = read_certificate(paths.root_cert());
   const EcKey root_key = EcKey::load_private_pem(paths.root_key().string());
   auto& groups = *aa.tbs.cert_issue_permissions;
-  groups.front().psids.pop_back();
-  ASSERT_EQ(groups.front().psids.back().psid, kPsidDenm);
+  auto& psids = groups.front().psids;
+  const auto gn_mgmt = std::find_if(psids.begin(), psids.end(),
+                                    [](const PsidSspRange& p) { return p.psid == kPsidGnMgmt; });
+  ASSERT_NE(gn_mgmt, psids.end());
+  psids.erase(gn_mgmt);
   sign_certificate(aa, &root, root_key);
   write_certificate(paths.aa_cert(), aa);
   EXPECT_EQ(make_pki(paths, {1, 2}, later).size(), 8u);

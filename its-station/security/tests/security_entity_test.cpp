@@ -307,6 +307,37 @@ TEST(VerifyOnDemand, DenmOfAnUnknownDigestIsHeldUntilACamBringsTheCertificate) {
   EXPECT_EQ(out[0].reason, VerifyResult::kOk);
 }
 
+// Issue 34: a pooled station without the signal application leaves SPATEM and MAPEM unverified
+// (it does not even take them in); one that runs it verifies them.
+TEST(VerifyOnDemand, VerifiesSpatemAndMapemOnlyForTheSignalApplication) {
+  Fixture f;
+  auto a = f.station(SecurityMode::kSigned);
+  auto b = f.station(SecurityMode::kSigned);
+  b.set_verify_policy(VerifyPolicy::kOnDemand);
+  // a's AT first, so that the messages below are signed with its digest.
+  b.decapsulate(a.encapsulate(kPsidCam, kPayload, kNow), kNow);
+  const auto base = b.verifier().ecdsa_verifications();
+  EXPECT_FALSE(b.verifies(kPsidSpatem));
+  EXPECT_FALSE(b.verifies(kPsidMapem));
+  auto out = b.decapsulate(tamper(a.encapsulate(kPsidSpatem, kPayload, kNow + 1000)), kNow + 1000);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].reason, VerifyResult::kNotVerified);
+  EXPECT_EQ(b.verifier().ecdsa_verifications(), base);
+  b.set_signal_consumer(true);
+  EXPECT_TRUE(b.verifies(kPsidSpatem));
+  EXPECT_TRUE(b.verifies(kPsidMapem));
+  EXPECT_FALSE(b.verifies(kPsidCam));  // the CAM consumer is another switch
+  out = b.decapsulate(tamper(a.encapsulate(kPsidMapem, kPayload, kNow + 2000)), kNow + 2000);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_FALSE(out[0].pass_up);
+  // Checked now: the test's AT carries no ITS-AID 138, which only verification looks at.
+  EXPECT_EQ(out[0].reason, VerifyResult::kPsidNotPermitted) << to_string(out[0].reason);
+  // A full station verifies them whatever runs.
+  auto c = f.station(SecurityMode::kSigned);
+  EXPECT_TRUE(c.verifies(kPsidSpatem));
+  EXPECT_TRUE(c.verifies(kPsidMapem));
+}
+
 TEST(VerifyOnDemand, VerifiesCamsWhenAConsumerRuns) {
   Fixture f;
   auto a = f.station(SecurityMode::kSigned);

@@ -9,6 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
@@ -64,6 +65,10 @@ int main(int argc, char** argv) {
   auto* make = app.add_subcommand("make", "make what is missing of root, AA and the stations' ATs");
   make->add_option("--dir", dir, "directory of the PKI files")->required();
   make->add_option("--station", stations, "station id that gets an AT (repeatable)");
+  std::vector<std::uint32_t> rsu_stations;
+  make->add_option("--rsu-station", rsu_stations,
+                   "station id of a road-side unit: its AT also carries SPATEM (137) and MAPEM "
+                   "(138) (repeatable; implies --station)");
   make->add_option("--name", options.name, "name in the root's and AA's certificates");
   make->add_option("--ticket-hours", options.ticket_hours, "AT validity in hours")
       ->check(CLI::Range(1, 65535));
@@ -82,6 +87,8 @@ int main(int argc, char** argv) {
   issue->add_option("--public-key", public_key, "P-256 public key, SubjectPublicKeyInfo PEM")
       ->required();
   issue->add_option("--at", at_text, "UTC instant taken as now (as for make)");
+  bool issue_rsu = false;
+  issue->add_flag("--rsu", issue_rsu, "the station is a road-side unit (SPATEM and MAPEM too)");
   issue->add_option("--ticket-hours", options.ticket_hours, "AT validity in hours")
       ->check(CLI::Range(1, 65535));
   std::string out;
@@ -115,11 +122,18 @@ int main(int argc, char** argv) {
   };
   try {
     if (*make) {
+      for (const std::uint32_t id : rsu_stations) {
+        options.road_side_units.insert(id);
+        if (std::find(stations.begin(), stations.end(), id) == stations.end())
+          stations.push_back(id);
+      }
       const auto written = make_pki(PkiPaths{dir}, stations, options);
       print_written(written);
       if (written.empty())
         std::cout << "nothing to do: " << dir << " has every file\n";
     } else if (*issue) {
+      if (issue_rsu)
+        options.road_side_units.insert(station);
       print_written(issue_ticket(PkiPaths{dir}, station, public_key, options));
     } else if (*export_cmd) {
       print_written(export_station(PkiPaths{dir}, station, out));

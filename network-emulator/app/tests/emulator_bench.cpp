@@ -4,11 +4,14 @@
 
 #include <benchmark/benchmark.h>
 
+#include <cstring>
+
 #include <boost/asio/ip/udp.hpp>
 
 #include "common/can/udp_can_bus.hpp"
 #include "common/clock/clock.hpp"
 #include "common/scenario/loader.hpp"
+#include "common/wire/signal_feed.hpp"
 #include "network-emulator/app/emulator.hpp"
 
 namespace tb::emu {
@@ -103,6 +106,33 @@ void BM_SendCanDatagram(benchmark::State& st) {
     benchmark::DoNotOptimize(bus->send(frames));
 }
 BENCHMARK(BM_SendCanDatagram);
+
+/// The signal feed's hop (issue 34): one SignalStates of J junctions × 4 groups from a
+/// sim-client, decoded, checked for a copy, and each of J RSUs sent its junction's 4 groups
+/// (discarding sinks). Every iteration is a new world time, so nothing is dropped as a copy.
+void BM_SignalFeedToRsus(benchmark::State& st) {
+  const auto junctions = static_cast<std::uint16_t>(st.range(0));
+  NullSink sink;
+  std::vector<SignalFeed::Rsu> rsus;
+  for (std::uint16_t j = 0; j < junctions; ++j)
+    rsus.push_back({static_cast<std::uint32_t>(5000 + j), j, &sink});
+  trace::Tracer tracer;
+  SignalFeed feed(rsus, tracer);
+  wire::sim::SignalStates states{1'795'000'000'000, {}};
+  for (std::uint16_t j = 0; j < junctions; ++j)
+    for (std::uint8_t g = 1; g <= 4; ++g)
+      states.groups.push_back({j, g, wire::sim::MovementPhaseState::kStopAndRemain,
+                               states.world_time_ms + 5000, states.world_time_ms + 5000});
+  std::vector<std::uint8_t> datagram = *wire::encode_signal_feed(states);
+  for (auto _ : st) {
+    ++states.world_time_ms;
+    std::memcpy(datagram.data() + 8, &states.world_time_ms, 8);  // little-endian host
+    benchmark::DoNotOptimize(feed.handle_datagram(datagram));
+  }
+  if (feed.counters().sent != static_cast<std::uint64_t>(st.iterations()) * junctions)
+    st.SkipWithError("not every RSU was sent its groups");
+}
+BENCHMARK(BM_SignalFeedToRsus)->Arg(1)->Arg(25);
 
 }  // namespace
 }  // namespace tb::emu

@@ -383,5 +383,90 @@ TEST(ClientApp, MqttWarningBannerComesAndGoes) {
   station.stop();
 }
 
+// Issue 34: the own lane's signal and the red-light warning through a real broker, as the
+// station publishes them (signal QoS 0 at 10 Hz, RLVW QoS 1), into the frames the render
+// thread draws: the panel's light and the banner come, and go with "lane": null and cleared.
+TEST(ClientApp, MqttSignalPanelAndRedLightBannerComeAndGo) {
+  testing::Xvfb xvfb;
+  if (!xvfb.running())
+    GTEST_SKIP() << "Xvfb did not start (scripts/install-deps installs xvfb)";
+  mqtt::testing::Broker broker("1001,1002");
+  ASSERT_TRUE(broker.configured());
+  ASSERT_TRUE(broker.start()) << broker.log();
+  clock::SystemClock clk;
+  mqtt::ClientConfig sc;
+  sc.port = broker.port();
+  sc.client_id = sc.username = "station-1001";
+  sc.password = broker.password(1001);
+  mqtt::MosquittoClient station(clk, sc);
+  station.start();
+
+  testing::FakeSimServer server;
+  asio::io_context io;
+  AppOptions o;
+  o.server = "127.0.0.1:" + std::to_string(server.port());
+  o.forward = false;
+  o.session.vehicles = {"me"};  // station 1001
+  o.view = ViewKind::k3d;
+  o.width = 480;
+  o.height = 270;
+  o.mqtt = "127.0.0.1:" + std::to_string(broker.port());
+  std::mutex mu;
+  std::string light, rlvw;
+  o.frame_observer = [&](const view3d::FrameStats& s) {
+    std::lock_guard l(mu);
+    light = s.signal ? std::string(v2x::to_string(s.signal->light)) : std::string();
+    rlvw = s.rlvw_banner;
+  };
+  ClientApp app(io, o);
+  app.start();
+  const auto shown = [&](auto publish, auto pred) {
+    for (int i = 0; i < 400; ++i) {
+      if (i % 5 == 0)
+        publish();  // every 100 ms, as the station does while on the lane
+      pump(io, 20ms);
+      std::lock_guard l(mu);
+      if (pred())
+        return true;
+    }
+    return false;
+  };
+  const std::string signal =
+      R"({"type":"signal","message":{"intersection_id":1,"signal_group":2,"lane_id":1,)"
+      R"("state":"amber","event_state":"protected-clearance","time_to_change_s":1.5,)"
+      R"("likely_time_to_change_s":null,"distance_to_stop_line_m":30.0,"advice":null,)"
+      R"("rlvw":true}})";
+  const auto publish_signal = [&] {
+    station.publish("its/1001/app/signal", signal, mqtt::Qos::kAtMostOnce, false);
+  };
+  ASSERT_TRUE(shown(publish_signal, [&] { return light == "amber"; })) << "light: " << light;
+  const std::string raised =
+      R"({"type":"rlvw_warning","message":{"station_id":1001,"intersection_id":1,)"
+      R"("signal_group":2,"lane_id":1,"event":"raised","severity":"warning",)"
+      R"("distance_to_stop_line_m":30.0,"speed_mps":16.7,"time_to_red_s":1.5,)"
+      R"("stopping_distance_m":63.1}})";
+  station.publish("its/1001/app/rlvw", raised, mqtt::Qos::kAtLeastOnce, false);
+  EXPECT_TRUE(shown(publish_signal, [&] { return rlvw.find("RED LIGHT WARNING") == 0; }))
+      << "banner: " << rlvw;
+  station.publish("its/1001/app/rlvw",
+                  R"({"type":"rlvw_warning","message":{"station_id":1001,"intersection_id":1,)"
+                  R"("signal_group":2,"lane_id":1,"event":"cleared","clear_reason":"passed"}})",
+                  mqtt::Qos::kAtLeastOnce, false);
+  // Still on the lane, but the signal's flag no longer holds the warning.
+  const std::string calm =
+      R"({"type":"signal","message":{"intersection_id":1,"signal_group":2,"lane_id":1,)"
+      R"("state":"red","event_state":"stop-And-Remain","time_to_change_s":20,)"
+      R"("distance_to_stop_line_m":-2.0,"advice":null,"rlvw":false}})";
+  EXPECT_TRUE(
+      shown([&] { station.publish("its/1001/app/signal", calm, mqtt::Qos::kAtMostOnce, false); },
+            [&] { return rlvw.empty() && light == "red"; }))
+      << "banner: " << rlvw << ", light: " << light;
+  station.publish("its/1001/app/signal", R"({"type":"signal","message":{"lane":null}})",
+                  mqtt::Qos::kAtLeastOnce, false);
+  EXPECT_TRUE(shown([] {}, [&] { return light.empty(); })) << "light: " << light;
+  app.stop(0);
+  station.stop();
+}
+
 }  // namespace
 }  // namespace tb::client

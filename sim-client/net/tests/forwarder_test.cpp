@@ -189,5 +189,38 @@ TEST(SplitHostPort, FormsAndErrors) {
   EXPECT_THROW(UdpSink(io, "no-such-host.invalid:1"), std::runtime_error);
 }
 
+TEST(SignalFeedAddress, IsTheStatePortPlusOne) {
+  EXPECT_EQ(signal_feed_address("127.0.0.1:4700"), "127.0.0.1:4701");
+  EXPECT_EQ(signal_feed_address("emulator"), "emulator:4701");  // the default state port
+  EXPECT_EQ(signal_feed_address("10.0.0.5:5000"), "10.0.0.5:5001");
+  EXPECT_EQ(signal_feed_address("[::1]:4700"), "[::1]:4701");
+  EXPECT_THROW(signal_feed_address("h:65535"), std::invalid_argument);
+  EXPECT_THROW(signal_feed_address("h:x"), std::invalid_argument);
+}
+
+TEST(SignalForwarder, CountsFailuresAndOversizedMessages) {
+  CaptureSink sink;
+  trace::Tracer off;
+  SignalForwarder fwd(sink, off);
+  wire::sim::SignalStates states{10, {{1, 1, wire::sim::MovementPhaseState::kStopAndRemain, 0, 0}}};
+  sink.fail = true;
+  fwd.forward(states);
+  EXPECT_EQ(fwd.failed(), 1u);
+  EXPECT_EQ(fwd.sent(), 0u);
+  sink.fail = false;
+  fwd.forward(states);
+  EXPECT_EQ(fwd.sent(), 1u);
+  ASSERT_EQ(sink.sent.size(), 1u);
+  // More groups than a datagram holds: dropped, never cut.
+  states.groups.clear();
+  for (int i = 0; i < 4000; ++i)
+    states.groups.push_back({static_cast<std::uint16_t>(i / 254),
+                             static_cast<std::uint8_t>(1 + i % 254),
+                             wire::sim::MovementPhaseState::kStopAndRemain, 0, 0});
+  fwd.forward(states);
+  EXPECT_EQ(fwd.too_large(), 1u);
+  EXPECT_EQ(sink.sent.size(), 1u);
+}
+
 }  // namespace
 }  // namespace tb::client

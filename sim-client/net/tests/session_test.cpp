@@ -289,6 +289,80 @@ TEST_F(SessionTest, StateBeforeWelcomeIsAnError) {
   EXPECT_EQ(s.last_error(), "the server sent a message before Welcome");
 }
 
+TEST_F(SessionTest, KeepsTheLatestSignalStatesPerJunction) {
+  SessionOptions o;
+  o.client_name = "watcher";
+  SimSession s = make(o);
+  s.on_connected();
+  ASSERT_TRUE(feed(s, testing::welcome()));
+  EXPECT_TRUE(s.signals().empty());
+  const std::int64_t t = 1'795'000'000'000;
+  using P = sim::MovementPhaseState;
+  ASSERT_TRUE(feed(s, sim::SignalStates{t,
+                                        {{7, 1, P::kProtectedMovementAllowed, t + 900, t + 900},
+                                         {100, 1, P::kProtectedClearance, t + 2000, t + 2000},
+                                         {100, 2, P::kStopAndRemain, t + 5000, t + 5000}}}));
+  ASSERT_EQ(s.signals().size(), 2u);
+  EXPECT_EQ(s.signals().at(100).groups.size(), 2u);
+  EXPECT_EQ(s.signals().at(100).groups[0].state, P::kProtectedClearance);
+  EXPECT_EQ(s.signals().at(7).world_time_ms, t);
+  // The scripted drivers' view of them: dated on the Welcome's world clock.
+  const std::int64_t start = s.welcome()->world_start_ns;
+  EXPECT_EQ(s.lights().aspect_of(100, 1, t * 1'000'000 - start), LightAspect::kAmber);
+  EXPECT_EQ(s.lights().aspect_of(7, 1, t * 1'000'000 - start), LightAspect::kGo);
+  // The next message replaces them: junction 7 gone, 100's states moved on.
+  ASSERT_TRUE(feed(s,
+                   sim::SignalStates{t + 2000,
+                                     {{100, 1, P::kStopAndRemain, t + 30000, t + 30000},
+                                      {100, 2, P::kStopAndRemain, t + 5000, t + 5000}}},
+                   true));
+  ASSERT_EQ(s.signals().size(), 1u);
+  EXPECT_EQ(s.signals().at(100).groups[0].state, P::kStopAndRemain);
+  EXPECT_EQ(s.signals().at(100).world_time_ms, t + 2000);
+  EXPECT_EQ(s.lights().aspect_of(100, 1, (t + 2000) * 1'000'000 - start), LightAspect::kStop);
+  EXPECT_EQ(s.lights().aspect_of(7, 1, (t + 2000) * 1'000'000 - start), LightAspect::kNone);
+}
+
+TEST_F(SessionTest, ForwardsEverySignalStatesAsOneFrameToTheEmulator) {
+  SessionOptions o;
+  o.client_name = "forwarder";
+  SimSession s = make(o);
+  CaptureSink signal_sink;
+  trace::Tracer off;
+  SignalForwarder signals(signal_sink, off);
+  s.set_signal_forwarder(&signals);
+  s.on_connected();
+  ASSERT_TRUE(feed(s, testing::welcome()));
+  const std::int64_t t = 1'795'000'000'000;
+  using P = sim::MovementPhaseState;
+  const sim::SignalStates first{t,
+                                {{7, 1, P::kProtectedMovementAllowed, t + 900, t + 900},
+                                 {100, 1, P::kProtectedClearance, t + 2000, t + 2000}}};
+  const sim::SignalStates second{t + 100, {{100, 1, P::kStopAndRemain, t + 30000, t + 30000}}};
+  // The second arrives a byte at a time: it leaves once, when its frame is complete.
+  ASSERT_TRUE(feed(s, first));
+  ASSERT_TRUE(feed(s, second, true));
+  ASSERT_EQ(signal_sink.sent.size(), 2u);
+  // Each datagram is exactly the sim-protocol frame, all junctions' groups as the server sent
+  // them (the emulator picks each RSU's junction).
+  EXPECT_EQ(signal_sink.sent[0], sim::encode(first));
+  EXPECT_EQ(signal_sink.sent[1], sim::encode(second));
+  EXPECT_EQ(signals.sent(), 2u);
+  // The vehicle-state sink got none of them.
+  EXPECT_TRUE(sink.sent.empty());
+}
+
+TEST_F(SessionTest, AClientThatForwardsNothingSendsNoSignals) {
+  SessionOptions o;
+  o.client_name = "watcher";
+  SimSession s = make(o);  // no signal forwarder, as with --no-forward or --list
+  s.on_connected();
+  ASSERT_TRUE(feed(s, testing::welcome()));
+  ASSERT_TRUE(feed(s, sim::SignalStates{5, {}}));
+  EXPECT_TRUE(sink.sent.empty());
+  EXPECT_TRUE(s.signals().empty());
+}
+
 }  // namespace
 // An OpenDRIVE map travels in Welcome: a client on another computer has no copy of the file.
 constexpr const char* kOpenDriveScenario = R"({

@@ -11,9 +11,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   static tb::client::v2x::V2xMonitor monitor;
   if (size == 0)
     return 0;
-  static const char* topics[] = {"its/1001/app/lcrw", "its/1001/in/cam/1002",
-                                 "its/1002/in/denm/1001", "its/x/app/lcrw", "its/1/in/denm/"};
-  const std::string_view topic = topics[data[0] % 5];
+  static const char* topics[] = {
+      "its/1001/app/lcrw", "its/1001/in/cam/1002", "its/1002/in/denm/1001", "its/x/app/lcrw",
+      "its/1/in/denm/",    "its/1001/app/signal",  "its/1001/app/rlvw"};
+  const std::string_view topic = topics[data[0] % 7];
   const std::string_view payload(reinterpret_cast<const char*>(data + 1), size - 1);
   static std::int64_t t = 0;
   t += 1'000'000;

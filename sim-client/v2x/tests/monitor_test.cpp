@@ -218,7 +218,8 @@ TEST(V2xMonitor, OtherTopicsAndPrefixesAreNotCounted) {
   cfg.prefix = "lab";
   V2xMonitor lab(cfg);
   EXPECT_EQ(lab.subscriptions(),
-            (std::vector<std::string>{"lab/+/app/lcrw", "lab/+/in/cam/+", "lab/+/in/denm/+"}));
+            (std::vector<std::string>{"lab/+/app/lcrw", "lab/+/in/cam/+", "lab/+/in/denm/+",
+                                      "lab/+/app/signal", "lab/+/app/rlvw"}));
   EXPECT_TRUE(lab.on_message("lab/1001/app/lcrw", lcrw(1001, 1002, "raised"), at(0)));
 }
 

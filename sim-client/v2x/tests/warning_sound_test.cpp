@@ -54,6 +54,21 @@ TEST(WarningTone, CriticalIsFasterAndHigher) {
   EXPECT_GT(peak(s, 6720 + 480, 6720 + 3360), 8000);
 }
 
+TEST(WarningTone, RedLightIsADoubleBeepOfItsOwn) {
+  WarningTone t(kRate);
+  t.set(Alarm::kRedLight);
+  std::vector<std::int16_t> s(kRate);
+  t.fill(s);
+  // 1.25 kHz: 90 ms beep (~112 rising crossings), 60 ms gap, 90 ms beep, silence to 600 ms.
+  EXPECT_NEAR(rising(s, 0, 4320), 112, 2);
+  EXPECT_GT(peak(s, 480, 3840), 8000);
+  EXPECT_EQ(peak(s, 4400, 7150), 0);
+  EXPECT_GT(peak(s, 7200 + 480, 7200 + 3840), 8000);
+  EXPECT_NEAR(rising(s, 7200, 11520), 112, 2);
+  EXPECT_EQ(peak(s, 11600, 28750), 0);
+  EXPECT_GT(peak(s, 28800 + 480, 28800 + 3840), 8000);  // the next pair, 600 ms on
+}
+
 TEST(WarningTone, StartsWithABeepEachTimeItIsSwitchedOn) {
   WarningTone t(kRate);
   t.set(Alarm::kWarning);

@@ -1,10 +1,14 @@
 // Draws the view off-screen with SDL's software renderer and checks the pixels.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <filesystem>
 
 #include "common/map/builtin_network.hpp"
 #include "common/map/opendrive/reader.hpp"
+#include "common/map/opendrive/signal_layout.hpp"
 #include "common/map/opendrive/tests/shared_maps.hpp"
 #include "sim-client/view/font.hpp"
 #include "sim-client/view/scene.hpp"
@@ -234,6 +238,90 @@ TEST(SceneRenderer, ShippedMapsFromAbove) {
     EXPECT_GT(testing::count_near(im, 320, 320, 320, asphalt.r, asphalt.g, asphalt.b, 2), 2000)
         << m.file;
   }
+}
+
+TEST(SceneRenderer, SignalMarkersAtTheStopLinesInTheirGroupsColours) {
+  // The shipped four-way junction from the driver's seat on arm 1, 15 m before its light: the
+  // marker on arm 1's stop line red, a crossing arm's green; then red + amber (red beyond the
+  // line, amber before it) and a group the message lacks (dark).
+  const char* root = std::getenv("TESTBED_ROOT");
+  const std::filesystem::path dir =
+      std::filesystem::path(root != nullptr ? root : ".") / "scenarios" / "maps";
+  const map::odr::RoadNetwork net =
+      map::odr::load_opendrive((dir / "four_way_junction.xodr").string());
+  const auto markers = signal_markers(net);
+  const map::odr::SignalLayout layout(net);
+  ASSERT_EQ(markers.size(), layout.approaches().size());
+  const map::odr::SignalApproach* mine = layout.approach(net.road_index("1"), 1);
+  ASSERT_NE(mine, nullptr);
+  // The nearest approach of another group: a crossing arm's, on the screen with arm 1's.
+  const map::odr::SignalApproach* other = nullptr;
+  for (const auto& a : layout.approaches()) {
+    const auto d = [&](const map::odr::SignalApproach* x) {
+      return std::hypot(x->stop.x - mine->stop.x, x->stop.y - mine->stop.y);
+    };
+    if (a.signal_group != mine->signal_group && (other == nullptr || d(&a) < d(other)))
+      other = &a;
+  }
+  ASSERT_NE(other, nullptr);
+  const double h = mine->stop.heading;
+  ViewVehicle own = car(mine->stop.x - 17.0 * std::cos(h), mine->stop.y - 17.0 * std::sin(h),
+                        static_cast<float>(h), 1001, SDL_Color{208, 32, 32, 255}, true);
+  auto canvas = Canvas::offscreen(640, 480);
+  SceneRenderer r(canvas->renderer(), 640, 480);
+  ViewScene scene;
+  scene.network = &net;
+  scene.vehicles.push_back(own);
+  using P = wire::sim::MovementPhaseState;
+  const auto id = mine->intersection_id;
+  const auto g = [](const map::odr::SignalApproach* a) {
+    return static_cast<std::uint8_t>(a->signal_group);
+  };
+  // The pixel a quarter of the marker before (near) or beyond (far) an approach's stop line.
+  const auto colour_at = [&](const testing::Image& im, const map::odr::SignalApproach* a,
+                             double along) {
+    const SDL_FPoint p = r.screen_of(a->stop.x + along * std::cos(a->stop.heading),
+                                     a->stop.y + along * std::sin(a->stop.heading));
+    EXPECT_GT(p.x, 0);
+    EXPECT_LT(p.x, 640);
+    EXPECT_GT(p.y, 0);
+    EXPECT_LT(p.y, 480);
+    const auto* px = im.at(static_cast<int>(p.x), static_cast<int>(p.y));
+    return SDL_Color{px[0], px[1], px[2], 255};
+  };
+  const auto same = [](SDL_Color a, SDL_Color b) {
+    return std::abs(a.r - b.r) <= 2 && std::abs(a.g - b.g) <= 2 && std::abs(a.b - b.b) <= 2;
+  };
+  const double q = SceneRenderer::kMarkerSize / 4;
+
+  scene.signals = {{id, g(mine), P::kStopAndRemain, 0, 0},
+                   {id, g(other), P::kProtectedMovementAllowed, 0, 0}};
+  std::sort(scene.signals.begin(), scene.signals.end(),
+            [](const auto& x, const auto& y) { return x.signal_group < y.signal_group; });
+  r.draw(scene);
+  testing::Image im{640, 480, canvas->read_rgba()};
+  ASSERT_EQ(write_png(png_path("view_signals.png"), 640, 480, im.rgba), "");
+  const SDL_Color red = marker_colours(P::kStopAndRemain).first;
+  const SDL_Color green = marker_colours(P::kProtectedMovementAllowed).first;
+  const SDL_Color amber = marker_colours(P::kProtectedClearance).first;
+  const SDL_Color dark = marker_colours(std::nullopt).first;
+  EXPECT_NE(red.g, green.g);
+  for (double along : {-q, q}) {
+    EXPECT_TRUE(same(colour_at(im, mine, along), red)) << along;
+    EXPECT_TRUE(same(colour_at(im, other, along), green)) << along;
+  }
+  // Off the marker (2 m before the line, on the lane): asphalt, not a light's colour.
+  const SDL_Color off = colour_at(im, mine, -2.0);
+  EXPECT_FALSE(same(off, red) || same(off, green));
+
+  scene.signals = {{id, g(mine), P::kPreMovement, 0, 0}};
+  r.draw(scene);
+  testing::Image im2{640, 480, canvas->read_rgba()};
+  ASSERT_EQ(write_png(png_path("view_signals_red_amber.png"), 640, 480, im2.rgba), "");
+  EXPECT_TRUE(same(colour_at(im2, mine, q), red));
+  EXPECT_TRUE(same(colour_at(im2, mine, -q), amber));
+  EXPECT_TRUE(same(colour_at(im2, other, q), dark));
+  EXPECT_TRUE(same(colour_at(im2, other, -q), dark));
 }
 
 }  // namespace

@@ -14,9 +14,11 @@
 #include <string>
 
 #include "common/map/opendrive/reader.hpp"
+#include "common/map/opendrive/signal_layout.hpp"
 #include "sim-client/view3d/junction_marks.hpp"
 #include "sim-client/view3d/road_node.hpp"
 #include "sim-client/view3d/road_objects_node.hpp"
+#include "sim-client/view3d/signal_heads_node.hpp"
 
 namespace tb::client::view3d {
 namespace {
@@ -155,6 +157,60 @@ TEST(RoadObjectsNode, ShapesByTypeAndTilesWithLevelOfDetail) {
     }
   }
   EXPECT_GE(small, 20u);
+}
+
+TEST(SignalHeadsNode, ThreeLampsPerHeadFacingTheTrafficLitByTheGroup) {
+  const odr::RoadNetwork net =
+      odr::load_opendrive((maps_dir() / "four_way_junction.xodr").string());
+  const odr::SignalLayout layout(net);
+  SignalHeadsNode heads(net);
+  ASSERT_EQ(heads.heads(), layout.heads().size());
+  ASSERT_EQ(heads.heads(), 4u);  // one light per arm
+  using L = SignalHeadsNode;
+  for (std::size_t i = 0; i < heads.heads(); ++i) {
+    const odr::SignalHead& h = layout.heads()[i];
+    const osg::Vec3d red = heads.lamp_centre(i, L::kRed), amber = heads.lamp_centre(i, L::kAmber),
+                     green = heads.lamp_centre(i, L::kGreen);
+    // Red over amber over green, within the head's height above its lower edge.
+    EXPECT_GT(red.z(), amber.z());
+    EXPECT_GT(amber.z(), green.z());
+    EXPECT_GT(green.z(), h.pose.z);
+    EXPECT_LT(red.z(), h.pose.z + h.height);
+    // On the side the traffic comes from: against the traffic's heading from the head.
+    const double along = (red.x() - h.pose.x) * std::cos(h.pose.heading) +
+                         (red.y() - h.pose.y) * std::sin(h.pose.heading);
+    EXPECT_NEAR(along, -0.13, 0.01);
+    EXPECT_EQ(heads.lit(i), LampSet{});  // dark until a state comes
+  }
+  using P = wire::sim::MovementPhaseState;
+  const std::uint16_t id = layout.junctions().front().intersection_id;
+  const auto group = [&](std::size_t i) {
+    return static_cast<std::uint8_t>(layout.heads()[i].signal_group);
+  };
+  std::vector<wire::sim::SignalGroupState> states = {
+      {id, group(0), P::kStopAndRemain, 0, 0},
+      {id, group(1), P::kPreMovement, 0, 0},
+      {id, group(2), P::kProtectedClearance, 0, 0},
+      {id, group(3), P::kProtectedMovementAllowed, 0, 0}};
+  heads.update(states, 0);
+  EXPECT_EQ(heads.lit(0), (LampSet{true, false, false}));
+  EXPECT_EQ(heads.lit(1), (LampSet{true, true, false}));
+  EXPECT_EQ(heads.lit(2), (LampSet{false, true, false}));
+  EXPECT_EQ(heads.lit(3), (LampSet{false, false, true}));
+  // Another intersection's group of the same number does not light them; nor does a message
+  // without them.
+  for (auto& s : states)
+    s.intersection_id = static_cast<std::uint16_t>(id + 1);
+  heads.update(states, 0);
+  for (std::size_t i = 0; i < heads.heads(); ++i)
+    EXPECT_EQ(heads.lit(i), LampSet{});
+  // Out of the plan: flashing at 1 Hz; dark and unavailable: all off.
+  EXPECT_EQ(lamps_for(P::kStopThenProceed, 200'000'000), (LampSet{true, false, false}));
+  EXPECT_EQ(lamps_for(P::kStopThenProceed, 700'000'000), LampSet{});
+  EXPECT_EQ(lamps_for(P::kCautionConflictingTraffic, 1'100'000'000), (LampSet{false, true, false}));
+  EXPECT_EQ(lamps_for(P::kDark), LampSet{});
+  EXPECT_EQ(lamps_for(P::kUnavailable), LampSet{});
+  EXPECT_EQ(lamps_for(P::kPermissiveMovementAllowed), (LampSet{false, false, true}));
 }
 
 }  // namespace

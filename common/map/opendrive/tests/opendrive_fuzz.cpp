@@ -1,7 +1,7 @@
 // libFuzzer target: the OpenDRIVE importer on arbitrary text. Anything it accepts must evaluate
 // without crashing anywhere on its roads, and go through what every program does with a map:
 // the lane index and queries on and off its lanes, the lane graph and a route, the surface
-// mesh. Anything it refuses must be a MapError.
+// mesh, the traffic lights' index (signal_layout.hpp). Anything it refuses must be a MapError.
 
 #include <cmath>
 #include <cstdint>
@@ -10,6 +10,7 @@
 #include "common/map/opendrive/lane_graph.hpp"
 #include "common/map/opendrive/mesh.hpp"
 #include "common/map/opendrive/reader.hpp"
+#include "common/map/opendrive/signal_layout.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace tb::map::odr;
@@ -56,6 +57,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       }
     }
     (void)road_mesh(net, 0.05);
+    // The traffic lights' index, and every lane's query on it.
+    const SignalLayout signals(net);
+    for (std::size_t i = 0; i < graph.size(); ++i)
+      (void)signals.approach(graph.node(i).road, graph.node(i).lane);
   } catch (const MapError&) {
   }
   return 0;
