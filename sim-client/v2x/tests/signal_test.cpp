@@ -333,7 +333,8 @@ TEST(RlvwMonitor, BadPayloadsAreRejectedAndLeaveTheWarning) {
     EXPECT_NE(m.last_error().find(named), std::string::npos) << payload << " → " << m.last_error();
   }
   EXPECT_EQ(m.rejected(), std::size(bad));
-  const RlvwAlert* a = m.picture(at(0.2)).rlvw_for(1001);
+  const V2xPicture picture = m.picture(at(0.2));  // rlvw_for points into it
+  const RlvwAlert* a = picture.rlvw_for(1001);
   ASSERT_NE(a, nullptr);
   EXPECT_NEAR(*a->time_to_red_s, 1.0 - 0.2, 1e-9);  // as raised, aged by 0.2 s
 }
