@@ -58,7 +58,9 @@ CASE is one of:
                    with tracing (issue 21): scripts/report must find records for every stage
                    from the client's input to the CAM received by the others' LDM and LCRW
                    (no HMI, no warnings on the ring), and state → CAM on the air p99 ≤ 250 ms
-  signals          scenarios/signals-junction.json with its RSU (issue 34): fast (60 km/h, can
+  signals          scenarios/signals-junction.json with its RSU (issue 34): advised (47 km/h
+                   towards red+amber) gets a speed advice whose speeds, driven from where the
+                   physics had the car, all arrive on the sim's green; fast (60 km/h, can
                    no longer stop) gets the red-light warning (its.rlvw raised) while its front
                    is at least 2 s (its physics speed) before the stop line of the OpenDRIVE
                    file, measured on the physics' own state (client.forward), not the
@@ -617,6 +619,7 @@ def check_reversing_geometry(out, scenario, warning):
 
 SIGNALS_FAST = 3401  # signals: 60 km/h, warned
 SIGNALS_SLOW = 3402  # signals: 30 km/h, stops
+SIGNALS_ADVISED = 3403  # signals: 47 km/h towards red+amber, advised to arrive on green
 RLVW_MIN_LEAD_S = 2.0  # issue 34: the warning at least 2 s before the stop line
 SPAT_TOLERANCE_MS = 200  # issue 34: SPATEM times vs the sim's light
 # DSRC MovementPhaseState (server.signal's state) → the light the signal message names.
@@ -741,6 +744,39 @@ def check_signals(out, scenario, messages):
     elif worst > SPAT_TOLERANCE_MS:
         failures.append(f"a signal message's time to change is {worst:.0f} ms off the sim's "
                         f"light (> {SPAT_TOLERANCE_MS} ms)")
+
+    # GLOSA: the first speed advice to SIGNALS_ADVISED, followed at constant speed from where
+    # the physics had the car when it was published, arrives on green by the sim's own light.
+    advised = [m for t, m in messages
+               if t == f"its/{SIGNALS_ADVISED}/app/signal" and m["message"].get("advice")]
+    if not advised:
+        failures.append(f"{SIGNALS_ADVISED} never got a speed advice")
+        return failures
+    m = advised[0]
+    msg = m["message"]
+    state = state_at(by, SIGNALS_ADVISED, m["timestamp"] * 1_000_000, warmup=True)
+    d = front_to_stop_line(state, lengths[SIGNALS_ADVISED], lines) if state else None
+    if d is None:
+        failures.append(f"{SIGNALS_ADVISED}: no physics state before a stop line at the advice")
+        return failures
+    recs = sorted((r for r in by.get("server.signal", [])
+                   if r.get("intersection") == msg["intersection_id"] and
+                   r.get("group") == msg["signal_group"]), key=lambda r: r["world_ms"])
+
+    def light_at(world_ms):
+        last = [r for r in recs if r["world_ms"] <= world_ms]
+        return DSRC_LIGHT.get(last[-1]["state"]) if last else None
+
+    world = m["timestamp"] + offset
+    lo, hi = msg["advice"]["min_speed_kmh"], msg["advice"]["max_speed_kmh"]
+    for kmh in (lo, (lo + hi) / 2, hi):
+        arrive = world + d / (kmh / 3.6) * 1000.0
+        light = light_at(arrive)
+        print(f"e2e: advice {lo:.1f}-{hi:.1f} km/h to {SIGNALS_ADVISED} {d:.1f} m before its "
+              f"line: at {kmh:.1f} km/h it arrives {(arrive - world) / 1000:.2f} s later, "
+              f"on {light}")
+        if light != "green":
+            failures.append(f"the advice's {kmh:.1f} km/h arrives on {light}, not green")
     return failures
 
 
