@@ -2,7 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
-#include "its-station/rsu/signal_feed.hpp"
+#include "common/wire/signal_feed.hpp"
 
 namespace tb::its::rsu {
 
@@ -113,7 +113,7 @@ void RsuService::send_spatem(bool on_change) {
 
 void RsuService::on_datagram(std::span<const std::uint8_t> datagram) {
   ++counters_.feed_datagrams;
-  auto states = parse_signal_datagram(datagram);
+  auto states = wire::decode_signal_feed(datagram);
   if (!states) {
     ++counters_.feed_malformed;
     if (!malformed_said_) {

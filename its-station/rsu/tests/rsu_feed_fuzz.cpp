@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "common/clock/runtime.hpp"
+#include "common/wire/signal_feed.hpp"
 #include "its-station/messages/spatem.hpp"
 #include "its-station/rsu/rsu_service.hpp"
-#include "its-station/rsu/signal_feed.hpp"
 
 namespace {
 
@@ -49,7 +49,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   sink.last.clear();
   const std::span<const std::uint8_t> datagram(data, size);
   rsu.on_datagram(datagram);
-  const auto parsed = tb::its::rsu::parse_signal_datagram(datagram);
+  const auto parsed = tb::wire::decode_signal_feed(datagram);
   const auto& c = rsu.counters();
   if (parsed.has_value() != (c.feed_malformed == 0))
     std::abort();
