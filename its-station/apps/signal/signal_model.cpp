@@ -5,32 +5,16 @@
 
 #include <fmt/format.h>
 
+#include "its-station/messages/dsrc.hpp"
+
 namespace tb::its::apps::signal {
 
 std::string_view dsrc_name(MovementPhaseState s) {
-  switch (s) {
-    case MovementPhaseState::kUnavailable:
-      return "unavailable";
-    case MovementPhaseState::kDark:
-      return "dark";
-    case MovementPhaseState::kStopThenProceed:
-      return "stop-Then-Proceed";
-    case MovementPhaseState::kStopAndRemain:
-      return "stop-And-Remain";
-    case MovementPhaseState::kPreMovement:
-      return "pre-Movement";
-    case MovementPhaseState::kPermissiveMovementAllowed:
-      return "permissive-Movement-Allowed";
-    case MovementPhaseState::kProtectedMovementAllowed:
-      return "protected-Movement-Allowed";
-    case MovementPhaseState::kPermissiveClearance:
-      return "permissive-clearance";
-    case MovementPhaseState::kProtectedClearance:
-      return "protected-clearance";
-    case MovementPhaseState::kCautionConflictingTraffic:
-      return "caution-Conflicting-Traffic";
-  }
-  return "unavailable";
+  // The same values as on the air: the codec's names.
+  const auto v = static_cast<unsigned>(s);
+  if (v >= messages::kMovementPhaseStateCount)
+    return "unavailable";
+  return messages::to_string(static_cast<messages::MovementPhaseState>(v));
 }
 
 std::string_view light_name(MovementPhaseState s) {
