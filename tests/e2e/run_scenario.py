@@ -619,6 +619,7 @@ def check_reversing_geometry(out, scenario, warning):
 
 SIGNALS_FAST = 3401  # signals: 60 km/h, warned
 SIGNALS_SLOW = 3402  # signals: 30 km/h, stops
+SIGNALS_RSU = 5001  # signals: rsu-100 at junction 100
 SIGNALS_ADVISED = 3403  # signals: 47 km/h towards red+amber, advised to arrive on green
 RLVW_MIN_LEAD_S = 2.0  # issue 34: the warning at least 2 s before the stop line
 SPAT_TOLERANCE_MS = 200  # issue 34: SPATEM times vs the sim's light
@@ -702,6 +703,10 @@ def check_signals(out, scenario, messages):
     for sid in (SIGNALS_FAST, SIGNALS_SLOW):
         if not any(t == f"its/{sid}/app/signal" for t, _ in on_lane):
             failures.append(f"{sid} never had its lane's signal (its/{sid}/app/signal)")
+        # The RSU's own CAM (station type roadSideUnit) reached the car's LDM too.
+        if not any(t == f"its/{sid}/in/cam/{SIGNALS_RSU}" for t, _ in messages):
+            failures.append(f"{sid} never took in the RSU's CAM "
+                            f"(its/{sid}/in/cam/{SIGNALS_RSU})")
 
     # SPATEM times against the sim's light: the message's host timestamp put on the world
     # clock (the offset of the clients' states: world = start + sim time, host = step time).
