@@ -1,7 +1,5 @@
 #include "common/clock/asio_runtime.hpp"
 
-#include <algorithm>
-
 namespace tb::clock {
 
 TimerId AsioRuntime::schedule_at(SteadyTime when, TimerCallback cb) {
@@ -14,7 +12,7 @@ TimerId AsioRuntime::schedule_at(SteadyTime when, TimerCallback cb) {
   // moved later — cancelled and scheduled again, as the CA service's check timer at every fix
   // — would wake the thread for nothing; re-arming costs a timerfd update instead of a wake-up
   // (issue 33).
-  if (!armed_ || wake_at() != armed_for_)
+  if (!armed_ || queue_.next_due() != armed_for_)
     rearm();
   return id;
 }
@@ -30,7 +28,7 @@ void AsioRuntime::rearm() {
     return;
   armed_ = true;
   ++rearms_;
-  armed_for_ = wake_at();
+  armed_for_ = queue_.next_due();
   timer_.expires_at(armed_for_);
   timer_.async_wait([this](const boost::system::error_code& ec) {
     if (ec == boost::asio::error::operation_aborted)
@@ -40,14 +38,8 @@ void AsioRuntime::rearm() {
   });
 }
 
-SteadyTime AsioRuntime::wake_at() const {
-  return std::max(queue_.next_due(), no_wake_before_);
-}
-
 void AsioRuntime::on_timer() {
   ++wakeups_;
-  if (slack_ > Duration::zero())
-    no_wake_before_ = SteadyClock::now() + slack_;
   dispatching_ = true;
   try {
     while (!queue_.empty() && queue_.next_due() <= SteadyClock::now())

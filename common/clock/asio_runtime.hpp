@@ -17,11 +17,6 @@ class AsioRuntime final : public Runtime {
   SteadyTime steady_now() const override { return SteadyClock::now(); }
   WallTime wall_now() const override { return WallClock::now(); }
   TimerId schedule_at(SteadyTime when, TimerCallback cb) override;
-  /// Lets timers fire up to @p slack late so that the thread wakes at most once per @p slack
-  /// for them (every timer due by then fires in that wake-up), as the kernel's timer slack does
-  /// for a process. Zero (the default): each timer at its instant. For station-host, whose
-  /// hundreds of stations each keep their own periodic timers.
-  void set_timer_slack(Duration slack) { slack_ = slack; }
   void cancel(TimerId id) override;
   /// How often the armed timer woke the thread (for tests: a wake-up for a cancelled timer
   /// that was replaced by a later one is one too many).
@@ -31,7 +26,6 @@ class AsioRuntime final : public Runtime {
 
  private:
   void rearm();
-  SteadyTime wake_at() const;  // of the next wake-up; the queue is not empty
   void on_timer();
 
   boost::asio::steady_timer timer_;
@@ -39,8 +33,6 @@ class AsioRuntime final : public Runtime {
   bool armed_ = false;
   bool dispatching_ = false;  // in on_timer(): it re-arms once when its callbacks are done
   SteadyTime armed_for_{};
-  Duration slack_{};
-  SteadyTime no_wake_before_{};  // the last wake-up + slack_
   std::uint64_t wakeups_ = 0;
   std::uint64_t rearms_ = 0;
 };

@@ -56,7 +56,6 @@ struct Options {
   std::string mqtt_password_file;
   std::string mqtt_prefix = "its";
   std::string status_file;
-  double timer_slack_ms = 2.0;
   std::string trace;
   double duration_s = 0.0;
   std::string log_level = "info";
@@ -112,11 +111,6 @@ int run(const Options& o) {
   const tb::map::ScenarioMap map(scenario);
   asio::io_context io;
   tb::clock::AsioRuntime asio_runtime(io);
-  // Hundreds of stations' periodic timers (CA checks, LDM expiry, ...) fall due at hundreds of
-  // instants a second; each instant was a wake-up and a timerfd update, 15 % of the host's CPU
-  // at 300 stations (issue 33). A few milliseconds late is nothing to a background vehicle.
-  asio_runtime.set_timer_slack(std::chrono::duration_cast<tb::clock::Duration>(
-      std::chrono::duration<double, std::milli>(o.timer_slack_ms)));
   // A frame read or a state datagram is taken up by many stations at one instant: the clock is
   // read once for all of them (common/clock/held_clock_runtime.hpp).
   tb::clock::HeldClockRuntime runtime(asio_runtime);
@@ -303,10 +297,6 @@ int main(int argc, char** argv) {
   app.add_option("--status-file", o.status_file,
                  "write every station's counters and neighbours as JSON to FILE every 0.5 s "
                  "(10 ms per station above 50 stations) and at the end");
-  app.add_option("--timer-slack-ms", o.timer_slack_ms,
-                 "let the stations' timers fire up to this late, to wake less often")
-      ->check(CLI::Range(0.0, 50.0))
-      ->capture_default_str();
   app.add_option("--trace", o.trace, "write trace records (JSON lines) to FILE");
   app.add_option("--duration", o.duration_s, "stop after this many seconds (0: run until signal)");
   app.add_option("--log-level", o.log_level, "trace, debug, info, warn, error")
