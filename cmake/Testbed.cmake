@@ -101,7 +101,8 @@ endfunction()
 # corpus once and fails when fewer than MIN_COVERAGE edges are covered — the floor that says
 # the code under test is instrumented and reached (cmake/FuzzCoverage.cmake). Set it about 15 %
 # under what the corpus covers in the fuzz build of scripts/test, so that a lost library's
-# counters fail it (README, "Fuzzing").
+# counters fail it (README, "Fuzzing"). SECONDS defaults to 20: with 18 targets on two cores
+# that is three minutes of CI; longer campaigns run by hand (README, "Fuzzing").
 function(testbed_fuzzer name)
   cmake_parse_arguments(ARG "" "SECONDS;MIN_COVERAGE;DICT" "SOURCES;DEPS;CORPUS" ${ARGN})
   if(NOT ARG_CORPUS OR NOT ARG_MIN_COVERAGE MATCHES "^[1-9][0-9]*$")
@@ -111,7 +112,7 @@ function(testbed_fuzzer name)
     return()
   endif()
   if(NOT ARG_SECONDS)
-    set(ARG_SECONDS 30)
+    set(ARG_SECONDS 20)
   endif()
   add_executable(${name} ${ARG_SOURCES})
   add_dependencies(fuzzers ${name})
