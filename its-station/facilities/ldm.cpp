@@ -75,20 +75,16 @@ void Ldm::add_cam(std::shared_ptr<const messages::Cam> shared, clock::WallTime r
   const auto id = cam.header.stationID;
   auto [slot, is_new] = by_id_.try_emplace(id, nullptr);
   if (is_new) {
-    Neighbour& added = neighbours_[id];
-    added.expiry_pos_ = expiry_order_.emplace(expiry_order_.end(), s.received, id);
-    slot->second = &added;
-  } else {
-    slot->second->expiry_pos_->first = s.received;
-    expiry_order_.splice(expiry_order_.end(), expiry_order_, slot->second->expiry_pos_);
+    auto [added, _] = neighbours_.try_emplace(id);
+    added->second.history = SampleHistory(config_.history_length);
+    slot->second = &added->second;
+    expiry_checks_.push({s.received + config_.neighbour_timeout, id});
   }
   auto& n = *slot->second;
   n.station_id = cam.header.stationID;
   n.station_type = basic.stationType;
   n.last_cam = std::move(shared);
   n.history.push_front(s);
-  while (n.history.size() > config_.history_length)
-    n.history.pop_back();
   for (auto& l : neighbour_listeners_)
     l(n);
 }
@@ -142,12 +138,21 @@ DenmOutcome Ldm::add_denm(const messages::Denm& denm) {
 void Ldm::expire() {
   intersections_.expire();
   const auto now = runtime_.steady_now();
-  // The steady clock only moves on, so the order of receptions is the order of expiry.
-  while (!expiry_order_.empty() && now - expiry_order_.front().first > config_.neighbour_timeout) {
-    const auto id = expiry_order_.front().second;
-    expiry_order_.pop_front();
+  // Forgotten once unheard for longer than the timeout, as a walk over all neighbours at this
+  // sweep would decide.
+  while (!expiry_checks_.empty() && expiry_checks_.top().due < now) {
+    const auto id = expiry_checks_.top().id;
+    expiry_checks_.pop();
+    const auto it = by_id_.find(id);
+    if (it == by_id_.end())
+      continue;
+    const auto last_heard = it->second->latest().received;
+    if (now - last_heard <= config_.neighbour_timeout) {
+      expiry_checks_.push({last_heard + config_.neighbour_timeout, id});
+      continue;
+    }
+    by_id_.erase(it);
     neighbours_.erase(id);
-    by_id_.erase(id);
     for (auto& l : gone_listeners_)
       l(id);
   }

@@ -4,12 +4,11 @@
 /// MAPEM and SPATEM: intersection_store.hpp), with expiry, for applications.
 
 #include <cstdint>
-#include <deque>
 #include <functional>
-#include <list>
 #include <map>
 #include <memory>
 #include <optional>
+#include <queue>
 #include <string_view>
 #include <unordered_map>
 #include <vector>
@@ -35,6 +34,37 @@ struct NeighbourSample {
 
 class Ldm;
 
+/// A neighbour's newest samples, newest first, in a ring allocated once: a CAM overwrites the
+/// oldest sample in place (issue 33: std::deque allocated and freed a block every few CAMs, a
+/// tenth of a pooled station's reception cost at 300 in range).
+class SampleHistory {
+ public:
+  explicit SampleHistory(std::size_t capacity = 1) : capacity_(capacity == 0 ? 1 : capacity) {
+    samples_.reserve(capacity_);
+  }
+  void push_front(const NeighbourSample& s) {
+    if (samples_.size() < capacity_) {
+      samples_.push_back(s);
+      newest_ = samples_.size() - 1;
+    } else {
+      newest_ = (newest_ + 1) % capacity_;
+      samples_[newest_] = s;
+    }
+  }
+  std::size_t size() const { return samples_.size(); }
+  bool empty() const { return samples_.empty(); }
+  /// @p i = 0 is the newest.
+  const NeighbourSample& operator[](std::size_t i) const {
+    return samples_[(newest_ + samples_.size() - i) % samples_.size()];
+  }
+  const NeighbourSample& front() const { return samples_[newest_]; }
+
+ private:
+  std::size_t capacity_;
+  std::size_t newest_ = 0;
+  std::vector<NeighbourSample> samples_;
+};
+
 struct Neighbour {
   messages::StationID station_id = 0;
   messages::StationType station_type = 0;
@@ -42,13 +72,8 @@ struct Neighbour {
   /// without copying its 1.6 kB (issue 33: the copy was a third of a pooled station's reception
   /// cost). Set for every neighbour the LDM holds.
   std::shared_ptr<const messages::Cam> last_cam;
-  std::deque<NeighbourSample> history;  ///< newest first
+  SampleHistory history;  ///< newest first
   const NeighbourSample& latest() const { return history.front(); }
-
- private:
-  friend class Ldm;
-  /// The LDM's place of this neighbour in its reception order (Ldm::expiry_order_).
-  std::list<std::pair<clock::SteadyTime, messages::StationID>>::iterator expiry_pos_;
 };
 
 /// An event from a DENM, keyed by its action ID.
@@ -149,10 +174,17 @@ class Ldm {
   /// neighbours_ by hash: a CAM finds its sender in one or two cache lines, not down a tree of
   /// hundreds of neighbours (issue 33: the tree walk was most of a pooled station's add_cam).
   std::unordered_map<messages::StationID, Neighbour*> by_id_;
-  /// Every neighbour once, by the time of its latest CAM, oldest first: a CAM moves its sender
-  /// to the back, so expiry looks at the front only instead of walking all neighbours (issue
-  /// 33: the walk at every sweep was a fifth of a pooled station's reception cost).
-  std::list<std::pair<clock::SteadyTime, messages::StationID>> expiry_order_;
+  /// One expiry check per neighbour, soonest first: when it falls due the neighbour is forgotten
+  /// if it has been unheard since, else checked again at its latest CAM + timeout. A CAM itself
+  /// touches nothing here (issue 33: keeping a reception order moved a list node per CAM, and
+  /// walking all neighbours at every sweep was a fifth of a pooled station's reception cost);
+  /// each neighbour is looked at about once per timeout.
+  struct ExpiryCheck {
+    clock::SteadyTime due;
+    messages::StationID id;
+    bool operator>(const ExpiryCheck& o) const { return due > o.due; }
+  };
+  std::priority_queue<ExpiryCheck, std::vector<ExpiryCheck>, std::greater<>> expiry_checks_;
   std::map<ActionKey, Event> events_;
   IntersectionStore intersections_;
   std::vector<NeighbourListener> neighbour_listeners_;

@@ -214,7 +214,7 @@ namespace {
 // YawRate in 0.01 °/s, Curvature in 1/10000 m⁻¹ (protocolVersion 2) or 1/30000 m⁻¹ (version 1).
 TEST(Adapters, NeighbourYawRateAndCurvatureFromTheCam) {
   facilities::Neighbour n;
-  n.history.emplace_back();
+  n.history.push_front({});
   auto cam = std::make_shared<messages::Cam>();
   n.last_cam = cam;
   auto& hf = (*messages::vehicle_hf(cam->cam.camParameters));
