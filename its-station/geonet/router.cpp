@@ -471,7 +471,7 @@ void Router::on_frame(const link::ReceivedFrame& frame) {
     next_purge_ = now + 1s;
   }
 
-  auto parsed = parse_packet(frame.payload);
+  auto parsed = shared_parser_ ? shared_parser_->parse(frame.payload) : parse_packet(frame.payload);
   if (!parsed) {
     drop(DropReason::kParseError, parsed.error());
     return;

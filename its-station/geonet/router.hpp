@@ -20,6 +20,7 @@
 #include "its-station/geonet/location_table.hpp"
 #include "its-station/geonet/packet.hpp"
 #include "its-station/geonet/position_provider.hpp"
+#include "its-station/geonet/shared_packet_parser.hpp"
 #include "its-station/link/link_layer.hpp"
 #include "its-station/security/security_entity.hpp"
 
@@ -193,6 +194,9 @@ class Router {
   /// without security. A secured packet that is forwarded goes on as it was received: only the
   /// basic header (remaining hop limit) changes, the signed part does not (clause 9.3).
   void set_security(security::SecurityEntity* entity) { security_ = entity; }
+  /// Parse received frames through @p parser, shared with the other routers of this thread that
+  /// hear the same frames (station-host): one parse per frame for all of them.
+  void set_shared_parser(SharedPacketParser* parser) { shared_parser_ = parser; }
 
   /// The receive path; the constructor binds it to the link. Public so that a caller holding
   /// frames from elsewhere (a pcap, a fuzzer) can feed them.
@@ -258,6 +262,7 @@ class Router {
     return security_ != nullptr && security_->mode() != security::SecurityMode::kNone;
   }
   security::SecurityEntity* security_ = nullptr;
+  SharedPacketParser* shared_parser_ = nullptr;
   const security::SecuredIndication* unwrapped_ = nullptr;
   std::span<const std::uint8_t> secured_frame_;
   /// Frames whose secured packet the entity holds (signer not known yet), by the ticket they

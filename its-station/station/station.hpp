@@ -87,6 +87,10 @@ class Station {
   void share_cam_decoder(facilities::SharedCamDecoder& decoder) {
     ca_.set_shared_decoder(&decoder);
   }
+  /// Likewise one parse of each frame's GN headers for all of them.
+  void share_packet_parser(geonet::SharedPacketParser& parser) {
+    router_.set_shared_parser(&parser);
+  }
 
   /// The LDM as the station sees it, its counters and, when it verifies, what it refused:
   /// what its-station writes to --status-file. A refusal the station had not reported before is

@@ -161,6 +161,7 @@ int run(const Options& o) {
   // (its-station/facilities/README.md: 1.21 → 0.55 µs per station and CAM at 300). Declared
   // before the stations, which hold it.
   tb::its::facilities::SharedCamDecoder cam_decoder;
+  tb::its::geonet::SharedPacketParser packet_parser;
   std::vector<PooledStation> pooled;
   pooled.reserve(ids.size());
   tb::its::station::StationOverrides overrides;
@@ -182,6 +183,7 @@ int run(const Options& o) {
                                                config.mqtt ? mqtt.get() : nullptr};
     p.station = std::make_unique<tb::its::station::Station>(ports, std::move(config));
     p.station->share_cam_decoder(cam_decoder);
+    p.station->share_packet_parser(packet_parser);
     pooled.push_back(std::move(p));
   }
 

@@ -27,6 +27,7 @@ namespace {
 using namespace std::chrono_literals;
 namespace station = tb::its::station;
 namespace facilities = tb::its::facilities;
+namespace geonet = tb::its::geonet;
 
 const tb::geodesy::Geodetic kOrigin{48.1351, 11.5820, 0.0};
 
@@ -128,11 +129,13 @@ void BM_ReceiveFanOut(benchmark::State& state) {
   tb::host::PooledLinks host(host_out, rt, false, {});
   // One decoded CAM per frame for all the host's stations, as station-host's main shares it.
   facilities::SharedCamDecoder cam_decoder;
+  geonet::SharedPacketParser packet_parser;
   std::vector<std::unique_ptr<Pooled>> receivers;
   for (std::size_t i = 0; i < n; ++i) {
     receivers.push_back(
         std::make_unique<Pooled>(rt, host, 3000 + static_cast<std::uint32_t>(i), entity()));
     receivers.back()->station.share_cam_decoder(cam_decoder);
+    receivers.back()->station.share_packet_parser(packet_parser);
   }
 
   // CAMs of 16 other stations on a ring road, 10 Hz for 2 s: distinct senders and positions,
