@@ -232,6 +232,29 @@ class SwarmPlan(unittest.TestCase):
         self.assertIn("/testbed/scenarios/maps/four_way_junction.xodr", targets)
         self.assertIn("/testbed/scenarios/four-way-junction.json", targets)
 
+    def test_broker_takes_the_planned_logins(self):
+        if shutil.which("mosquitto_passwd") is None:
+            self.skipTest("mosquitto_passwd (Debian's mosquitto) not installed")
+        self.run_plan(SCEN / "dense-ring.json", "--nodes", "n1,n2")
+        gen = ROOT / "docker/mosquitto/gen-broker-config"
+        creds = self.out / "mqtt-credentials.json"
+        r = subprocess.run([str(gen), "--scenario", str(SCEN / "dense-ring.json"), "--credentials",
+                            str(creds), "--out", str(self.tmp / "broker")],
+                           capture_output=True, text=True)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        made = json.loads((self.tmp / "broker/credentials.json").read_text())
+        planned = json.loads(creds.read_text())
+        for section in ("stations", "hosts", "readers"):
+            self.assertEqual(made[section], planned[section], section)
+        self.assertEqual((self.tmp / "broker/stations/3001.password").read_text().strip(),
+                         planned["stations"]["3001"]["password"])
+        # Logins made for another scenario are refused, naming the station.
+        r = subprocess.run([str(gen), "--scenario", str(SCEN / "demo.json"), "--credentials",
+                            str(creds), "--out", str(self.tmp / "broker2")],
+                           capture_output=True, text=True)
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("/stations/1001/password: missing", r.stderr)
+
     def test_stack_is_valid_compose(self):
         tool = shutil.which("docker-compose")
         if tool is None:
