@@ -6,8 +6,9 @@
 Runs the planner as a user would, on the scenarios under scenarios/, and checks its output
 against the scenario files as this test reads them (not against what the planner prints): every
 station on exactly one node, the dealing, the label placement, the stack's services, pins and
-replicas, and that the stack is a compose file Debian's docker-compose accepts (the v3 schema
-check available without a swarm: docker.io 20.10 has no `docker stack config`). No Docker daemon.
+replicas, and that the stack passes the v3 schema check of docker.io 20.10's `docker stack
+deploy` (run against no daemon: it checks the file first; 20.10 has no `docker stack config`)
+and Debian's docker-compose's. No Docker daemon is used.
 """
 import json
 import shutil
@@ -255,6 +256,30 @@ class SwarmPlan(unittest.TestCase):
         self.assertEqual(r.returncode, 2)
         self.assertIn("/stations/1001/password: missing", r.stderr)
 
+    def test_stack_passes_docker_stack_deploy_schema(self):
+        # Debian's docker.io 20.10 has no `docker stack config`, but `stack deploy` checks the file
+        # against its v3 schema before it talks to any daemon: with no daemon to reach, a file
+        # that passes fails only at the connection.
+        tool = "/usr/bin/docker" if Path("/usr/bin/docker").exists() else shutil.which("docker")
+        if tool is None:
+            self.skipTest("no docker CLI")
+        self.run_plan(SCEN / "four-way-junction.json", "--nodes", "n1,n2")
+        env = {"PATH": "/usr/bin:/bin", "DOCKER_HOST": f"unix://{self.tmp}/no-daemon.sock",
+               "HOME": str(self.tmp)}
+
+        def deploy(name):
+            return subprocess.run([tool, "stack", "deploy", "-c", str(self.out / name), "testbed"],
+                                  capture_output=True, text=True, cwd=self.out, env=env,
+                                  timeout=60)
+        r = deploy("stack.yml")
+        self.assertIn("Cannot connect to the Docker daemon", r.stderr)
+        self.assertNotIn("is not allowed", r.stderr)
+        text = (self.out / "stack.yml").read_text().replace("    cap_add:", "    cap_addd:", 1)
+        (self.out / "bad.yml").write_text(text)
+        r = deploy("bad.yml")
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("Additional property cap_addd is not allowed", r.stderr)
+
     def test_stack_is_valid_compose(self):
         tool = shutil.which("docker-compose")
         if tool is None:
@@ -270,6 +295,47 @@ class SwarmPlan(unittest.TestCase):
                            capture_output=True, text=True, cwd=self.out)
         self.assertNotEqual(r.returncode, 0)
         self.assertIn("cap_addd", r.stderr)
+
+
+FAKE_DOCKER = """#!/bin/sh
+# docker info --format '{{.Swarm.LocalNodeState}} {{.Swarm.ControlAvailable}}'
+[ "$1" = info ] && { echo "$FAKE_SWARM"; exit 0; }
+echo "fake docker: unexpected $*" >&2; exit 99
+"""
+
+
+class UpSwarm(unittest.TestCase):
+    """scripts/up --swarm's refusals, before anything is installed, built or started."""
+
+    def run_up(self, *args, swarm_state="inactive false"):
+        with tempfile.TemporaryDirectory() as d:
+            (Path(d) / "docker").write_text(FAKE_DOCKER)
+            (Path(d) / "docker").chmod(0o755)
+            env = {"PATH": f"{d}:/usr/bin:/bin:/usr/sbin:/sbin", "FAKE_SWARM": swarm_state}
+            return subprocess.run([str(ROOT / "scripts/up"), *args], capture_output=True,
+                                  text=True, env=env, timeout=60)
+
+    def setUp(self):
+        import os
+        if os.geteuid() != 0:
+            self.skipTest("scripts/up checks for root first")
+
+    def test_not_a_manager(self):
+        for state in ("inactive false", "active false"):
+            r = self.run_up("--swarm", "demo", swarm_state=state)
+            self.assertEqual(r.returncode, 1, r.stderr)
+            self.assertIn("this host's Docker is not a swarm manager", r.stderr)
+            self.assertIn(f"swarm state: {state}", r.stderr)
+            self.assertIn("docker swarm init", r.stderr)
+            self.assertNotIn("fake docker: unexpected", r.stderr)
+
+    def test_swarm_options_need_swarm(self):
+        r = self.run_up("demo", "--nodes", "a,b")
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("--nodes, --by, --registry and --station-hosts go with --swarm", r.stderr)
+        r = self.run_up("--swarm", "demo", "--by")
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("--by needs a value", r.stderr)
 
 
 if __name__ == "__main__":
