@@ -85,8 +85,13 @@ swarm_deploy() {
     plan_opts+=(--nodes "$nodes")
   fi
   dir=$logdir/swarm
+  # A signing scenario's one PKI is made by its-pki from the station image (the host may have no
+  # build of its own).
+  mkdir -p "$dir"
   "$root/scripts/swarm-plan" "$scenario" "${swarm_opts[@]}" "${plan_opts[@]}" --manager "$manager" \
-    --registry "$reg" --out "$dir" || fail 2 "the placement was refused (above); nothing started"
+    --registry "$reg" --out "$dir" \
+    --its-pki "docker run --rm -v $dir:$dir --entrypoint /usr/local/bin/its-pki testbed/station" ||
+    fail 2 "the placement was refused (above); nothing started"
 
   swarm_up=1
   docker stack deploy -c "$dir/stack.yml" testbed 2>&1 | tee "$logdir/deploy.log"

@@ -8,7 +8,9 @@ against the scenario files as this test reads them (not against what the planner
 station on exactly one node, the dealing, the label placement, the stack's services, pins and
 replicas, and that the stack passes the v3 schema check of docker.io 20.10's `docker stack
 deploy` (run against no daemon: it checks the file first; 20.10 has no `docker stack config`)
-and Debian's docker-compose's. No Docker daemon is used.
+and Debian's docker-compose's; the broker takes the planned logins; a signing scenario's ATs made
+on two nodes from the root and AA the plan ships chain to the same AA (its-pki from the build;
+skipped without it). No Docker daemon is used.
 """
 import json
 import shutil
@@ -255,6 +257,61 @@ class SwarmPlan(unittest.TestCase):
                            capture_output=True, text=True)
         self.assertEqual(r.returncode, 2)
         self.assertIn("/stations/1001/password: missing", r.stderr)
+
+    def signed_scenario(self):
+        doc = json.loads((SCEN / "lcrw-three-vehicles.json").read_text())
+        doc["security"] = "signed"
+        doc["vehicles"][2]["station"] = {"pki": "foreign"}
+        path = self.tmp / "signed.json"
+        path.write_text(json.dumps(doc))
+        return path
+
+    def its_pki(self):
+        tool = Path(ROOT / "build/release/bin/its-pki")
+        if not tool.is_file():
+            self.skipTest("its-pki not built (cmake --build build/release --target its-pki)")
+        return tool
+
+    def test_signed_scenario_one_pki_for_all_nodes(self):
+        tool = self.its_pki()
+        scenario = self.signed_scenario()
+        self.run_plan(scenario, "--nodes", "a,b,c", "--its-pki", str(tool))
+        st = self.stack()
+        for name in ("signed", "signed-foreign"):
+            for f in ("root.cert", "root.pem", "aa.cert", "aa.pem"):
+                key = f"pki-{name}-{f}"
+                self.assertIn(key, st["secrets"])
+                self.assertTrue((self.out / st["secrets"][key]["file"]).is_file(), key)
+                for svc in ("station-a", "station-host-b"):
+                    self.assertIn({"source": key, "target": key}, st["services"][svc]["secrets"])
+        self.assertEqual(st["services"]["station-c"]["environment"]["PKI_SEED"], "/run/secrets")
+        # The world's check: ATs made on two nodes from the shipped root and AA (as the station
+        # entry point does: seed, then its-pki make) chain to the same AA.
+        issuers = []
+        for node, sid in (("a", "1001"), ("b", "1002")):
+            d = self.tmp / f"node-{node}" / "signed"
+            d.mkdir(parents=True)
+            for f in ("root.cert", "root.pem", "aa.cert", "aa.pem"):
+                shutil.copyfile(self.out / "pki/signed" / f, d / f)
+            subprocess.run([str(tool), "make", "--dir", str(d), "--name", "signed", "--station",
+                            sid], check=True, capture_output=True)
+            self.assertEqual((d / "root.cert").read_bytes(),
+                             (self.out / "pki/signed/root.cert").read_bytes(), "root made anew")
+            shown = subprocess.run([str(tool), "show", str(d / f"at-{sid}.cert")],
+                                   capture_output=True, text=True, check=True).stdout
+            issuers.append([l for l in shown.splitlines() if l.startswith("issuer:")])
+        aa = subprocess.run([str(tool), "show", str(self.out / "pki/signed/aa.cert")],
+                            capture_output=True, text=True, check=True).stdout
+        aa_id = [l.split()[1] for l in aa.splitlines() if l.startswith("hashedId8:")]
+        self.assertEqual(len(aa_id), 1, aa)
+        self.assertEqual(issuers, [[f"issuer: {aa_id[0]}"]] * 2)
+
+    def test_signed_scenario_without_its_pki(self):
+        r = self.run_plan(self.signed_scenario(), "--nodes", "a", "--its-pki",
+                          str(self.tmp / "no-such-its-pki"), expect=2)
+        self.assertIn("--its-pki: '" + str(self.tmp / "no-such-its-pki") + "' not found", r.stderr)
+        r = self.run_plan(self.signed_scenario(), "--nodes", "a", "--its-pki", "", expect=2)
+        self.assertIn("signed.json: /security: the scenario signs (signed)", r.stderr)
 
     def test_stack_passes_docker_stack_deploy_schema(self):
         # Debian's docker.io 20.10 has no `docker stack config`, but `stack deploy` checks the file
