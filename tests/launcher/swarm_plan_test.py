@@ -185,6 +185,9 @@ class SwarmPlan(unittest.TestCase):
                 d = services[svc]["deploy"]
                 self.assertEqual(d["replicas"], replicas, svc)
                 self.assertEqual(d["placement"]["constraints"], [f"node.hostname == {name}"], svc)
+            for svc in (f"emulator-{name}", f"station-{name}", f"station-host-{name}"):
+                # A swarm restarts an unhealthy task: no check counts while a node comes up.
+                self.assertEqual(services[svc]["healthcheck"], {"start_period": "600s"}, svc)
             emu = services[f"emulator-{name}"]
             self.assertEqual(sorted(emu["cap_add"]), ["NET_ADMIN", "SYS_ADMIN"])
             self.assertEqual(emu["environment"]["TESTBED_NODE"], name)
