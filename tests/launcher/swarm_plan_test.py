@@ -316,6 +316,66 @@ class SwarmPlan(unittest.TestCase):
         r = self.run_plan(self.signed_scenario(), "--nodes", "a", "--its-pki", "", expect=2)
         self.assertIn("signed.json: /security: the scenario signs (signed)", r.stderr)
 
+    def station_entrypoint(self, **env):
+        """docker/station/entrypoint as a module, its paths in this test's folder."""
+        import importlib.machinery
+        import importlib.util
+        import os
+        saved = dict(os.environ)
+        os.environ.update({"TESTBED_RUN_DIR": str(self.tmp / "run"), **env})
+        try:
+            loader = importlib.machinery.SourceFileLoader(
+                "station_entrypoint", str(ROOT / "docker/station/entrypoint"))
+            spec = importlib.util.spec_from_loader(loader.name, loader)
+            module = importlib.util.module_from_spec(spec)
+            loader.exec_module(module)
+        finally:
+            os.environ.clear()
+            os.environ.update(saved)
+        return module
+
+    def test_station_reads_its_login_from_the_secret(self):
+        self.run_plan(SCEN / "dense-ring.json", "--nodes", "n1")
+        creds = self.out / "mqtt-credentials.json"
+        planned = json.loads(creds.read_text())
+        st = self.station_entrypoint(MQTT_CREDENTIALS=str(creds),
+                                     BROKER_CONFIG=str(self.tmp / "no-broker-volume"))
+        entry, pw = st.login("stations", "3001", "credentials for station 3001")
+        self.assertEqual(entry["username"], "station-3001")
+        self.assertEqual(pw.read_text().strip(), planned["stations"]["3001"]["password"])
+        self.assertEqual(pw.stat().st_mode & 0o777, 0o600)
+        entry, pw = st.login("hosts", "station-host", "station-host login")
+        self.assertEqual(pw.read_text().strip(), planned["hosts"]["station-host"]["password"])
+        with self.assertRaises(SystemExit) as e:  # another scenario's secret
+            st.login("stations", "1001", "credentials for station 1001")
+        self.assertEqual(e.exception.code, 1)
+
+    def test_station_seeds_the_shared_pki(self):
+        tool = self.its_pki()
+        scenario = self.signed_scenario()
+        self.run_plan(scenario, "--nodes", "a", "--its-pki", str(tool))
+        seed = self.tmp / "secrets"
+        seed.mkdir()
+        for f in ("root.cert", "root.pem", "aa.cert", "aa.pem"):
+            shutil.copyfile(self.out / "pki/signed" / f, seed / f"pki-signed-{f}")
+        import os
+        self.addCleanup(os.environ.__setitem__, "PATH", os.environ["PATH"])
+        os.environ["PATH"] = f"{tool.parent}:{os.environ['PATH']}"  # its-pki, as in the image
+        st = self.station_entrypoint(SCENARIO=str(scenario), PKI_DIR=str(self.tmp / "pki"),
+                                     PKI_SEED=str(seed))
+        # A volume left with another deployment's root: replaced by the shared one.
+        (self.tmp / "pki/signed").mkdir(parents=True)
+        (self.tmp / "pki/signed/root.cert").write_bytes(b"old")
+        self.assertEqual(st.security_args("1002", []), ["--pki-dir", str(self.tmp / "pki/signed")])
+        self.assertEqual((self.tmp / "pki/signed/root.cert").read_bytes(),
+                         (self.out / "pki/signed/root.cert").read_bytes())
+        self.assertTrue((self.tmp / "pki/signed/at-1002.cert").is_file())
+        # Without the seed's files the station refuses rather than trust a root of its own.
+        st = self.station_entrypoint(SCENARIO=str(scenario), PKI_DIR=str(self.tmp / "pki2"),
+                                     PKI_SEED=str(self.tmp / "empty"))
+        with self.assertRaises(SystemExit):
+            st.security_args("1002", [])
+
     def test_stack_passes_docker_stack_deploy_schema(self):
         # Debian's docker.io 20.10 has no `docker stack config`, but `stack deploy` checks the file
         # against its v3 schema before it talks to any daemon: with no daemon to reach, a file
