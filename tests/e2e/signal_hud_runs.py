@@ -4,7 +4,7 @@ scenarios/signals-junction-hud.json with HUDs watching, one table.
 
     tests/e2e/signal_hud_runs.py [--runs 3] [--duration 240] [--build build/release]
           [--watch wait1 --watch wait2 ...] [--width 640 --height 360] [--fps 60]
-          [--hmi] [--json FILE]
+          [--hmi] [--json FILE] [--view-nice N] [--testbed-arg=ARG ...]
 
 Each run is `scripts/testbed run` of the scenario (root: network namespaces) under
 /tmp/testbed-heavy.lock (taken per run, released between runs), with its traces in one folder.
@@ -93,14 +93,14 @@ def one_run(args, index, out):
         testbed = subprocess.Popen(
             [sys.executable, str(ROOT / "scripts/testbed"), "run", str(SCENARIO), "--build",
              args.build, "--duration", str(args.duration), "--out", str(out),
-             "--trace-dir", str(trace)],
+             "--trace-dir", str(trace)] + args.testbed_arg,
             stdout=open(out / f"testbed-{index}.log", "w"), stderr=subprocess.STDOUT,
             start_new_session=True)
         if not wait_port(2000, 120, testbed):
             raise SystemExit(f"signal_hud_runs: sim-server never listened (see {out}/testbed-{index}.log)")
         for vid in args.watch:
             watchers.append(subprocess.Popen(
-                [str(Path(args.build) / "bin/sim-client"), "--server", "127.0.0.1:2000",
+                ["nice", "-n", str(args.view_nice), str(Path(args.build) / "bin/sim-client"), "--server", "127.0.0.1:2000",
                  "--view", "3d", "--follow", vid, "--mqtt", "127.0.0.1:1883", "--no-forward",
                  "--name", f"hud-{vid}", "--width", str(args.width), "--height", str(args.height),
                  "--fps", str(args.fps), "--trace", str(trace / f"sim-client-hud-{vid}.jsonl")],
@@ -154,6 +154,11 @@ def main():
     ap.add_argument("--width", type=int, default=640)
     ap.add_argument("--height", type=int, default=360)
     ap.add_argument("--fps", type=float, default=60)
+    ap.add_argument("--testbed-arg", action="append", default=[], metavar="ARG",
+                    help="one more argument for scripts/testbed run (repeatable; write "
+                         "--testbed-arg=--shared-nice=-5)")
+    ap.add_argument("--view-nice", type=int, default=0,
+                    help="nice value of the watching views (software GL is the CPU's main user)")
     ap.add_argument("--hmi", action="store_true", help="also open their stations' web HMI pages")
     ap.add_argument("--json", help="write the runs' figures here")
     args = ap.parse_args()
