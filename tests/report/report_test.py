@@ -488,6 +488,30 @@ class SignalJoinTest(unittest.TestCase):
         self.assertAlmostEqual(st["sig.rsu_in"]["p50"], 0.1, places=6)
         self.assertAlmostEqual(st["light_to_air"]["p50"], 0.7, places=6)
 
+    def test_an_rsu_that_was_behind_reads_the_older_datagram_first(self):
+        # The RSU's station stalled from before the emulator's previous (periodic) datagram to
+        # 358 ms after the change: it reads that one first (no change: only its overdue periodic
+        # SPATEM), then the change's, and sends the SPATEM on change.
+        t = self.T
+        signal_path(self.trace, t, self.WORLD_MS,
+                    skip=("its.signal_feed_rx", "medium.rx", "its.spatem_tx"))
+        self.trace.add(t - 998 * MS, "client.signals", world_ms=self.WORLD_MS - 1000, groups=4)
+        self.trace.add(t - 997 * MS, "emu.signals", station=5001, world_ms=self.WORLD_MS - 1000,
+                       groups=4)
+        self.trace.add(t + 358 * MS, "its.signal_feed_rx", station=5001, bytes=98)
+        self.trace.add(t + 358 * MS + 50_000, "medium.rx", src=5001, bytes=107)
+        self.trace.add(t + 358 * MS + 60_000, "its.spatem_tx", station=5001, on_change=False,
+                       bytes=49)
+        self.trace.add(t + 358 * MS + 300_000, "its.signal_feed_rx", station=5001, bytes=98)
+        self.trace.add(t + 358 * MS + 400_000, "medium.rx", src=5001, bytes=107)
+        self.trace.add(t + 358 * MS + 450_000, "its.spatem_tx", station=5001, on_change=True,
+                       bytes=49)
+        self.green_at(11, 359.0, 359.1)
+        _, st = run_report(self.trace)
+        self.assertAlmostEqual(st["sig.rsu_in"]["p50"], 358.3 - 0.5, places=6)
+        self.assertAlmostEqual(st["sig.spatem"]["p50"], 0.1, places=6)
+        self.assertAlmostEqual(st["light_to_air"]["p50"], 358.4, places=6)
+
     def test_all_does_not_ask_for_signals(self):
         # A run without lights has no signal stages and prints no signal table.
         r, _ = run_report(self.trace, "--require", "signals")
