@@ -274,6 +274,22 @@ void ClientApp::feed_3d() {
       world_ = world;
       feed_->set_world(world_);
       controls_.set_vehicle_count(static_cast<int>(world_->vehicles.size()));
+      if (options_.follow && !followed_) {
+        followed_ = true;
+        const auto& vs = world_->vehicles;
+        const auto it = std::find_if(vs.begin(), vs.end(),
+                                     [&](const auto& v) { return v.id == *options_.follow; });
+        if (it == vs.end()) {
+          std::string ids;
+          for (const auto& v : vs)
+            ids += (ids.empty() ? "" : ", ") + v.id;
+          spdlog::error("--follow {}: the scenario has no such vehicle (its vehicles: {})",
+                        *options_.follow, ids);
+          stop(kExitUsage);
+          return;
+        }
+        controls_.follow(static_cast<int>(it - vs.begin()));
+      }
     }
   }
   if (session_->signal_updates() != signals_fed_) {

@@ -50,7 +50,10 @@ struct AppOptions {
   double fps = 60.0;
   ViewKind view = ViewKind::kAuto;
   std::optional<view3d::CameraMode> camera;  ///< default chase; orbit when watching
-  double fov_deg = 90.0;                     ///< horizontal field of view, 3D view
+  /// The 3D view's car at start (scenario id), as if picked with [ ]: a watcher sees its HUD
+  /// (signal panel, warnings), which measurements of a scripted car's HUD need.
+  std::optional<std::string> follow;
+  double fov_deg = 90.0;  ///< horizontal field of view, 3D view
   bool fullscreen = false;
   bool vsync = true;
   std::optional<std::string> mqtt;  ///< HOST[:PORT] of the broker, read as mqtt_user
@@ -128,6 +131,7 @@ class ClientApp {
   bool help_printed_ = false;
   std::string title_;
   bool finished_ = false;
+  bool followed_ = false;  ///< --follow resolved against the first Welcome
 };
 
 /// The window's title for the vehicles it drives: "red - station 101" (the first human-driven

@@ -66,6 +66,9 @@ int main(int argc, char** argv) {
   cli.add_option("--camera", camera,
                  "3D camera at start: chase, cockpit (or hood), top, orbit (Tab switches); "
                  "default chase, orbit when watching");
+  cli.add_option("--follow", o.follow,
+                 "3D view: the car (scenario id) the cameras and the HUD follow at start, as if "
+                 "picked with [ ] (a watcher sees that car's signal panel and warnings)");
   cli.add_option("--fov", o.fov_deg, "horizontal field of view of the 3D view, degrees")
       ->capture_default_str();
   cli.add_flag("--fullscreen", o.fullscreen, "fill the screen");

@@ -21,6 +21,8 @@ class ViewControls {
   /// The car this client drives (-1 when watching): the cameras follow it until [ or ] picks
   /// another, and the picking starts from it.
   void set_own(int index) { own_ = index; }
+  /// Follow the car of Welcome index @p index, as [ and ] would pick it.
+  void follow(int index) { choice_.target = index; }
   const ViewChoice& choice() const { return choice_; }
 
  private:

@@ -66,7 +66,8 @@ CASE is one of:
                    file, measured on the physics' own state (client.forward), not the
                    application's numbers; slow (30 km/h, stops) is on its lane (signal messages)
                    and never warned; every signal message's time to change, put on the world
-                   clock, is within 200 ms of the change sim-server made (server.signal)
+                   clock, is within 200 ms of the change sim-server made (server.signal);
+                   scripts/report --require signals joins the light changes to the cars
 
 A run that fails while the virtual machine's host stole ≥ 10 % of the CPU (steal time,
 /proc/stat) is run once more; each run prints the steal.
@@ -1141,6 +1142,16 @@ def run_case(args):
             failures += check_denms(out, json.loads(scenario_file.read_text()), messages)
     elif args.case == "signals":
         failures += check_signals(out, json.loads(scenario_file.read_text()), messages)
+        # scripts/report follows each light change to the cars on its lanes (docs/tracing.md,
+        # "A light change's way to the driver"): every leg up to the cars' applications.
+        runs = sorted(out.glob("run-*"))
+        if runs:
+            r = subprocess.run([str(ROOT / "scripts/report"), str(runs[-1] / "trace"),
+                                "--require", "signals"], capture_output=True, text=True)
+            at = r.stdout.find("light changes")
+            print((r.stdout[at:] if at >= 0 else r.stdout) + r.stderr)
+            if r.returncode != 0:
+                failures.append("the latency report found no light change's way to a car")
     elif args.case == "start":
         failures += check_start(out, json.loads(scenario_file.read_text()), messages)
         if any(w.get("event") == "raised" for _, w in warnings):

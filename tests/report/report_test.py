@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Unit test of scripts/report's joins on hand-made trace records (no programs, no clocks):
 which steps count as state changes, the CAM and warning stages, the HMI's receipts, the DENM
-stages, --require.
+stages, --require, and a light change's way to the HUD (issue 34).
 
     python3 tests/report/report_test.py
 """
@@ -345,6 +345,179 @@ class ReportTest(unittest.TestCase):
         self.assertIn("state_to_cam p99", r.stderr)
         r, _ = run_report(self.trace, "--max-p99", "state_to_cam=250")
         self.assertEqual(r.returncode, 0, r.stderr)
+
+
+def signal_path(trace, t0, world_ms, intersection=100, group=1, state=6, rsu=5001, skip=()):
+    """One light change's way from sim-server to the RSU's SPATEM at the medium, each hop a
+    fixed time after the one before (ms after the change at @p t0): client 0.2, emulator 0.5,
+    the RSU's read 0.6, the SPATEM at the medium 0.7, the RSU's send returned 0.75. Records named
+    in @p skip are left out (a missing stage)."""
+    hops = [("server.signal", 0.0, dict(intersection=intersection, group=group, state=state,
+                                        world_ms=world_ms, next_change_ms=world_ms + 3000)),
+            ("client.signals", 0.2, dict(world_ms=world_ms, groups=4)),
+            ("emu.signals", 0.5, dict(station=rsu, world_ms=world_ms, groups=4)),
+            ("its.signal_feed_rx", 0.6, dict(station=rsu, bytes=98)),
+            ("medium.rx", 0.7, dict(src=rsu, bytes=107)),
+            ("its.spatem_tx", 0.75, dict(station=rsu, on_change=True, bytes=49))]
+    for ev, at, fields in hops:
+        if ev not in skip:
+            trace.add(t0 + int(at * MS), ev, **fields)
+
+
+def on_lane(trace, station, t_from, t_to, state, group=1, intersection=100, lane=1):
+    """The station's signal application evaluating its group every 100 ms in [t_from, t_to)."""
+    for t in range(t_from, t_to, 100 * MS):
+        trace.add(t, "its.signal", station=station, intersection=intersection, lane=lane,
+                  group=group, state=state, spat_ms=0, dist=20.0, speed=0.0, warn=False)
+
+
+class SignalJoinTest(unittest.TestCase):
+    """The light change → HUD join (issue 34): hand-made records of one RSU and two vehicles on
+    the lane of signal group 1, one of them with a HUD and an HMI page."""
+
+    T = T0 + 5_000 * MS  # the light change: group 1 goes green (6)
+    WORLD_MS = START_MS + 5_000
+
+    def setUp(self):
+        self.trace = Trace()
+        t = self.T
+        # Both show red (3) before the change, at their fixes.
+        on_lane(self.trace, 11, t - 900 * MS, t, 3)
+        on_lane(self.trace, 12, t - 950 * MS, t, 3)
+        # Vehicle 11 has a HUD and a page, up before the change (they drew red).
+        self.trace.add(t - 800 * MS, "client.signal", station=11, intersection_id=100,
+                       signal_group=1, light="red", frame=10)
+        self.trace.add(t - 700 * MS, "hmi.signal", station=11, intersection_id=100,
+                       signal_group=1, light="red", shown_ns=t - 699 * MS)
+
+    def green_at(self, station, decoded_ms, published_ms, hud_ms=None, hmi_ms=None):
+        t = self.T
+        self.trace.add(t + int(decoded_ms * MS), "its.signal", station=station, intersection=100,
+                       lane=1, group=1, state=6, spat_ms=0, dist=20.0, speed=0.0, warn=False)
+        self.trace.add(t + int(published_ms * MS), "its.mqtt", station=station,
+                       topic=f"its/{station}/app/signal", intersection=100, lane=1, state=6,
+                       own_ms=0)
+        if hud_ms is not None:
+            self.trace.add(t + int(hud_ms * MS), "client.signal", station=station,
+                           intersection_id=100, signal_group=1, light="green", frame=20)
+        if hmi_ms is not None:
+            self.trace.add(t + int(hmi_ms * MS), "hmi.signal", station=station,
+                           intersection_id=100, signal_group=1, light="green",
+                           shown_ns=t + int((hmi_ms + 0.4) * MS))
+        # It stays on the lane, green, at its next fixes.
+        on_lane(self.trace, station, t + 100 * MS, t + 400 * MS, 6)
+
+    def test_two_vehicles_every_stage(self):
+        signal_path(self.trace, self.T, self.WORLD_MS)
+        self.green_at(11, 1.0, 1.1, hud_ms=40.0, hmi_ms=5.0)
+        self.green_at(12, 1.5, 1.6)  # no HUD, no page
+        r, st = run_report(self.trace, "--require", "signals,hud,hmi.signal")
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        want = {"sig.client": 0.2, "sig.emu": 0.3, "sig.rsu_in": 0.1, "sig.spatem": 0.1,
+                "light_to_air": 0.7, "sig.hud": 38.9, "light_to_hud": 40.0, "sig.hmi": 3.9,
+                "sig.hmi.show": 0.4, "light_to_hmi": 5.0}
+        for stage, ms in want.items():
+            self.assertEqual(st[stage]["n"], 1, stage)
+            self.assertAlmostEqual(st[stage]["p50"], ms, places=6, msg=stage)
+        # One sample per vehicle for the legs every vehicle has.
+        self.assertEqual(st["light_to_vehicle"]["n"], 2)
+        self.assertAlmostEqual(st["light_to_vehicle"]["min"], 1.0, places=6)
+        self.assertAlmostEqual(st["light_to_vehicle"]["max"], 1.5, places=6)
+        self.assertAlmostEqual(st["sig.air"]["max"], 0.8, places=6)  # 0.7 → 1.5
+        self.assertAlmostEqual(st["sig.mqtt"]["mean"], 0.1, places=6)
+        self.assertIn("missing along the way: none", r.stdout)
+
+    def test_records_out_of_order_and_written_twice(self):
+        signal_path(self.trace, self.T, self.WORLD_MS)
+        # The change written twice, and a second forwarding client's later copy.
+        self.trace.add(self.T, "server.signal", intersection=100, group=1, state=6,
+                       world_ms=self.WORLD_MS, next_change_ms=self.WORLD_MS + 3000)
+        self.trace.add(self.T + 3 * MS, "client.signals", world_ms=self.WORLD_MS, groups=4)
+        self.green_at(11, 1.0, 1.1, hud_ms=40.0, hmi_ms=5.0)
+        # A HUD frame drawing green again later (another group's panel in between) is not
+        # the change's: the first one after it counts.
+        self.trace.add(self.T + 90 * MS, "client.signal", station=11, intersection_id=100,
+                       signal_group=1, light="green", frame=30)
+        self.trace.records.reverse()  # files are joined whatever their order
+        r, st = run_report(self.trace)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("light changes (issue 34): 1 in sim-server", r.stdout)
+        self.assertEqual(st["sig.client"]["n"], 1)
+        self.assertAlmostEqual(st["sig.client"]["p50"], 0.2, places=6)
+        self.assertEqual(st["light_to_hud"]["n"], 1)
+        self.assertAlmostEqual(st["light_to_hud"]["p50"], 40.0, places=6)
+
+    def test_a_missing_stage_is_counted(self):
+        # The medium did not see the SPATEM, vehicle 11's HUD never drew green and its page
+        # never got it; vehicle 12 never showed green while still on the lane.
+        signal_path(self.trace, self.T, self.WORLD_MS, skip=("medium.rx",))
+        self.green_at(11, 1.0, 1.1)
+        on_lane(self.trace, 12, self.T + 50 * MS, self.T + 400 * MS, 3)
+        r, st = run_report(self.trace, "--require", "hud")
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("stage sig.hud has no records", r.stderr)
+        self.assertIn("client.signal 1", r.stdout)
+        self.assertIn("hmi.signal 1", r.stdout)
+        self.assertIn("its.signal 1", r.stdout)
+        self.assertIn("medium.rx (SPATEM) 1", r.stdout)
+        self.assertNotIn("sig.air", st)
+        self.assertEqual(st["light_to_vehicle"]["n"], 1)  # vehicle 11's
+        self.assertEqual(st["sig.rsu_in"]["n"], 1)
+
+    def test_a_vehicle_gone_or_on_another_lane_is_no_sample(self):
+        signal_path(self.trace, self.T, self.WORLD_MS)
+        self.green_at(11, 1.0, 1.1, hud_ms=40.0, hmi_ms=5.0)
+        # Vehicle 12 crossed the stop line before the change: no evaluation of group 1 after.
+        # Vehicle 13 waits at group 2 (red), which does not change.
+        on_lane(self.trace, 13, self.T - 500 * MS, self.T + 400 * MS, 3, group=2, lane=2)
+        r, st = run_report(self.trace)
+        self.assertEqual(st["light_to_vehicle"]["n"], 1)
+        self.assertIn("1 vehicles had left the lane", r.stdout)
+        self.assertIn("missing along the way: none", r.stdout)
+
+    def test_an_rsu_of_another_junction_sends_nothing_on_it(self):
+        # RSU 5002 reads the same states (its junction's did not change): no SPATEM on change.
+        signal_path(self.trace, self.T, self.WORLD_MS)
+        self.trace.add(self.T + int(0.4 * MS), "emu.signals", station=5002,
+                       world_ms=self.WORLD_MS, groups=4)
+        self.trace.add(self.T + int(0.45 * MS), "its.signal_feed_rx", station=5002, bytes=98)
+        self.trace.add(self.T + int(0.5 * MS), "medium.rx", src=5002, bytes=90)
+        self.green_at(11, 1.0, 1.1)
+        _, st = run_report(self.trace)
+        self.assertEqual(st["sig.rsu_in"]["n"], 1)
+        self.assertAlmostEqual(st["sig.rsu_in"]["p50"], 0.1, places=6)
+        self.assertAlmostEqual(st["light_to_air"]["p50"], 0.7, places=6)
+
+    def test_an_rsu_that_was_behind_reads_the_older_datagram_first(self):
+        # The RSU's station stalled from before the emulator's previous (periodic) datagram to
+        # 358 ms after the change: it reads that one first (no change: only its overdue periodic
+        # SPATEM), then the change's, and sends the SPATEM on change.
+        t = self.T
+        signal_path(self.trace, t, self.WORLD_MS,
+                    skip=("its.signal_feed_rx", "medium.rx", "its.spatem_tx"))
+        self.trace.add(t - 998 * MS, "client.signals", world_ms=self.WORLD_MS - 1000, groups=4)
+        self.trace.add(t - 997 * MS, "emu.signals", station=5001, world_ms=self.WORLD_MS - 1000,
+                       groups=4)
+        self.trace.add(t + 358 * MS, "its.signal_feed_rx", station=5001, bytes=98)
+        self.trace.add(t + 358 * MS + 50_000, "medium.rx", src=5001, bytes=107)
+        self.trace.add(t + 358 * MS + 60_000, "its.spatem_tx", station=5001, on_change=False,
+                       bytes=49)
+        self.trace.add(t + 358 * MS + 300_000, "its.signal_feed_rx", station=5001, bytes=98)
+        self.trace.add(t + 358 * MS + 400_000, "medium.rx", src=5001, bytes=107)
+        self.trace.add(t + 358 * MS + 450_000, "its.spatem_tx", station=5001, on_change=True,
+                       bytes=49)
+        self.green_at(11, 359.0, 359.1)
+        _, st = run_report(self.trace)
+        self.assertAlmostEqual(st["sig.rsu_in"]["p50"], 358.3 - 0.5, places=6)
+        self.assertAlmostEqual(st["sig.spatem"]["p50"], 0.1, places=6)
+        self.assertAlmostEqual(st["light_to_air"]["p50"], 358.4, places=6)
+
+    def test_all_does_not_ask_for_signals(self):
+        # A run without lights has no signal stages and prints no signal table.
+        r, _ = run_report(self.trace, "--require", "signals")
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("stage light_to_vehicle has no records", r.stderr)
+        self.assertNotIn("light changes", r.stdout)
 
 
 if __name__ == "__main__":

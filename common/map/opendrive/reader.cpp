@@ -757,12 +757,8 @@ class Reader {
     Controller k;
     k.id = text(c, "id", indexed("", "controller", static_cast<int>(net_.controllers.size()) + 1));
     const std::string path = "controller[@id='" + k.id + "']";
-    // The testbed's contract (issue 34): a controller is a signal group, its id the
-    // SignalGroupID (ISO TS 19091 DSRC, 0 and 255 reserved), so it must be a decimal 1..254.
-    if (!decimal_in(k.id, 1, 254)) {
-      fail(path, "attribute 'id' is '" + k.id +
-                     "': a controller's id is its signal group (SignalGroupID), a decimal 1..254");
-    }
+    // Any id OpenDRIVE allows: that a controller's id is a SignalGroupID is the testbed's signal
+    // model's rule, checked by SignalLayout when the lights are used.
     if (!controller_ids_.emplace(k.id, net_.controllers.size()).second)
       fail(path, "duplicate controller id '" + k.id + "'");
     k.name = c.attribute("name").value();

@@ -27,6 +27,19 @@ SignalLayout::SignalLayout(const RoadNetwork& net) : net_(net) {
   std::unordered_map<std::string, int> group_of;  // signal id -> controller id
   for (std::size_t k = 0; k < net.controllers.size(); ++k) {
     const Controller& c = net.controllers[k];
+    // The testbed's contract (issue 34): a controller is a signal group, its id the
+    // SignalGroupID (ISO TS 19091 DSRC, 0 and 255 reserved), so it must be a decimal 1..254.
+    // Checked here, not by the reader: a map whose lights nobody runs may use any id.
+    const bool group_id =
+        !c.id.empty() && c.id.size() <= 3 &&
+        std::all_of(c.id.begin(), c.id.end(), [](char ch) { return ch >= '0' && ch <= '9'; }) &&
+        std::stoi(c.id) >= 1 && std::stoi(c.id) <= 254;
+    if (!group_id) {
+      throw MapError(net.source, "controller[@id='" + c.id + "']",
+                     "attribute 'id' is '" + c.id +
+                         "': a controller's id is its signal group (SignalGroupID), a decimal "
+                         "1..254");
+    }
     groups_.push_back({c.signal_group(), k, {}, -1});
     for (const Control& ctl : c.controls)
       group_of[ctl.signal_id] = c.signal_group();

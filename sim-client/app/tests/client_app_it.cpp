@@ -386,6 +386,91 @@ TEST(ClientApp, MqttWarningBannerComesAndGoes) {
 // Issue 34: the own lane's signal and the red-light warning through a real broker, as the
 // station publishes them (signal QoS 0 at 10 Hz, RLVW QoS 1), into the frames the render
 // thread draws: the panel's light and the banner come, and go with "lane": null and cleared.
+// A watcher with --follow shows the HUD of the car it names, not the first car's: how the
+// light → HUD measurement (tests/e2e/signal_hud_runs.py) sees a scripted car's signal panel.
+TEST(ClientApp, WatcherFollowsTheCarItNamesAndShowsItsSignalPanel) {
+  testing::Xvfb xvfb;
+  if (!xvfb.running())
+    GTEST_SKIP() << "Xvfb did not start (scripts/install-deps installs xvfb)";
+  mqtt::testing::Broker broker("1001,1002");
+  ASSERT_TRUE(broker.configured());
+  ASSERT_TRUE(broker.start()) << broker.log();
+  clock::SystemClock clk;
+  mqtt::ClientConfig sc;
+  sc.port = broker.port();
+  sc.client_id = sc.username = "station-1002";
+  sc.password = broker.password(1002);
+  mqtt::MosquittoClient station(clk, sc);
+  station.start();
+  mqtt::ClientConfig first = sc;
+  first.client_id = first.username = "station-1001";
+  first.password = broker.password(1001);
+  mqtt::MosquittoClient first_station(clk, first);
+  first_station.start();
+
+  testing::FakeSimServer server;
+  asio::io_context io;
+  AppOptions o;
+  o.server = "127.0.0.1:" + std::to_string(server.port());
+  o.forward = false;  // no --vehicle: watching
+  o.follow = "tl";    // station 1002, the second car; the first, "me", is 1001
+  o.view = ViewKind::k3d;
+  o.width = 480;
+  o.height = 270;
+  o.mqtt = "127.0.0.1:" + std::to_string(broker.port());
+  std::mutex mu;
+  std::uint32_t station_shown = 0;
+  std::string light;
+  o.frame_observer = [&](const view3d::FrameStats& s) {
+    std::lock_guard l(mu);
+    station_shown = s.signal ? s.signal->station : 0;
+    light = s.signal ? std::string(v2x::to_string(s.signal->light)) : std::string();
+  };
+  ClientApp app(io, o);
+  app.start();
+  const auto message = [](const char* state) {
+    return std::string(R"({"type":"signal","message":{"intersection_id":1,"signal_group":2,)") +
+           R"("lane_id":1,"state":")" + state +
+           R"(","event_state":"stop-And-Remain","time_to_change_s":5,)"
+           R"("likely_time_to_change_s":null,"distance_to_stop_line_m":30.0,"advice":null,)"
+           R"("rlvw":false}})";
+  };
+  bool shown = false;
+  for (int i = 0; i < 400 && !shown; ++i) {
+    if (i % 5 == 0) {  // both stations on their lanes, every 100 ms
+      first_station.publish("its/1001/app/signal", message("red"), mqtt::Qos::kAtMostOnce, false);
+      station.publish("its/1002/app/signal", message("green"), mqtt::Qos::kAtMostOnce, false);
+    }
+    pump(io, 20ms);
+    std::lock_guard l(mu);
+    shown = station_shown != 0;
+  }
+  ASSERT_TRUE(shown) << "no signal panel drawn";
+  {
+    std::lock_guard l(mu);
+    EXPECT_EQ(station_shown, 1002u);
+    EXPECT_EQ(light, "green");
+  }
+  app.stop(0);
+  station.stop();
+  first_station.stop();
+}
+
+TEST(SimClientProgram, FollowingAnUnknownCarIsAClearError) {
+  if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "xvfb-run is not installed (scripts/install-deps installs it)";
+  testing::FakeSimServer server;
+  const auto r =
+      run({"xvfb-run", "-a", "-s", "-screen 0 640x480x24", bin() + "/sim-client", "--server",
+           "127.0.0.1:" + std::to_string(server.port()), "--no-forward", "--view", "3d", "--follow",
+           "ghost", "--width", "320", "--height", "240", "--duration", "20"},
+          40s, {{"ASAN_OPTIONS", "detect_leaks=0"}});
+  EXPECT_EQ(r.code, kExitUsage) << r.err;
+  EXPECT_NE(r.err.find("--follow ghost: the scenario has no such vehicle (its vehicles: me, tl"),
+            std::string::npos)
+      << r.err;
+}
+
 TEST(ClientApp, MqttSignalPanelAndRedLightBannerComeAndGo) {
   testing::Xvfb xvfb;
   if (!xvfb.running())

@@ -158,6 +158,18 @@ void expect_error(const std::string& xml, const std::string& path, const std::st
   }
 }
 
+TEST(SignalLayout, TheReaderTakesAnyControllerIdTheLightsNeedNot) {
+  // A map whose lights nobody runs (a view, an export) loads whatever ids its controllers have;
+  // only the signal model, built when the lights are used, needs SignalGroupIDs.
+  const RoadNetwork net = parse_opendrive(
+      junction_with(kSig1, kSig3, R"(<controller id="x1"><control signalId="L1"/></controller>)",
+                    ""),
+      "odd.xodr");
+  ASSERT_EQ(net.controllers.size(), 1u);
+  EXPECT_EQ(net.controllers[0].id, "x1");
+  EXPECT_THROW(SignalLayout{net}, MapError);
+}
+
 TEST(SignalLayout, BadControllersAreRefusedWithElementAndValue) {
   expect_error(
       junction_with(kSig1, kSig3,
@@ -181,7 +193,7 @@ TEST(SignalLayout, BadControllersAreRefusedWithElementAndValue) {
             std::string(R"(<controller id=")") + id + R"("><control signalId="L1"/></controller>)",
             ""),
         std::string("controller[@id='") + id + "']",
-        std::string("attribute 'id' is '") + id + "': a controller's id is its signal group");
+        std::string("attribute 'id' is '") + id + "': a controller's id is its signal group", true);
   }
   expect_error(junction_with(kSig1, kSig3, kControllers + kControllers, ""), "controller[@id='5']",
                "duplicate controller id '5'");
