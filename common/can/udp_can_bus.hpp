@@ -55,12 +55,18 @@ class UdpCanBus final : public CanBus {
   explicit UdpCanBus(udp::socket socket) : socket_(std::move(socket)) {}
   void receive_next();
   void arm_backstop();
-  void on_packet(std::size_t n);
+  void on_packet(const std::uint8_t* data, std::size_t n);
+
+  /// poll() reads up to kPollBatch datagrams per system call, each into a kPollSlot-byte slot
+  /// of rx_buffer_.
+  static constexpr std::size_t kPollBatch = 16;
+  static constexpr std::size_t kPollSlot = 4096;
+  static_assert(kPollSlot >= kMaxDatagram);
 
   udp::socket socket_;
   std::uint8_t tx_sequence_ = 0;
   std::array<std::uint8_t, kMaxDatagram> tx_buffer_{};
-  std::vector<std::uint8_t> rx_buffer_ = std::vector<std::uint8_t>(65536);
+  std::vector<std::uint8_t> rx_buffer_ = std::vector<std::uint8_t>(kPollBatch * kPollSlot);
   udp::endpoint rx_from_;
   FrameHandler handler_;
   bool on_demand_ = false;

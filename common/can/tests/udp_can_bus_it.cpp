@@ -84,6 +84,32 @@ TEST(UdpCanBus, OnDemandHoldsFramesUntilPolledOrTheBackstop) {
   EXPECT_EQ(got2, sample_frames(3));
 }
 
+TEST(UdpCanBus, OnePollReadsMoreDatagramsThanOneBatchInOrder) {
+  // poll() reads in batches (recvmmsg): a queue longer than a batch is read to its end, in
+  // order; a datagram longer than a batch slot is counted as malformed, not decoded cut.
+  boost::asio::io_context io;
+  auto rx = UdpCanBus::bind(io, {boost::asio::ip::make_address("127.0.0.1"), 0});
+  std::vector<CanFrame> got;
+  rx->start_on_demand([&](const CanFrame& f, std::int64_t) { got.push_back(f); },
+                      std::chrono::hours{1});
+  auto tx = UdpCanBus::connect(io, rx->local_endpoint());
+  udp::socket raw(io, udp::v4());
+  const auto frames = sample_frames(40);
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    ASSERT_FALSE(tx->send(std::span<const CanFrame>(&frames[i], 1)));
+    if (i == 20) {
+      const std::vector<std::uint8_t> huge(5000, 0x02);
+      raw.send_to(boost::asio::buffer(huge), rx->local_endpoint());
+    }
+  }
+  EXPECT_EQ(rx->poll(), 40u);
+  EXPECT_EQ(got, frames);
+  EXPECT_EQ(rx->stats().packets, 40u);
+  EXPECT_EQ(rx->stats().sequence_gaps, 0u);
+  EXPECT_EQ(rx->stats().malformed, 1u);
+  EXPECT_EQ(rx->poll(), 0u);
+}
+
 TEST(UdpCanBus, CountsMalformedPacketsAndKeepsReceiving) {
   boost::asio::io_context io;
   auto rx = UdpCanBus::bind(io, {boost::asio::ip::make_address("127.0.0.1"), 0});
