@@ -27,6 +27,10 @@ struct UdpCanStats {
 
 class UdpCanBus final : public CanBus {
  public:
+  ~UdpCanBus() override;
+  UdpCanBus(const UdpCanBus&) = delete;
+  UdpCanBus& operator=(const UdpCanBus&) = delete;
+
   using udp = boost::asio::ip::udp;
 
   /// A sender: a non-blocking socket connected to @p peer, so that the kernel reports an
@@ -45,22 +49,32 @@ class UdpCanBus final : public CanBus {
   void start_on_demand(FrameHandler handler, std::chrono::milliseconds backstop) override;
   std::size_t poll() override;
 
-  udp::endpoint local_endpoint() const { return socket_.local_endpoint(); }
+  udp::endpoint local_endpoint() const { return local_; }
   const UdpCanStats& stats() const { return stats_; }
 
   /// Keeps datagrams below a 1500-byte Ethernet MTU, as cannelloni does.
   static constexpr std::size_t kMaxDatagram = 1400;
 
  private:
-  explicit UdpCanBus(udp::socket socket) : socket_(std::move(socket)) {}
+  explicit UdpCanBus(udp::socket socket)
+      : socket_(std::move(socket)), local_(socket_.local_endpoint()) {}
   void receive_next();
   void arm_backstop();
-  void on_packet(std::size_t n);
+  void on_packet(const std::uint8_t* data, std::size_t n);
+
+  /// poll() reads up to kPollBatch datagrams per system call, each into a kPollSlot-byte slot
+  /// of rx_buffer_.
+  static constexpr std::size_t kPollBatch = 16;
+  static constexpr std::size_t kPollSlot = 4096;
+  static_assert(kPollSlot >= kMaxDatagram);
 
   udp::socket socket_;
+  udp::endpoint local_;
+  /// On demand, the socket taken out of the io_context (see start_on_demand); -1 before.
+  int on_demand_fd_ = -1;
   std::uint8_t tx_sequence_ = 0;
   std::array<std::uint8_t, kMaxDatagram> tx_buffer_{};
-  std::vector<std::uint8_t> rx_buffer_ = std::vector<std::uint8_t>(65536);
+  std::vector<std::uint8_t> rx_buffer_ = std::vector<std::uint8_t>(kPollBatch * kPollSlot);
   udp::endpoint rx_from_;
   FrameHandler handler_;
   bool on_demand_ = false;

@@ -5,6 +5,8 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 #include <fmt/format.h>
@@ -82,6 +84,65 @@ TEST(UdpCanBus, OnDemandHoldsFramesUntilPolledOrTheBackstop) {
   ASSERT_FALSE(tx2->send(sample_frames(3)));
   run_until(io, [&] { return got2.size() >= 3; });
   EXPECT_EQ(got2, sample_frames(3));
+}
+
+TEST(UdpCanBus, OnePollReadsMoreDatagramsThanOneBatchInOrder) {
+  // poll() reads in batches (recvmmsg): a queue longer than a batch is read to its end, in
+  // order; a datagram longer than a batch slot is counted as malformed, not decoded cut.
+  boost::asio::io_context io;
+  auto rx = UdpCanBus::bind(io, {boost::asio::ip::make_address("127.0.0.1"), 0});
+  std::vector<CanFrame> got;
+  rx->start_on_demand([&](const CanFrame& f, std::int64_t) { got.push_back(f); },
+                      std::chrono::hours{1});
+  auto tx = UdpCanBus::connect(io, rx->local_endpoint());
+  udp::socket raw(io, udp::v4());
+  const auto frames = sample_frames(40);
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    ASSERT_FALSE(tx->send(std::span<const CanFrame>(&frames[i], 1)));
+    if (i == 20) {
+      const std::vector<std::uint8_t> huge(5000, 0x02);
+      raw.send_to(boost::asio::buffer(huge), rx->local_endpoint());
+    }
+  }
+  EXPECT_EQ(rx->poll(), 40u);
+  EXPECT_EQ(got, frames);
+  EXPECT_EQ(rx->stats().packets, 40u);
+  EXPECT_EQ(rx->stats().sequence_gaps, 0u);
+  EXPECT_EQ(rx->stats().malformed, 1u);
+  EXPECT_EQ(rx->poll(), 0u);
+}
+
+/// How many descriptors the process's epoll sets watch (the "tfd:" lines of each epoll
+/// descriptor's /proc fdinfo, proc(5)).
+std::size_t epoll_watched_descriptors() {
+  std::size_t n = 0;
+  for (const auto& e : std::filesystem::directory_iterator("/proc/self/fd")) {
+    std::error_code ec;
+    const auto target = std::filesystem::read_symlink(e.path(), ec);
+    if (ec || target.string() != "anon_inode:[eventpoll]")
+      continue;
+    std::ifstream info("/proc/self/fdinfo/" + e.path().filename().string());
+    for (std::string line; std::getline(info, line);)
+      n += line.starts_with("tfd:") ? 1 : 0;
+  }
+  return n;
+}
+
+TEST(UdpCanBus, OnDemandLeavesTheEpollSetSoThatDatagramsWakeNobody) {
+  // Registered with the io_context's epoll, every datagram would wake the thread that runs it
+  // although nobody waits on the socket (issue 33).
+  boost::asio::io_context io;
+  auto rx = UdpCanBus::bind(io, {boost::asio::ip::make_address("127.0.0.1"), 0});
+  const std::size_t watched = epoll_watched_descriptors();
+  ASSERT_GE(watched, 1u);
+  std::vector<CanFrame> got;
+  rx->start_on_demand([&](const CanFrame& f, std::int64_t) { got.push_back(f); },
+                      std::chrono::hours{1});
+  EXPECT_EQ(epoll_watched_descriptors(), watched - 1);
+  auto tx = UdpCanBus::connect(io, rx->local_endpoint());
+  ASSERT_FALSE(tx->send(sample_frames(3)));
+  EXPECT_EQ(rx->poll(), 1u);
+  EXPECT_EQ(got, sample_frames(3));
 }
 
 TEST(UdpCanBus, CountsMalformedPacketsAndKeepsReceiving) {
