@@ -227,8 +227,8 @@ class Station {
 
 // Sends @p n frames from @p tx, never more than a window ahead of the slowest receiver that
 // should hear it: a test of the medium's losslessness, not of socket buffer sizes.
-void send_paced(Station& tx, std::uint32_t n, std::vector<Station*> all,
-                const std::vector<Station*>& expected_rx) {
+[[maybe_unused]] void send_paced(Station& tx, std::uint32_t n, std::vector<Station*> all,
+                                 const std::vector<Station*>& expected_rx) {
   constexpr std::uint64_t kWindow = 128;
   std::map<Station*, std::uint64_t> base;
   for (Station* s : expected_rx)
