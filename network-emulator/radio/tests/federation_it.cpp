@@ -130,6 +130,7 @@ class FederationIT : public ::testing::Test {
     return out;
   }
   void exchange_in_range(const std::string& forwarding, const std::string& channel, bool ideal);
+  void pooled_across_nodes(const std::string& forwarding, const std::string& channel, bool ideal);
 
   fs::path dir_;
   std::unique_ptr<TestNetns> node_a_, node_b_;
@@ -241,6 +242,97 @@ TEST_F(FederationIT, APeerThatGoesAwayIsLoggedAndLocalDeliveryGoesOn) {
   all.push_back(&s21);
   send_paced(s11, 100, all, {&s12, &s21});
   EXPECT_EQ(s21.count_from(11), 100u);
+}
+
+// Pooled stations federate like full ones: node b runs 21 and a station-host with 22 (240 m
+// from 11) and 23 (450 m from 11, 350 m from 12).
+void FederationIT::pooled_across_nodes(const std::string& forwarding, const std::string& channel,
+                                       bool ideal) {
+  const fs::path scenario = dir_ / "pooled-scenario.json";
+  const std::string pooled =
+      R"(, "driver": { "type": "lane_follow", "speed_profile": [{ "t": 0, "speed": 0 }] }, "station": { "kind": "pooled" } })";
+  std::ofstream(scenario) << R"({
+  "name": "federation-it-pooled",
+  "map": { "type": "straight", "lanes": 2, "lane_width": 3.5, "length": 2000 },
+  "origin": { "lat": 41.1, "lon": 29.0, "alt": 60 },
+  "start_time": "2025-06-02T09:00:00Z",
+  "channel": )" << channel << R"(,
+  "vehicles": [
+    { "id": "a1", "station_id": 11, "spawn": { "x": 10, "y": 0, "heading_deg": 90 }, "driver": "human" },
+    { "id": "a2", "station_id": 12, "spawn": { "x": 110, "y": 0, "heading_deg": 90 }, "driver": "human" },
+    { "id": "b1", "station_id": 21, "spawn": { "x": 210, "y": 0, "heading_deg": 90 }, "driver": "human" },
+    { "id": "p2", "station_id": 22, "spawn": { "x": 250, "y": 0, "heading_deg": 90 })"
+                          << pooled << R"(,
+    { "id": "p3", "station_id": 23, "spawn": { "x": 460, "y": 0, "heading_deg": 90 })"
+                          << pooled << R"(
+  ]
+})";
+  std::ofstream(dir_ / "placement.json") << R"({"nodes": [
+      {"name": "a", "medium": "10.77.0.1:4730", "stations": [11, 12]},
+      {"name": "b", "medium": "10.77.0.2:4730", "stations": [21], "pooled": [22, 23],
+       "station_hosts": 1}]})";
+  auto a = start(scenario, "a", forwarding);
+  auto b_args = args(scenario, "b", forwarding);
+  for (std::size_t i = 0; i < b_args.size(); ++i)
+    if (b_args[i] == "--stations")
+      b_args[i + 1] = "21=" + st_ns_[2]->name();
+  b_args.push_back("--pooled");
+  b_args.push_back(st_ns_[3]->name() + "=22,23");
+  auto b = std::make_unique<MediumProcess>(b_args, node_b_->name());
+  ASSERT_TRUE(b->wait_ready()) << b->output();
+  wait_federated(*a, *b);
+  Station s11(11, st_ns_[0]->name()), s12(12, st_ns_[1]->name());
+  RawHost host(st_ns_[3]->name());
+  constexpr std::uint32_t kFrames = 20;
+  for (std::uint32_t i = 0; i < kFrames; ++i) {
+    s11.send(i);
+    host.send_as(22, i);
+    host.send_as(23, i);
+  }
+  const auto deadline = Clock::now() + 5s;
+  const auto from11 = [&] {
+    return std::count_if(host.got.begin(), host.got.end(),
+                         [](const RawHost::Got& g) { return g.from == 11; });
+  };
+  while (Clock::now() < deadline && (s11.count_from(22) < kFrames || from11() < kFrames)) {
+    s11.poll_frames(2ms);
+    s12.poll_frames(2ms);
+    host.poll(2ms);
+  }
+  for (int i = 0; i < 20; ++i) {  // a little longer for frames that must not come
+    s11.poll_frames(5ms);
+    s12.poll_frames(5ms);
+    host.poll(5ms);
+  }
+  // The pooled station's frames, attributed by source MAC, reach node a's stations in range.
+  EXPECT_EQ(s11.count_from(22), kFrames);
+  EXPECT_EQ(s12.count_from(22), kFrames);
+  EXPECT_EQ(s11.count_from(23), ideal ? kFrames : 0u);
+  EXPECT_EQ(s12.count_from(23), ideal ? kFrames : 0u);
+  // Node a's station reaches the host: plain from the bridge, or one TBPD listing those in range.
+  EXPECT_EQ(from11(), kFrames);
+  for (const auto& g : host.got)
+    if (g.from == 11) {
+      EXPECT_EQ(g.pooled, !ideal);
+      if (!ideal) {
+        EXPECT_EQ(g.listed, std::vector<StationId>{22});
+      }
+    }
+  ASSERT_EQ(WEXITSTATUS(a->stop()), 0);
+  ASSERT_EQ(WEXITSTATUS(b->stop()), 0);
+  const auto stats_b = nlohmann::json::parse(read_file(dir_ / "stats-b.json"));
+  EXPECT_EQ(stats_b["federation"]["frames_out"], 2 * kFrames);  // 22's and 23's
+  if (!ideal) {  // 23's frames: no station of node a within 300 m, so node a was not sent them
+    EXPECT_EQ(stats_b["federation"]["peers_skipped"], kFrames);
+  }
+}
+
+TEST_F(FederationIT, PooledStationsInTheProgramFederateByTheirOwnMac) {
+  pooled_across_nodes("user", R"({ "model": "range", "range_m": 300 })", false);
+}
+
+TEST_F(FederationIT, PooledStationsInTheKernelFederateByTheirOwnMac) {
+  pooled_across_nodes("kernel", R"({ "model": "ideal" })", true);
 }
 
 TEST_F(FederationIT, StationsThatAreNotTheNodesEntryAreRefusedNamingTheStation) {

@@ -26,6 +26,7 @@
 
 #include <gtest/gtest.h>
 
+#include "common/wire/pooled_delivery.hpp"
 #include "network-emulator/radio/netns.hpp"
 #include "network-emulator/radio/packet_socket.hpp"
 #include "network-emulator/radio/veth_radios.hpp"
@@ -223,6 +224,72 @@ class Station {
   StationId id_;
   std::unique_ptr<PacketSocket> socket_;
   std::map<StationId, FromStats> from_;
+};
+
+// A station-host's end, standing in for station-host: AF_PACKET on its wlan0 for every
+// ethertype; sends with any pooled station's MAC, sorts out plain and pooled deliveries.
+class RawHost {
+ public:
+  explicit RawHost(const std::string& netns) {
+    socket_ = in_netns(NetnsFd::open(netns), [] {
+      return std::make_unique<PacketSocket>(kStationIfname, kEthertypeAll, 16 << 20);
+    });
+  }
+  void send_as(StationId id, std::uint32_t seq) {
+    std::vector<std::uint8_t> f(100, 0);
+    std::fill_n(f.begin(), 6, 0xff);
+    const MacAddress src = station_mac(id);
+    std::copy(src.begin(), src.end(), f.begin() + 6);
+    f[12] = 0x89;
+    f[13] = 0x47;
+    std::memcpy(&f[14], &id, 4);
+    std::memcpy(&f[18], &seq, 4);
+    ASSERT_TRUE(socket_->send(f)) << "send as " << id << ": " << std::strerror(errno);
+  }
+  struct Got {
+    bool pooled = false;            ///< a TBPD frame (else a plain GN frame)
+    std::vector<StationId> listed;  ///< TBPD: the receivers it names
+    MacAddress outer_src{};         ///< the outer frame's source MAC
+    StationId from = 0;             ///< the test payload's sender
+    std::uint32_t seq = 0;
+  };
+  // Every GN or TBPD frame waiting, or the first within @p wait; malformed TBPD fails the test.
+  void poll(std::chrono::milliseconds wait = 0ms) {
+    std::array<std::uint8_t, 16384> buf{};
+    pollfd p{socket_->fd(), POLLIN, 0};
+    if (::poll(&p, 1, static_cast<int>(wait.count())) <= 0)
+      return;
+    for (;;) {
+      const long n = socket_->receive(buf);
+      if (n <= 0)
+        return;
+      const std::span<const std::uint8_t> frame(buf.data(), static_cast<std::size_t>(n));
+      if (frame.size() < 14)
+        continue;
+      const unsigned type = unsigned{frame[12]} << 8 | frame[13];
+      Got g;
+      std::copy_n(frame.begin() + 6, 6, g.outer_src.begin());
+      std::span<const std::uint8_t> inner = frame;
+      if (type == wire::kEthertypePooledDelivery) {
+        const auto d = wire::parse_pooled_delivery_frame(frame);
+        ASSERT_TRUE(d) << "malformed TBPD: " << wire::to_string(d.error());
+        g.pooled = true;
+        g.listed = d->receivers();
+        inner = d->inner_frame;
+      } else if (type != kEthertypeGeoNetworking) {
+        continue;  // a namespace's own IPv6 chatter, forwarded by the bridge
+      }
+      if (inner.size() < 22)
+        continue;
+      std::memcpy(&g.from, &inner[14], 4);
+      std::memcpy(&g.seq, &inner[18], 4);
+      got.push_back(std::move(g));
+    }
+  }
+  std::vector<Got> got;
+
+ private:
+  std::unique_ptr<PacketSocket> socket_;
 };
 
 // Sends @p n frames from @p tx, never more than a window ahead of the slowest receiver that
