@@ -367,7 +367,11 @@ int run(const Options& opt) {
     if (opt.federation.empty() || opt.node.empty())
       throw UsageError("--federation and --node go together");
     try {
-      placement = radio::load_placement(opt.federation);
+      // The placement itself may be given instead of its file (the container's
+      // TESTBED_PLACEMENT may hold either).
+      placement = opt.federation.starts_with("{")
+                      ? radio::parse_placement(opt.federation, "(--federation, inline JSON)")
+                      : radio::load_placement(opt.federation);
     } catch (const radio::PlacementError& e) {
       throw UsageError(e.what());
     }
@@ -768,7 +772,8 @@ int main(int argc, char** argv) {
                  "write medium.frame trace records (JSON lines) to FILE; default "
                  "$TESTBED_TRACE_DIR/radio-medium.jsonl when that is set");
   app.add_option("--federation", opt.federation,
-                 "placement file (JSON): join this node's medium to the other nodes' media "
+                 "placement file (JSON), or the JSON itself: join this node's medium to the "
+                 "other nodes' media "
                  "(issue 35, README.md \"Federated medium\")");
   app.add_option("--node", opt.node, "this node's name in the placement file");
   app.add_option("--federation-listen", opt.federation_listen,
