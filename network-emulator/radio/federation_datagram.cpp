@@ -3,6 +3,8 @@
 #include <bit>
 #include <cmath>
 
+#include "common/util/bytes.hpp"
+
 namespace tb::emu::radio {
 namespace {
 
@@ -10,13 +12,6 @@ template <typename T>
 void put(std::vector<std::uint8_t>& out, T v) {
   for (int shift = 8 * (static_cast<int>(sizeof(T)) - 1); shift >= 0; shift -= 8)
     out.push_back(static_cast<std::uint8_t>(static_cast<std::uint64_t>(v) >> shift));
-}
-
-std::uint64_t get_be(const std::uint8_t* p, std::size_t n) {
-  std::uint64_t v = 0;
-  for (std::size_t i = 0; i < n; ++i)
-    v = v << 8 | p[i];
-  return v;
 }
 
 bool put_head(std::string_view node, FederationKind kind, std::vector<std::uint8_t>& out) {
@@ -86,51 +81,58 @@ bool encode_federation_heartbeat(std::string_view node, std::int64_t tx_unix_ns,
 Expected<FederationDatagram, FederationError> decode_federation_datagram(
     std::span<const std::uint8_t> bytes) {
   using U = Unexpected<FederationError>;
-  if (bytes.size() < kFederationHeadSize)
+  ByteReader r(bytes);
+  std::array<std::uint8_t, 4> magic{};
+  if (!r.read(magic))
     return U{FederationError::kTooShort};
-  if (!std::equal(kFederationMagic.begin(), kFederationMagic.end(), bytes.begin()))
+  const auto version = r.be<std::uint8_t>();
+  const auto kind = r.be<std::uint8_t>();
+  const std::size_t name_size = r.be<std::uint8_t>();
+  if (!r.ok())
+    return U{FederationError::kTooShort};
+  if (magic != kFederationMagic)
     return U{FederationError::kBadMagic};
-  if (bytes[4] != kFederationVersion)
+  if (version != kFederationVersion)
     return U{FederationError::kUnsupportedVersion};
   FederationDatagram d;
-  if (bytes[5] == static_cast<std::uint8_t>(FederationKind::kFrame))
+  if (kind == static_cast<std::uint8_t>(FederationKind::kFrame))
     d.kind = FederationKind::kFrame;
-  else if (bytes[5] == static_cast<std::uint8_t>(FederationKind::kHeartbeat))
+  else if (kind == static_cast<std::uint8_t>(FederationKind::kHeartbeat))
     d.kind = FederationKind::kHeartbeat;
   else
     return U{FederationError::kUnknownKind};
-  const std::size_t name_size = bytes[6];
-  if (name_size == 0 || name_size > kMaxFederationNodeName ||
-      name_size > bytes.size() - kFederationHeadSize)
+  if (name_size == 0 || name_size > kMaxFederationNodeName || name_size > r.remaining())
     return U{FederationError::kBadNodeName};
-  d.node = std::string_view(reinterpret_cast<const char*>(bytes.data() + kFederationHeadSize),
-                            name_size);
-  const std::span<const std::uint8_t> rest = bytes.subspan(kFederationHeadSize + name_size);
+  const auto name = r.rest().first(name_size);
+  d.node = std::string_view(reinterpret_cast<const char*>(name.data()), name.size());
+  r.skip(name_size);
   if (d.kind == FederationKind::kHeartbeat) {
-    if (rest.size() < kFederationHeartbeatFieldsSize)
+    d.tx_unix_ns = r.be<std::int64_t>();
+    if (!r.ok())
       return U{FederationError::kTruncated};
-    if (rest.size() > kFederationHeartbeatFieldsSize)
+    if (r.remaining() != 0)
       return U{FederationError::kTrailingBytes};
-    d.tx_unix_ns = static_cast<std::int64_t>(get_be(rest.data(), 8));
     return d;
   }
-  if (rest.size() < kFederationFrameFieldsSize)
+  d.sender = r.be<std::uint32_t>();
+  d.has_position = (r.be<std::uint8_t>() & 1) != 0;  // other flag bits: ignored
+  r.skip(1);                                         // reserved: ignored
+  const std::size_t frame_size = r.be<std::uint16_t>();
+  d.tx_unix_ns = r.be<std::int64_t>();
+  for (double& v : d.position)
+    v = r.be<double>();
+  if (!r.ok())
     return U{FederationError::kTruncated};
-  const std::uint8_t* p = rest.data();
-  d.sender = static_cast<StationId>(get_be(p, 4));
-  d.has_position = (p[4] & 1) != 0;  // the other flag bits and the reserved byte: ignored
-  const std::size_t frame_size = get_be(p + 6, 2);
-  d.tx_unix_ns = static_cast<std::int64_t>(get_be(p + 8, 8));
-  for (int k = 0; k < 3; ++k) {
-    d.position[k] = std::bit_cast<double>(get_be(p + 16 + 8 * k, 8));
-    if (d.has_position && !std::isfinite(d.position[k]))
-      return U{FederationError::kBadPosition};
-  }
-  if (!d.has_position)
+  if (d.has_position) {
+    for (const double v : d.position)
+      if (!std::isfinite(v))
+        return U{FederationError::kBadPosition};
+  } else {
     d.position = {};
-  if (frame_size > kMaxFederatedFrame || frame_size != rest.size() - kFederationFrameFieldsSize)
+  }
+  if (frame_size > kMaxFederatedFrame || frame_size != r.remaining())
     return U{FederationError::kBadFrameLength};
-  d.frame = rest.subspan(kFederationFrameFieldsSize);
+  d.frame = r.rest();
   return d;
 }
 
