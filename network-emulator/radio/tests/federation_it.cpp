@@ -202,6 +202,11 @@ TEST_F(FederationIT, IdealModelInTheKernelDeliversAcrossNodesToEveryStation) {
 
 TEST_F(FederationIT, APeerThatGoesAwayIsLoggedAndLocalDeliveryGoesOn) {
   const auto scenario = write_scenario(dir_, R"({ "model": "range", "range_m": 300 })");
+  // A third node whose medium's name does not resolve (swarm's DNS does not know it yet).
+  std::ofstream(dir_ / "placement.json") << R"({"nodes": [
+      {"name": "a", "medium": "10.77.0.1:4730", "stations": [11, 12]},
+      {"name": "b", "medium": "10.77.0.2:4730", "stations": [21, 22]},
+      {"name": "c", "medium": "tb-no-such-node.invalid:4730", "stations": []}]})";
   auto a = start(scenario, "a", "user");
   auto b = start(scenario, "b", "user");
   wait_federated(*a, *b);
@@ -218,6 +223,10 @@ TEST_F(FederationIT, APeerThatGoesAwayIsLoggedAndLocalDeliveryGoesOn) {
   }
   ASSERT_NE(log.find("peer node b is down"), std::string::npos) << log;
   EXPECT_NE(log.find("connection refused"), std::string::npos) << log;
+  EXPECT_NE(log.find("peer node c is down: its medium's name tb-no-such-node.invalid does not "
+                     "resolve"),
+            std::string::npos)
+      << log;
   // Said once, however many frames and heartbeats fail after.
   Station s11(11, st_ns_[0]->name()), s12(12, st_ns_[1]->name());
   std::vector<Station*> all{&s11, &s12};
