@@ -18,6 +18,7 @@
 #include <boost/asio/ip/udp.hpp>
 #include <boost/asio/post.hpp>
 #include <boost/asio/signal_set.hpp>
+#include <boost/asio/steady_timer.hpp>
 
 #include "common/can/netns.hpp"
 #include "common/can/socketcan_bus.hpp"
@@ -27,6 +28,7 @@
 #include "common/wire/signal_feed.hpp"
 #include "network-emulator/app/batch_io.hpp"
 #include "network-emulator/app/emulator.hpp"
+#include "network-emulator/app/relay.hpp"
 #include "network-emulator/app/stations_config.hpp"
 
 namespace {
@@ -93,8 +95,9 @@ void raise_fd_limit() {
 class StateReceiver {
  public:
   StateReceiver(asio::io_context& io, const udp::endpoint& listen, emu::Emulator& emulator,
-                emu::BatchSenders& senders, const std::vector<udp::endpoint>& forward)
-      : socket_(io), emulator_(emulator), senders_(senders) {
+                emu::BatchSenders& senders, const std::vector<udp::endpoint>& forward,
+                emu::Relay* relay)
+      : socket_(io), emulator_(emulator), senders_(senders), relay_(relay) {
     if (!forward.empty()) {
       forward_sender_ = &senders_.get("", AF_INET);
       for (const auto& to : forward)
@@ -153,6 +156,8 @@ class StateReceiver {
         const auto k = static_cast<std::size_t>(i);
         // A datagram longer than the buffer arrives cut (MSG_TRUNC) and fails the size check.
         const std::span<const std::uint8_t> d(buffers_[k].data(), msgs_[k].msg_len);
+        if (relay_)
+          relay_->relay_states(d);  // whatever this node makes of it: the next node decides
         if (emulator_.handle_datagram(d))
           for (const auto sink : forward_sinks_)
             // Best effort, like the datagram itself: a full buffer or an absent radio-medium
@@ -172,6 +177,7 @@ class StateReceiver {
   emu::BatchSenders& senders_;
   emu::BatchSender* forward_sender_ = nullptr;
   std::vector<emu::BatchSender::Sink> forward_sinks_;
+  emu::Relay* relay_;
   std::array<mmsghdr, kBatch> msgs_{};
   std::array<iovec, kBatch> iov_{};
   /// Larger than the largest batch a sender makes (wire::kDefaultBatchDatagramSize), so that a
@@ -184,8 +190,8 @@ class StateReceiver {
 class SignalReceiver {
  public:
   SignalReceiver(asio::io_context& io, const udp::endpoint& listen, emu::Emulator& emulator,
-                 emu::BatchSenders& senders)
-      : socket_(io), emulator_(emulator), senders_(senders) {
+                 emu::BatchSenders& senders, emu::Relay* relay)
+      : socket_(io), emulator_(emulator), senders_(senders), relay_(relay) {
     socket_.open(listen.protocol());
     socket_.set_option(udp::socket::reuse_address(true));
     socket_.bind(listen);
@@ -197,6 +203,8 @@ class SignalReceiver {
                                  if (ec == asio::error::operation_aborted)
                                    return;
                                  if (!ec) {
+                                   if (relay_)
+                                     relay_->relay_signals({buffer_.data(), n});
                                    emulator_.handle_signal_datagram({buffer_.data(), n});
                                    senders_.flush();
                                  }
@@ -208,9 +216,96 @@ class SignalReceiver {
   udp::socket socket_;
   emu::Emulator& emulator_;
   emu::BatchSenders& senders_;
+  emu::Relay* relay_;
   udp::endpoint from_;
   /// One more than the largest feed datagram: a longer one arrives cut and fails the decoder.
   std::array<std::uint8_t, wire::kMaxSignalFeedDatagram + 1> buffer_{};
+};
+
+/// A relay target's socket, connected so that an absent receiver's ICMP errors come back as
+/// this socket's send errors (PeerHealth pauses it).
+class ConnectedUdpSink final : public emu::DatagramSink {
+ public:
+  ConnectedUdpSink(asio::io_context& io, const udp::endpoint& to) : socket_(io, udp::v4()) {
+    socket_.non_blocking(true);
+    socket_.connect(to);
+  }
+  std::error_code send(std::span<const std::uint8_t> d) override {
+    boost::system::error_code ec;
+    socket_.send(asio::buffer(d.data(), d.size()), 0, ec);
+    return ec ? std::error_code(ec.value(), std::generic_category()) : std::error_code{};
+  }
+
+ private:
+  udp::socket socket_;
+};
+
+/// Resolves the relay targets' names (swarm's service names, which its DNS may not know yet, and
+/// which may move when a service restarts) now and every kInterval, and attaches each target's
+/// sockets to the Relay once it resolves or when its address changes.
+class RelayResolver {
+ public:
+  static constexpr std::chrono::seconds kInterval{5};
+  RelayResolver(asio::io_context& io, emu::Relay& relay)
+      : io_(io), relay_(relay), resolver_(io), timer_(io), slots_(relay.targets().size()) {}
+  void start() {
+    for (std::size_t k = 0; k < slots_.size(); ++k) {
+      const auto& t = relay_.targets()[k];
+      resolver_.async_resolve(
+          udp::v4(), t.host, std::to_string(t.port),
+          [this, k](const boost::system::error_code& ec, udp::resolver::results_type r) {
+            if (ec == asio::error::operation_aborted)
+              return;
+            resolved(k, ec, r);
+          });
+    }
+    timer_.expires_after(kInterval);
+    timer_.async_wait([this](const boost::system::error_code& ec) {
+      if (!ec)
+        start();
+    });
+  }
+
+ private:
+  struct Slot {
+    std::optional<udp::endpoint> at;
+    std::unique_ptr<ConnectedUdpSink> states, signals;
+    bool said_unresolved = false;
+  };
+  void resolved(std::size_t k, const boost::system::error_code& ec,
+                const udp::resolver::results_type& r) {
+    Slot& s = slots_[k];
+    const auto& t = relay_.targets()[k];
+    if (ec || r.empty()) {
+      if (!s.said_unresolved && !s.at)
+        spdlog::warn("relay {}: the name does not resolve ({}); retrying every {} s", t.text(),
+                     ec ? ec.message() : "no address", kInterval.count());
+      s.said_unresolved = true;
+      return;  // a name that stops resolving keeps its last address
+    }
+    const udp::endpoint ep = r.begin()->endpoint();
+    if (s.at == ep)
+      return;
+    try {
+      auto states = std::make_unique<ConnectedUdpSink>(io_, ep);
+      auto signals = std::make_unique<ConnectedUdpSink>(
+          io_, udp::endpoint(ep.address(), static_cast<unsigned short>(ep.port() + 1)));
+      relay_.attach(k, *states, *signals);
+      s.states = std::move(states);
+      s.signals = std::move(signals);
+      s.at = ep;
+      spdlog::info("relay {}: vehicle states to {}:{}, signal feed to port {}", t.text(),
+                   ep.address().to_string(), ep.port(), ep.port() + 1);
+    } catch (const boost::system::system_error& e) {
+      spdlog::warn("relay {}: cannot send to {}: {}", t.text(), ep.address().to_string(),
+                   e.code().message());
+    }
+  }
+  asio::io_context& io_;
+  emu::Relay& relay_;
+  udp::resolver resolver_;
+  asio::steady_timer timer_;
+  std::vector<Slot> slots_;
 };
 
 }  // namespace
@@ -237,6 +332,11 @@ int main(int argc, char** argv) {
   app.add_option(
       "--forward", forward_to,
       "pass every valid state on to ADDRESS:PORT (radio-medium --positions; repeatable)");
+  std::vector<std::string> relay_to;
+  app.add_option("--relay", relay_to,
+                 "HOST:PORT, repeatable: pass every vehicle-state datagram on, unchanged, to "
+                 "HOST:PORT and every signal-feed datagram to HOST:PORT+1 (another node's "
+                 "emulator, issue 35); names are resolved and retried");
   app.add_option("--trace", trace_file, "write trace records (JSON lines) to FILE");
   app.add_option("--seed", seed, "seed of the GNSS error model")->capture_default_str();
   app.add_option("--status-interval", status_interval, "seconds between status lines (0: none)")
@@ -302,6 +402,18 @@ int main(int argc, char** argv) {
       return kExitFailure;
     }
     forward.push_back(*ep);
+  }
+  std::vector<emu::RelayTarget> relay_targets;
+  for (const auto& r : relay_to) {
+    const auto t = emu::parse_relay_target(r);
+    if (!t) {
+      spdlog::error(
+          "--relay {}: expected HOST:PORT with a port from 1 to 65534 (PORT+1 takes the signal "
+          "feed), e.g. emulator-tb-node2:4700",
+          r);
+      return kExitFailure;
+    }
+    relay_targets.push_back(*t);
   }
   try {
     if (!trace_file.empty())
@@ -415,9 +527,24 @@ int main(int argc, char** argv) {
     return scenario::kExitBadScenario;
   }
 
+  std::unique_ptr<emu::Relay> relay;
+  std::unique_ptr<RelayResolver> relay_resolver;
+  if (!relay_targets.empty()) {
+    relay = std::make_unique<emu::Relay>(runtime, relay_targets);
+    relay->set_events([](const emu::RelayTarget& t, bool up, const std::string& why) {
+      if (up)
+        spdlog::info("relay {}: {}", t.text(), why);
+      else
+        spdlog::warn("relay {}: not taking datagrams ({}); paused, retried every second", t.text(),
+                     why);
+    });
+    relay_resolver = std::make_unique<RelayResolver>(io, *relay);
+    relay_resolver->start();
+  }
   std::unique_ptr<StateReceiver> receiver;
   try {
-    receiver = std::make_unique<StateReceiver>(io, *listen_ep, *emulator, senders, forward);
+    receiver =
+        std::make_unique<StateReceiver>(io, *listen_ep, *emulator, senders, forward, relay.get());
   } catch (const boost::system::system_error& e) {
     spdlog::error("cannot listen for vehicle states on {}: {}", listen, e.code().message());
     return kExitFailure;
@@ -428,7 +555,8 @@ int main(int argc, char** argv) {
   receiver->start();
   std::unique_ptr<SignalReceiver> signal_receiver;
   try {
-    signal_receiver = std::make_unique<SignalReceiver>(io, *signals_ep, *emulator, senders);
+    signal_receiver =
+        std::make_unique<SignalReceiver>(io, *signals_ep, *emulator, senders, relay.get());
     signal_receiver->start();
   } catch (const boost::system::system_error& e) {
     // Without RSUs nobody needs the feed: a default port taken by another program (tests pick

@@ -4,7 +4,9 @@
 #include <poll.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <fstream>
+#include <system_error>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -38,7 +40,7 @@ void disable_ipv6(const std::string& ifname) {
 
 BridgeMedium::BridgeMedium(boost::asio::io_context& io, const std::string& bridge_name,
                            const std::string& alias, std::uint16_t ethertype, Channel& channel)
-    : bridge_(bridge_name), channel_(channel), descriptor_(io) {
+    : bridge_(bridge_name), io_(io), channel_(channel), ethertype_(ethertype), descriptor_(io) {
   RouteSocket rtnl;
   rtnl.add_hub_bridge(bridge_, alias);
   try {
@@ -85,8 +87,32 @@ void BridgeMedium::detach(StationId id) {
   attribution_.remove_station(id);
 }
 
+void BridgeMedium::federate(FrameObserver to_peers) {
+  federation_reader_ = std::make_unique<PacketListener>(
+      io_, ethertype_, ifindex_of(bridge_),
+      [this, to_peers = std::move(to_peers)](int ifindex, std::span<const std::uint8_t> frame,
+                                             std::int64_t unix_ns) {
+        // The tap counts the frames of unknown senders; this reader only passes frames on.
+        if (const auto from = attribution_.peek_sender(ifindex, frame))
+          to_peers(*from, frame, unix_ns);
+      });
+  // Protocol 0: sends only, receives nothing.
+  injector_ = std::make_unique<PacketSocket>(bridge_, 0);
+}
+
+void BridgeMedium::deliver_remote(StationId from, std::span<const std::uint8_t> frame) {
+  ++remote_frames_in_;
+  for (const StationId to : stations_)
+    channel_.decide(from, to);
+  if (injector_ && !injector_->send(frame) && remote_send_errors_++ == 0)
+    spdlog::warn("radio: cannot write a remote frame into bridge {}: {} (counted, said once)",
+                 bridge_, std::system_category().message(errno));
+}
+
 void BridgeMedium::start() {
   RouteSocket().set_up(bridge_);
+  if (federation_reader_)
+    federation_reader_->start();
   descriptor_.assign(::dup(tap_->fd()));
   drain_when_readable(descriptor_, [this] { drain(); });
 }

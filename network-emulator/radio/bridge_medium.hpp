@@ -21,7 +21,10 @@
 
 #include "common/scenario/scenario.hpp"
 #include "network-emulator/radio/channel.hpp"
+#include "network-emulator/radio/federation.hpp"
 #include "network-emulator/radio/medium.hpp"
+#include "network-emulator/radio/packet_listener.hpp"
+#include "network-emulator/radio/packet_socket.hpp"
 #include "network-emulator/radio/packet_tap.hpp"
 #include "network-emulator/radio/sender_attribution.hpp"
 
@@ -31,7 +34,7 @@ namespace tb::emu::radio {
 /// station, at once. Otherwise the reason why not.
 std::optional<std::string> why_bridge_cannot_carry(const scenario::ChannelModel& model);
 
-class BridgeMedium {
+class BridgeMedium final : public RemoteFrameSink {
  public:
   /// Makes the bridge @p bridge_name (down until start()) and a tap for frames of
   /// @p ethertype. @p alias labels the bridge as VethRadios labels its pairs, so that a later
@@ -56,6 +59,19 @@ class BridgeMedium {
 
   /// Sees every frame that came in, with the kernel's receive time (the trace's `medium.rx`).
   void set_frame_observer(FrameObserver o) { observer_ = std::move(o); }
+  /// Federation (issue 35): @p to_peers gets each frame a station sends as it comes in, with
+  /// the kernel's receive time (read a second time, per frame: the tap hands frames over in
+  /// blocks up to kBlockTimeoutMs late, too late for the other nodes); and frames from other
+  /// nodes' stations can be handed to deliver_remote(). Before start(). @throws
+  /// std::system_error.
+  void federate(FrameObserver to_peers);
+  /// A frame from another node's station: written once into the bridge, which floods it out
+  /// of every port (it learns no addresses) into every local station, pooled hosts too — what
+  /// the ideal channel decides; the channel counts (and traces) each link as for a local frame.
+  void deliver_remote(StationId from, std::span<const std::uint8_t> frame) override;
+  std::uint64_t remote_frames_in() const { return remote_frames_in_; }
+  std::uint64_t remote_send_errors() const { return remote_send_errors_; }
+
   /// Brings the bridge up and starts reading the tap.
   void start();
   /// Reads what the tap holds now; returns the number of frames.
@@ -81,7 +97,13 @@ class BridgeMedium {
   void on_frame(const TappedFrame& f);
 
   std::string bridge_;
+  boost::asio::io_context& io_;
   Channel& channel_;
+  std::uint16_t ethertype_;
+  std::unique_ptr<PacketListener> federation_reader_;
+  std::unique_ptr<PacketSocket> injector_;
+  std::uint64_t remote_frames_in_ = 0;
+  std::uint64_t remote_send_errors_ = 0;
   std::unique_ptr<PacketTap> tap_;
   boost::asio::posix::stream_descriptor descriptor_;
   SenderAttribution attribution_;

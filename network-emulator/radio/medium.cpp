@@ -70,6 +70,15 @@ void Medium::on_frame(StationId from, std::span<const std::uint8_t> frame, std::
   ++frames_in_;
   if (frame_observer_)
     frame_observer_(from, frame, unix_ns);
+  deliver(from, frame);
+}
+
+void Medium::on_remote_frame(StationId from, std::span<const std::uint8_t> frame) {
+  ++remote_frames_in_;
+  deliver(from, frame);
+}
+
+void Medium::deliver(StationId from, std::span<const std::uint8_t> frame) {
   std::shared_ptr<const std::vector<std::uint8_t>> copy;  // made once, only if a frame waits
   offer(from);
   pooled_.clear();

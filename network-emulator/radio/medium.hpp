@@ -68,8 +68,13 @@ class Medium {
   /// with less jitter waits for the one before it).
   /// @p unix_ns: when the kernel received it, for the observer (0: unknown).
   void on_frame(StationId from, std::span<const std::uint8_t> frame, std::int64_t unix_ns = 0);
+  /// A frame a station of another node put on the air (issue 35, federation.hpp): decided per
+  /// local receiver and delivered as on_frame(), but not shown to the frame observer, which
+  /// federates and traces (`medium.rx`) only this node's own stations' frames.
+  void on_remote_frame(StationId from, std::span<const std::uint8_t> frame);
 
   std::uint64_t frames_in() const { return frames_in_; }
+  std::uint64_t remote_frames_in() const { return remote_frames_in_; }
   /// Per receiving station, pooled ones included.
   std::uint64_t deliveries() const { return deliveries_; }
   /// Calls of a PooledSink (each carries one or more deliveries).
@@ -93,6 +98,7 @@ class Medium {
 
   /// Fills offered_ with the receivers @p from's frame is offered to, in id order.
   void offer(StationId from);
+  void deliver(StationId from, std::span<const std::uint8_t> frame);
   void schedule(clock::SteadyTime due, std::function<void()> fn);
   void flush_pooled(std::span<const std::uint8_t> frame, clock::SteadyTime now,
                     std::shared_ptr<const std::vector<std::uint8_t>>& copy);
@@ -111,6 +117,7 @@ class Medium {
   /// Receivers attached before their first position: offered every frame until they have one.
   std::vector<StationId> unplaced_;
   std::uint64_t frames_in_ = 0;
+  std::uint64_t remote_frames_in_ = 0;
   std::uint64_t deliveries_ = 0;
   std::uint64_t pooled_transmits_ = 0;
   std::uint64_t culled_ = 0;

@@ -3,6 +3,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cstdio>
 #include <fstream>
@@ -30,9 +31,12 @@
 #include "common/wire/vehicle_state.hpp"
 #include "network-emulator/radio/bridge_medium.hpp"
 #include "network-emulator/radio/channel.hpp"
+#include "network-emulator/radio/federation.hpp"
+#include "network-emulator/radio/federation_socket.hpp"
 #include "network-emulator/radio/frame_tag.hpp"
 #include "network-emulator/radio/hwsim_radios.hpp"
 #include "network-emulator/radio/medium.hpp"
+#include "network-emulator/radio/placement.hpp"
 #include "network-emulator/radio/veth_ports.hpp"
 #include "network-emulator/radio/veth_radios.hpp"
 
@@ -59,6 +63,9 @@ struct Options {
   std::uint64_t seed = 1;
   std::string log_level = "info";
   std::string trace_file;
+  std::string federation;  ///< placement file (issue 35)
+  std::string node;
+  std::string federation_listen = "0.0.0.0:4730";
 };
 
 class UsageError : public std::runtime_error {
@@ -147,6 +154,54 @@ std::vector<radio::PooledHostSpec> parse_pooled(const std::vector<std::string>& 
     out.push_back(std::move(h));
   }
   return out;
+}
+
+// --federation: this node's stations must be exactly its placement entry, and every station of
+// the scenario must be on some node, so that no frame is federated to the wrong node or lost.
+void check_placement(const radio::Placement& p, const std::string& node,
+                     const std::vector<radio::StationSpec>& stations,
+                     const std::vector<radio::PooledHostSpec>& hosts,
+                     const tb::scenario::Scenario& sc) {
+  const radio::PlacementNode* self = p.find(node);
+  if (!self)
+    throw UsageError("--node " + node + ": placement " + p.source + " has no node of that name");
+  std::set<radio::StationId> full, pooled;
+  for (const auto& s : stations)
+    full.insert(s.id);
+  for (const auto& h : hosts)
+    pooled.insert(h.stations.begin(), h.stations.end());
+  const auto compare = [&](const std::set<radio::StationId>& given,
+                           const std::vector<radio::StationId>& placed, const char* option,
+                           const char* field) {
+    for (const auto id : given)
+      if (std::find(placed.begin(), placed.end(), id) == placed.end()) {
+        const auto* owner = p.node_of(id);
+        throw UsageError(
+            fmt::format("{}: station {} is not in node {}'s \"{}\" in placement {} ({})", option,
+                        id, node, field, p.source,
+                        owner ? "it is on node " + owner->name : std::string("no node has it")));
+      }
+    for (const auto id : placed)
+      if (!given.contains(id))
+        throw UsageError(fmt::format("{}: station {} of node {} (placement {}, \"{}\") is missing",
+                                     option, id, node, p.source, field));
+  };
+  compare(full, self->stations, "--stations", "stations");
+  compare(pooled, self->pooled, "--pooled", "pooled");
+  for (const auto& n : p.nodes)
+    for (const auto* list : {&n.stations, &n.pooled})
+      for (const auto id : *list)
+        if (!sc.find_station(id) && !sc.find_rsu(id))
+          throw UsageError(fmt::format("placement {}: station {} (node {}) is not in scenario {}",
+                                       p.source, id, n.name, sc.source));
+  for (const auto& v : sc.vehicles)
+    if (!p.node_of(v.station_id))
+      throw UsageError(fmt::format("placement {}: station {} (vehicle {}) is on no node", p.source,
+                                   v.station_id, v.id));
+  for (const auto& r : sc.rsus)
+    if (!p.node_of(r.station_id))
+      throw UsageError(fmt::format("placement {}: station {} (RSU {}) is on no node", p.source,
+                                   r.station_id, r.id));
 }
 
 std::uint16_t parse_ethertype(const std::string& s) {
@@ -240,6 +295,7 @@ class PositionListener {
 struct Forwarding {
   radio::BridgeMedium* bridge = nullptr;  ///< in the kernel; else in this program (or hwsim)
   radio::VethPorts* ports = nullptr;      ///< in this program, veth
+  const radio::Federation* federation = nullptr;
 };
 
 void write_stats(const std::string& file, const radio::Channel& channel, const Forwarding& fw) {
@@ -260,6 +316,18 @@ void write_stats(const std::string& file, const radio::Channel& channel, const F
     j["forwarding"] = "radio-medium";
     if (fw.ports)
       j["unknown_sender"] = fw.ports->unknown_sender();
+  }
+  if (const auto* f = fw.federation) {
+    nlohmann::json peers = nlohmann::json::object();
+    for (std::size_t k = 0; k < f->peers().size(); ++k)
+      peers[f->peers()[k].name] = f->peer_up(k) ? "up" : "down";
+    j["federation"] = {{"node", f->self()},
+                       {"frames_out", f->frames_out()},
+                       {"datagrams_out", f->datagrams_out()},
+                       {"peers_skipped", f->peers_skipped()},
+                       {"frames_in", f->frames_in()},
+                       {"rejected", f->rejected()},
+                       {"peers", peers}};
   }
   // Written beside and renamed, so that a reader never sees half a file.
   const std::string tmp = file + ".tmp";
@@ -293,6 +361,33 @@ int run(const Options& opt) {
     throw UsageError("--forwarding kernel: the kernel bridge cannot carry this channel: " +
                      *why_not_kernel);
   const auto positions_ep = parse_udp(opt.positions);
+  std::optional<radio::Placement> placement;
+  asio::ip::udp::endpoint federation_ep;
+  if (!opt.federation.empty() || !opt.node.empty()) {
+    if (opt.federation.empty() || opt.node.empty())
+      throw UsageError("--federation and --node go together");
+    try {
+      // The placement itself may be given instead of its file (the container's
+      // TESTBED_PLACEMENT may hold either).
+      placement = opt.federation.starts_with("{")
+                      ? radio::parse_placement(opt.federation, "(--federation, inline JSON)")
+                      : radio::load_placement(opt.federation);
+    } catch (const radio::PlacementError& e) {
+      throw UsageError(e.what());
+    }
+    check_placement(*placement, opt.node, stations, hosts, sc);
+    const auto hp = radio::parse_host_port(opt.federation_listen);
+    boost::system::error_code ec;
+    const auto addr = hp ? asio::ip::make_address(hp->host, ec) : asio::ip::address{};
+    if (!hp || ec)
+      throw UsageError("--federation-listen: \"" + opt.federation_listen +
+                       "\" is not ADDRESS:PORT (an IP address, e.g. 0.0.0.0:4730)");
+    federation_ep = {addr, hp->port};
+    if (opt.mode == "hwsim")
+      throw UsageError(
+          "--mode hwsim with --federation: frames from other nodes are injected into the "
+          "stations' veth radios; use --mode veth or auto");
+  }
   if (opt.prefix.empty() || opt.prefix.size() > 5)
     throw UsageError("--prefix: \"" + opt.prefix +
                      "\" must have 1 to 5 characters (interface "
@@ -333,6 +428,11 @@ int run(const Options& opt) {
         "hwsim radio per pooled station (hundreds) is not what a host can own; use --mode "
         "veth or auto");
   radio::MediumChoice choice = radio::choose_medium(opt.mode);
+  if (placement && choice.kind == radio::MediumKind::kHwsim) {
+    choice = {radio::MediumKind::kVeth,
+              "--federation injects other nodes' frames into veth radios, so the veth stand-in "
+              "is used although the kernel has mac80211_hwsim"};
+  }
   if (!hosts.empty() && choice.kind == radio::MediumKind::kHwsim) {
     choice = {radio::MediumKind::kVeth,
               "--pooled station-hosts join through one veth each, so the veth stand-in is used "
@@ -364,8 +464,45 @@ int run(const Options& opt) {
         t.record_at(unix_ns, "medium.rx", {{"src", from}, {"bytes", frame.size()}});
     };
   };
-  if (tb::trace::global().enabled())
-    medium.set_frame_observer(frame_tracer(radio::LinkFraming::kEthernet));
+  // Federation (issue 35): bound before any radio exists, as the positions below. The Federation
+  // itself is made once the forwarding is known (it delivers into the bridge or the medium).
+  std::unique_ptr<radio::Federation> federation;
+  std::unique_ptr<radio::FederationSocket> federation_socket;
+  std::unique_ptr<radio::MediumRemoteSink> medium_sink;
+  if (placement) {
+    std::vector<radio::PlacementNode> peers;
+    for (const auto& n : placement->nodes)
+      if (n.name != opt.node)
+        peers.push_back(n);
+    try {
+      federation_socket = std::make_unique<radio::FederationSocket>(
+          io, federation_ep, peers,
+          [&federation](std::span<const std::uint8_t> d, std::int64_t rx_ns) {
+            if (federation)
+              federation->on_datagram(d, rx_ns);
+          },
+          [&federation](std::size_t peer, const std::string& why) {
+            if (federation)
+              federation->on_send_error(peer, why);
+          });
+    } catch (const boost::system::system_error& e) {
+      spdlog::error("radio-medium: --federation-listen {}: cannot listen: {}",
+                    opt.federation_listen, e.code().message());
+      return kExitSetup;
+    }
+  }
+  const auto local_frames =
+      [&federation, tracer = tb::trace::global().enabled()
+                                 ? radio::FrameObserver(frame_tracer(radio::LinkFraming::kEthernet))
+                                 : radio::FrameObserver()](
+          radio::StationId from, std::span<const std::uint8_t> frame, std::int64_t unix_ns) {
+        if (tracer)
+          tracer(from, frame, unix_ns);
+        if (federation)
+          federation->on_local_frame(from, frame, unix_ns);
+      };
+  if (tb::trace::global().enabled() || placement)
+    medium.set_frame_observer(local_frames);
 
   // Bound before any radio exists, so that a busy port costs nothing to clean up.
   std::unique_ptr<PositionListener> listener;
@@ -396,6 +533,12 @@ int run(const Options& opt) {
           bridge->attach_pooled_host(veths->pooled_host_ifname(k), hosts[k].stations);
         if (tb::trace::global().enabled())
           bridge->set_frame_observer(frame_tracer(radio::LinkFraming::kEthernet));
+        if (placement)
+          bridge->federate([&federation](radio::StationId from, std::span<const std::uint8_t> frame,
+                                         std::int64_t unix_ns) {
+            if (federation)
+              federation->on_local_frame(from, frame, unix_ns);
+          });
         bridge->start();
         spdlog::info(
             "radio-medium: forwarding in the kernel (bridge {}, every frame to every other "
@@ -424,6 +567,72 @@ int run(const Options& opt) {
   } catch (const std::exception& e) {
     spdlog::error("radio-medium: {}", e.what());
     return kExitSetup;
+  }
+
+  asio::steady_timer heartbeat(io);
+  std::function<void()> arm_heartbeat;
+  if (placement) {
+    radio::RemoteFrameSink* sink = bridge.get();
+    if (!sink) {
+      medium_sink = std::make_unique<radio::MediumRemoteSink>(medium);
+      sink = medium_sink.get();
+    }
+    federation = std::make_unique<radio::Federation>(*placement, opt.node, channel, positions,
+                                                     runtime, *federation_socket, *sink);
+    federation->set_peer_events([](const radio::PeerEvent& e) {
+      if (e.up)
+        spdlog::info("radio-medium: peer node {} is up ({})", e.node, e.why);
+      else
+        spdlog::warn(
+            "radio-medium: peer node {} is down: {}; its stations are not heard here "
+            "until it is back",
+            e.node, e.why);
+    });
+    federation->set_reject_observer([](std::string_view why) {
+      static std::uint64_t n = 0;
+      if (n++ == 0)
+        spdlog::warn(
+            "radio-medium: federation: datagram refused: {} (counted as rejected in the "
+            "statistics; said once)",
+            why);
+    });
+    if (tb::trace::global().enabled())
+      federation->set_hop_observer([](const radio::FederationDatagram& d, std::int64_t rx_ns) {
+        auto& t = tb::trace::global();
+        if (const auto cam = radio::peek_cam(d.frame, radio::LinkFraming::kEthernet))
+          t.record_at(rx_ns, "medium.hop",
+                      {{"src", d.sender},
+                       {"node", d.node},
+                       {"station", cam->station_id},
+                       {"gdt", unsigned{cam->generation_delta_time}},
+                       {"tx_ns", d.tx_unix_ns},
+                       {"bytes", d.frame.size()}});
+        else
+          t.record_at(rx_ns, "medium.hop",
+                      {{"src", d.sender},
+                       {"node", d.node},
+                       {"tx_ns", d.tx_unix_ns},
+                       {"bytes", d.frame.size()}});
+      });
+    federation_socket->start();
+    arm_heartbeat = [&] {
+      heartbeat.expires_after(radio::Federation::kHeartbeatInterval);
+      heartbeat.async_wait([&](const boost::system::error_code& ec) {
+        if (ec)
+          return;
+        federation->tick();
+        arm_heartbeat();
+      });
+    };
+    federation->tick();
+    arm_heartbeat();
+    std::string names;
+    for (const auto& p : federation->peers())
+      names += fmt::format("{}{} ({}:{})", names.empty() ? "" : ", ", p.name, p.medium_host,
+                           p.medium_port);
+    spdlog::info("radio-medium: node {} of placement {}, federated with {} on {}", opt.node,
+                 placement->source, names.empty() ? std::string("no other node") : names,
+                 opt.federation_listen);
   }
 
   asio::signal_set signals(io, SIGINT, SIGTERM);
@@ -476,7 +685,7 @@ int run(const Options& opt) {
     stats_timer.async_wait([&](const boost::system::error_code& ec) {
       if (ec)
         return;
-      write_stats(opt.stats_file, channel, {bridge.get(), ports.get()});
+      write_stats(opt.stats_file, channel, {bridge.get(), ports.get(), federation.get()});
       arm_stats();
     });
   };
@@ -500,7 +709,7 @@ int run(const Options& opt) {
   io.run();
   if (bridge)
     bridge->drain_all();  // what the tap holds yet
-  write_stats(opt.stats_file, channel, {bridge.get(), ports.get()});
+  write_stats(opt.stats_file, channel, {bridge.get(), ports.get(), federation.get()});
   tb::trace::global().flush();
   const auto t = channel.totals();
   const std::uint64_t frames_in = hwsim_medium ? hwsim_medium->frames_in()
@@ -524,6 +733,12 @@ int run(const Options& opt) {
         ports->sent(), ports->send_calls(), ports->pooled_frames_sent(), ports->send_errors(),
         ports->unknown_sender(), medium.culled());
   }
+  if (federation)
+    spdlog::info(
+        "radio-medium: federation: {} local frames to {} peer datagrams ({} peers skipped, no "
+        "station in range), {} frames from peers, {} datagrams refused",
+        federation->frames_out(), federation->datagrams_out(), federation->peers_skipped(),
+        federation->frames_in(), federation->rejected());
   return 0;
 }
 
@@ -556,6 +771,13 @@ int main(int argc, char** argv) {
   app.add_option("--trace", opt.trace_file,
                  "write medium.frame trace records (JSON lines) to FILE; default "
                  "$TESTBED_TRACE_DIR/radio-medium.jsonl when that is set");
+  app.add_option("--federation", opt.federation,
+                 "placement file (JSON), or the JSON itself: join this node's medium to the "
+                 "other nodes' media "
+                 "(issue 35, README.md \"Federated medium\")");
+  app.add_option("--node", opt.node, "this node's name in the placement file");
+  app.add_option("--federation-listen", opt.federation_listen,
+                 "ADDRESS:PORT (UDP) where the other nodes' media send their frames");
   app.add_option("--log-level", opt.log_level, "trace, debug, info, warn, error")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
   CLI11_PARSE(app, argc, argv);

@@ -33,8 +33,8 @@ void SenderAttribution::remove_station(StationId id) {
   }
 }
 
-std::optional<StationId> SenderAttribution::sender(int ifindex,
-                                                   std::span<const std::uint8_t> frame) {
+std::optional<StationId> SenderAttribution::peek_sender(int ifindex,
+                                                        std::span<const std::uint8_t> frame) const {
   const auto port = station_of_port_.find(ifindex);
   const bool host = port == station_of_port_.end() && host_ports_.contains(ifindex);
   if (port == station_of_port_.end() && !host)
@@ -46,8 +46,15 @@ std::optional<StationId> SenderAttribution::sender(int ifindex,
   }
   if (!host)
     return port->second;
-  ++unknown_sender_;
   return std::nullopt;
+}
+
+std::optional<StationId> SenderAttribution::sender(int ifindex,
+                                                   std::span<const std::uint8_t> frame) {
+  const auto id = peek_sender(ifindex, frame);
+  if (!id && host_ports_.contains(ifindex))
+    ++unknown_sender_;
+  return id;
 }
 
 }  // namespace tb::emu::radio

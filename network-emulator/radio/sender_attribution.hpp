@@ -30,6 +30,8 @@ class SenderAttribution {
   /// port it is. Empty when @p ifindex is no port (ignored), or when it is a host's port and
   /// the source MAC names none of the known stations (counted in unknown_sender()).
   std::optional<StationId> sender(int ifindex, std::span<const std::uint8_t> frame);
+  /// The same, without counting an unknown sender (a second reader of the same frames).
+  std::optional<StationId> peek_sender(int ifindex, std::span<const std::uint8_t> frame) const;
 
   bool is_port(int ifindex) const {
     return station_of_port_.contains(ifindex) || host_ports_.contains(ifindex);

@@ -272,6 +272,74 @@ TEST_F(NetworkEmulatorIt, FeedsStationsAndSurvivesOneWithoutReceiver) {
       << text;
 }
 
+// Issue 35: --relay HOST:PORT passes every state datagram on unchanged to HOST:PORT and every
+// signal-feed datagram to HOST:PORT+1; HOST is a name, resolved by the program.
+TEST_F(NetworkEmulatorIt, RelayPassesStatesAndSignalsOnUnchanged) {
+  // Two consecutive ports for the relay target: states at P, signals at P+1.
+  std::unique_ptr<Socket> states, signals;
+  for (int i = 0; i < 50 && !signals; ++i) {
+    states = std::make_unique<Socket>();
+    auto next = std::make_unique<Socket>();
+    ::close(next->fd);
+    next->fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    a.sin_port = htons(static_cast<std::uint16_t>(states->port + 1));
+    if (::bind(next->fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0) {
+      timeval tv{0, 20'000};
+      ::setsockopt(next->fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+      next->port = states->port + 1;
+      signals = std::move(next);
+    }
+  }
+  ASSERT_TRUE(signals) << "no two consecutive free ports";
+  Socket sender;
+  const int listen_port = free_port(), signals_port = free_port();
+  const fs::path log = dir_ / "relay.log";
+  Program emu({"--scenario", (dir_ / "scenario.json").string(), "--listen",
+               "127.0.0.1:" + std::to_string(listen_port), "--signals-listen",
+               "127.0.0.1:" + std::to_string(signals_port), "--can", "udp", "--relay",
+               "localhost:" + std::to_string(states->port)},
+              log);
+  ASSERT_TRUE(emu.started());
+  // Until the program listens and has resolved the name, datagrams are lost: resend.
+  const auto s = batch({1001, 1002}, 0);
+  std::optional<std::string> got;
+  for (int i = 0; i < 250 && !got; ++i) {
+    sender.send_to(listen_port, s.data(), s.size());
+    got = states->receive();
+  }
+  ASSERT_TRUE(got) << read_file(log);
+  EXPECT_EQ(*got, std::string(s.begin(), s.end()));
+  // Unchanged, whatever this node makes of it: a datagram it refuses goes on too.
+  const std::uint8_t junk[] = {0xDE, 0xAD, 0xBE, 0xEF};
+  sender.send_to(listen_port, junk, sizeof junk);
+  std::optional<std::string> j;
+  ASSERT_TRUE(wait_until([&] { return (j = states->receive()).has_value(); })) << read_file(log);
+  EXPECT_EQ(*j, std::string(std::begin(junk), std::end(junk)));
+  const std::uint8_t feed[] = {'T', 'B', 'S', 'F', 1, 2, 3};
+  sender.send_to(signals_port, feed, sizeof feed);
+  std::optional<std::string> f;
+  ASSERT_TRUE(wait_until([&] { return (f = signals->receive()).has_value(); })) << read_file(log);
+  EXPECT_EQ(*f, std::string(std::begin(feed), std::end(feed)));
+  EXPECT_EQ(emu.wait_exit(true), 0) << read_file(log);
+  EXPECT_NE(read_file(log).find("relay localhost:" + std::to_string(states->port) +
+                                ": vehicle states to 127.0.0.1"),
+            std::string::npos)
+      << read_file(log);
+}
+
+TEST_F(NetworkEmulatorIt, ARelayThatIsNotHostAndPortIsRefused) {
+  const fs::path log = dir_ / "bad-relay.log";
+  Program emu({"--scenario", (dir_ / "scenario.json").string(), "--listen", "127.0.0.1:0",
+               "--relay", "emulator-tb-node2:65535"},
+              log);
+  EXPECT_EQ(emu.wait_exit(false), 1);
+  EXPECT_NE(read_file(log).find("--relay emulator-tb-node2:65535"), std::string::npos)
+      << read_file(log);
+}
+
 TEST_F(NetworkEmulatorIt, BadScenarioExitsWithTwoAndNamesTheField) {
   std::ofstream(dir_ / "bad.json") << R"({"name": "x", "map": {"type": "moon"},
     "origin": {"lat": 48, "lon": 11}, "vehicles": []})";
