@@ -210,6 +210,15 @@ class SwarmPlan(unittest.TestCase):
             self.assertTrue(v["image"].endswith(":latest"), svc)
             for key in ("build", "scale", "depends_on", "container_name"):
                 self.assertNotIn(key, v, f"{svc} has {key}")
+            # No virtual IP or ingress mesh: they need IPVS, which some kernels lack.
+            self.assertEqual(v["deploy"]["endpoint_mode"], "dnsrr", svc)
+            for p in v.get("ports", []):
+                self.assertEqual(p["mode"], "host", svc)
+        self.assertEqual(sorted((p["published"], p["protocol"]) for p in services["broker"]["ports"]),
+                         [(1883, "tcp"), (9001, "tcp")])
+        self.assertEqual(sorted((p["published"], p["protocol"])
+                                for p in services["emulator-n2"]["ports"]),
+                         [(4700, "udp"), (4701, "udp")])
         # Configs and the secret name files that exist beside the stack.
         for section in ("configs", "secrets"):
             for key, c in st[section].items():
