@@ -2,7 +2,11 @@
 // (its-station's Station) with its own ITS clock, GNSS receiver fed from the state stream, link
 // with its own MAC on the host's one interface, security entity and LDM.
 
+#include <sys/socket.h>
+
+#include <cerrno>
 #include <csignal>
+#include <cstring>
 #include <fstream>
 #include <memory>
 #include <optional>
@@ -187,19 +191,47 @@ int run(const Options& o) {
     pooled.push_back(std::move(p));
   }
 
+  // Each state datagram is taken up as of its kernel receive stamp (SO_TIMESTAMPNS): the fixes
+  // in it discipline the pooled stations' ITS clocks, which a datagram read late would put
+  // behind (HeldClockRuntime::hold_at).
+  {
+    const int on = 1;
+    if (::setsockopt(state_socket.native_handle(), SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof on) < 0)
+      throw ConfigError(
+          fmt::format("--states {}: SO_TIMESTAMPNS: {}", o.states, std::strerror(errno)));
+    state_socket.non_blocking(true);
+  }
   std::vector<std::uint8_t> datagram(65536);
-  asio::ip::udp::endpoint sender;
   std::function<void()> receive_states = [&] {
-    state_socket.async_receive_from(asio::buffer(datagram), sender,
-                                    [&](const boost::system::error_code& ec, std::size_t n) {
-                                      if (ec == asio::error::operation_aborted)
-                                        return;
-                                      if (!ec) {
-                                        const auto held = runtime.hold();
-                                        feed.handle_datagram({datagram.data(), n});
-                                      }
-                                      receive_states();
-                                    });
+    state_socket.async_wait(
+        asio::ip::udp::socket::wait_read, [&](const boost::system::error_code& ec) {
+          if (ec == asio::error::operation_aborted)
+            return;
+          for (;;) {
+            iovec iov{datagram.data(), datagram.size()};
+            alignas(cmsghdr) char control[CMSG_SPACE(sizeof(timespec))];
+            msghdr msg{};
+            msg.msg_iov = &iov;
+            msg.msg_iovlen = 1;
+            msg.msg_control = control;
+            msg.msg_controllen = sizeof control;
+            const ssize_t n = ::recvmsg(state_socket.native_handle(), &msg, 0);
+            if (n < 0)
+              break;  // EAGAIN: all read (an error is the next wait's)
+            std::optional<tb::clock::WallTime> stamp;
+            for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c != nullptr; c = CMSG_NXTHDR(&msg, c)) {
+              if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPNS) {
+                timespec ts;
+                std::memcpy(&ts, CMSG_DATA(c), sizeof ts);
+                stamp = tb::clock::WallTime{std::chrono::seconds{ts.tv_sec} +
+                                            std::chrono::nanoseconds{ts.tv_nsec}};
+              }
+            }
+            const auto held = stamp ? runtime.hold_at(*stamp) : runtime.hold();
+            feed.handle_datagram({datagram.data(), static_cast<std::size_t>(n)});
+          }
+          receive_states();
+        });
   };
 
   tb::host::HostStatus status(o.status_file);

@@ -154,6 +154,26 @@ TEST(HeldClockRuntime, HeldClocksStandStillAndFollowAgainWhenReleased) {
   EXPECT_EQ(rt.wall_now(), w0 + 10ms);
 }
 
+TEST(HeldClockRuntime, HeldAtAnArrivalInstantBothClocksStandThere) {
+  ManualRuntime inner;
+  HeldClockRuntime rt(inner);
+  const WallTime arrived = inner.wall_now();
+  const SteadyTime arrived_steady = inner.steady_now();
+  inner.advance(60ms);  // the process gets to the datagram 60 ms after the kernel stamped it
+  {
+    const auto held = rt.hold_at(arrived);
+    EXPECT_EQ(rt.wall_now(), arrived);
+    EXPECT_EQ(rt.steady_now(), arrived_steady);
+    inner.advance(5ms);
+    EXPECT_EQ(rt.steady_now(), arrived_steady);
+  }
+  EXPECT_EQ(rt.steady_now(), arrived_steady + 65ms);
+  // A stamp not yet past (a wall clock stepped back) holds now.
+  const auto held = rt.hold_at(inner.wall_now() + 1s);
+  EXPECT_EQ(rt.wall_now(), inner.wall_now());
+  EXPECT_EQ(rt.steady_now(), inner.steady_now());
+}
+
 TEST(HeldClockRuntime, TimersAreTheInnerRuntimes) {
   ManualRuntime inner;
   HeldClockRuntime rt(inner);
