@@ -1,4 +1,5 @@
 #include "its-station/link/packet_socket_link.hpp"
+#include "common/util/kernel_stamp.hpp"
 
 #include <arpa/inet.h>
 #include <linux/ethtool.h>
@@ -219,14 +220,8 @@ void PacketSocketLink::drain() {
         case RxVerdict::kDeliver:
           break;
       }
-      clock::WallTime rx_time = clock::WallClock::now();
-      for (cmsghdr* c = CMSG_FIRSTHDR(&m); c != nullptr; c = CMSG_NXTHDR(&m, c)) {
-        if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPNS) {
-          timespec ts;
-          std::memcpy(&ts, CMSG_DATA(c), sizeof ts);
-          rx_time = clock::from_unix_ns(std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec);
-        }
-      }
+      const auto stamp = kernel_rx_unix_ns(m);
+      const clock::WallTime rx_time = stamp ? clock::from_unix_ns(*stamp) : clock::WallClock::now();
       const auto frame = parse_ethernet(
           std::span<const std::uint8_t>(rx_buffers_[static_cast<std::size_t>(k)].data(), length),
           rx_time);

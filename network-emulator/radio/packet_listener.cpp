@@ -1,4 +1,5 @@
 #include "network-emulator/radio/packet_listener.hpp"
+#include "common/util/kernel_stamp.hpp"
 
 #include <linux/if_ether.h>
 #include <linux/if_packet.h>
@@ -90,14 +91,7 @@ std::size_t PacketListener::drain() {
         ++errors_;
         continue;
       }
-      std::int64_t unix_ns = 0;
-      for (const cmsghdr* c = CMSG_FIRSTHDR(&m); c;
-           c = CMSG_NXTHDR(const_cast<msghdr*>(&m), const_cast<cmsghdr*>(c)))
-        if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPNS) {
-          timespec ts;
-          std::memcpy(&ts, CMSG_DATA(c), sizeof ts);
-          unix_ns = static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-        }
+      const std::int64_t unix_ns = kernel_rx_unix_ns(m).value_or(0);
       ++total;
       handler_(from.sll_ifindex, std::span<const std::uint8_t>(buffers_[i].data(), len), unix_ns);
     }

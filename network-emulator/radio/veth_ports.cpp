@@ -1,4 +1,5 @@
 #include "network-emulator/radio/veth_ports.hpp"
+#include "common/util/kernel_stamp.hpp"
 
 #include <arpa/inet.h>
 #include <linux/if_packet.h>
@@ -178,15 +179,7 @@ void VethPorts::drain_batches() {
               from.sll_ifindex);
         continue;
       }
-      std::int64_t unix_ns = 0;
-      for (const cmsghdr* c = CMSG_FIRSTHDR(&m); c;
-           c = CMSG_NXTHDR(const_cast<msghdr*>(&m), const_cast<cmsghdr*>(c))) {
-        if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPNS) {
-          timespec ts;
-          std::memcpy(&ts, CMSG_DATA(c), sizeof ts);
-          unix_ns = static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-        }
-      }
+      const std::int64_t unix_ns = kernel_rx_unix_ns(m).value_or(0);
       ++received_;
       medium_.on_frame(*sender, bytes, unix_ns);
     }

@@ -30,6 +30,7 @@
 #include "common/mqtt/mosquitto_client.hpp"
 #include "common/scenario/loader.hpp"
 #include "common/trace/tracer.hpp"
+#include "common/util/kernel_stamp.hpp"
 #include "its-station/facilities/shared_cam_decoder.hpp"
 #include "its-station/station/station.hpp"
 #include "network-emulator/radio/bridge_medium.hpp"
@@ -218,16 +219,9 @@ int run(const Options& o) {
             const ssize_t n = ::recvmsg(state_socket.native_handle(), &msg, 0);
             if (n < 0)
               break;  // EAGAIN: all read (an error is the next wait's)
-            std::optional<tb::clock::WallTime> stamp;
-            for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c != nullptr; c = CMSG_NXTHDR(&msg, c)) {
-              if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPNS) {
-                timespec ts;
-                std::memcpy(&ts, CMSG_DATA(c), sizeof ts);
-                stamp = tb::clock::WallTime{std::chrono::seconds{ts.tv_sec} +
-                                            std::chrono::nanoseconds{ts.tv_nsec}};
-              }
-            }
-            const auto held = stamp ? runtime.hold_at(*stamp) : runtime.hold();
+            const auto stamp = tb::kernel_rx_unix_ns(msg);
+            const auto held =
+                stamp ? runtime.hold_at(tb::clock::from_unix_ns(*stamp)) : runtime.hold();
             feed.handle_datagram({datagram.data(), static_cast<std::size_t>(n)});
           }
           receive_states();

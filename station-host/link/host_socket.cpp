@@ -1,4 +1,5 @@
 #include "station-host/link/host_socket.hpp"
+#include "common/util/kernel_stamp.hpp"
 
 #include <arpa/inet.h>
 #include <linux/filter.h>
@@ -169,15 +170,8 @@ void HostSocket::drain() {
         ++stats_.truncated;
         continue;
       }
-      clock::WallTime rx_time = clock::WallClock::now();
-      for (const cmsghdr* c = CMSG_FIRSTHDR(&m); c != nullptr;
-           c = CMSG_NXTHDR(const_cast<msghdr*>(&m), const_cast<cmsghdr*>(c))) {
-        if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPNS) {
-          timespec ts;
-          std::memcpy(&ts, CMSG_DATA(c), sizeof ts);
-          rx_time = clock::from_unix_ns(std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec);
-        }
-      }
+      const auto stamp = kernel_rx_unix_ns(m);
+      const clock::WallTime rx_time = stamp ? clock::from_unix_ns(*stamp) : clock::WallClock::now();
       ++stats_.frames;
       if (handler_)
         handler_({buffers_.data() + static_cast<std::size_t>(i) * frame_capacity_, len}, rx_time);
