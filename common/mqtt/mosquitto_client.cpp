@@ -6,6 +6,7 @@
 #include <poll.h>
 #include <spdlog/spdlog.h>
 #include <sys/eventfd.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -14,6 +15,8 @@
 #include <cstring>
 #include <mutex>
 #include <nlohmann/json.hpp>
+
+#include "common/mqtt/publish_packet.hpp"
 
 namespace tb::mqtt {
 namespace {
@@ -42,8 +45,9 @@ MosquittoClient::MosquittoClient(const clock::Clock& clock, ClientConfig cfg)
   mosquitto_disconnect_callback_set(mosq_, &MosquittoClient::on_disconnect);
   mosquitto_publish_callback_set(mosq_, &MosquittoClient::on_publish);
   mosquitto_message_callback_set(mosq_, &MosquittoClient::on_message);
-  // Not mosquitto_threaded_set: publish() writes at once in its own thread (see the header);
-  // libmosquitto's own locks keep that safe beside the network thread's reads.
+  // Not mosquitto_threaded_set: publish() writes at once in its own thread (see the header).
+  // Every call into libmosquitto that may write is made under mutex_, so that the QoS 0 bytes
+  // this class writes itself never land inside one of libmosquitto's packets.
   // Warnings are small and urgent: no Nagle delay behind an unacknowledged segment.
   mosquitto_int_option(mosq_, MOSQ_OPT_TCP_NODELAY, 1);
   mosquitto_reconnect_delay_set(mosq_, cfg_.reconnect_min_s, cfg_.reconnect_max_s, true);
@@ -114,6 +118,7 @@ void MosquittoClient::run() {
       apply_events();
       std::lock_guard lock(mutex_);
       connected_ = false;
+      drop_raw_locked();
       if (stopping_) {
         break;
       }
@@ -139,18 +144,25 @@ int MosquittoClient::serve() {
   // a second or more needs nothing finer.
   constexpr int kPollMs = 500;
   while (true) {
+    int sock = -1;
+    bool ours = false;  // a packet of ours is half written: the socket is ours until it is not
+    bool want_write = false;
     {
       std::lock_guard lock(mutex_);
       if (stopping_) {
         return MOSQ_ERR_SUCCESS;
       }
+      sock = mosquitto_socket(mosq_);
+      ours = raw_pending_locked() > 0;
+      want_write = ours || mosquitto_want_write(mosq_);
     }
-    const int sock = mosquitto_socket(mosq_);
     if (sock < 0) {
       return MOSQ_ERR_NO_CONN;
     }
+    // While our bytes wait for room, libmosquitto may write nothing (an acknowledgement, a
+    // ping), so it does not read either: polling for input then would only spin.
     pollfd fds[2] = {
-        {sock, static_cast<short>(POLLIN | (mosquitto_want_write(mosq_) ? POLLOUT : 0)), 0},
+        {sock, static_cast<short>((ours ? 0 : POLLIN) | (want_write ? POLLOUT : 0)), 0},
         {wake_fd_, POLLIN, 0}};
     const int n = ::poll(fds, 2, kPollMs);
     if (n < 0 && errno != EINTR) {
@@ -160,15 +172,34 @@ int MosquittoClient::serve() {
       std::uint64_t count = 0;
       [[maybe_unused]] const ssize_t r = ::read(wake_fd_, &count, sizeof count);
     }
+    const short rev = n > 0 ? fds[0].revents : 0;
     int rc = MOSQ_ERR_SUCCESS;
-    if (n > 0 && (fds[0].revents & (POLLIN | POLLHUP | POLLERR)) != 0) {
-      rc = mosquitto_loop_read(mosq_, 1);
-    }
-    if (rc == MOSQ_ERR_SUCCESS && n > 0 && (fds[0].revents & POLLOUT) != 0) {
-      rc = mosquitto_loop_write(mosq_, 1);
-    }
-    if (rc == MOSQ_ERR_SUCCESS) {
-      rc = mosquitto_loop_misc(mosq_);  // keepalive
+    {
+      std::lock_guard lock(mutex_);
+      if (raw_pending_locked() > 0 && (rev & (POLLOUT | POLLERR | POLLHUP)) != 0) {
+        send_raw_locked();
+      }
+      if (raw_pending_locked() > 0) {
+        // The broker has taken nothing for a keepalive period: as libmosquitto would when
+        // its ping goes unanswered, give the connection up (reconnecting starts clean).
+        if (clock_.steady_now() - raw_stalled_since_ > std::chrono::seconds{cfg_.keepalive_s}) {
+          spdlog::warn("mqtt: the broker {}:{} took no data for {} s; reconnecting", cfg_.host,
+                       cfg_.port, cfg_.keepalive_s);
+          ::shutdown(sock, SHUT_RDWR);
+          drop_raw_locked();
+        }
+        continue;
+      }
+      if ((rev & (POLLIN | POLLHUP | POLLERR)) != 0) {
+        rc = mosquitto_loop_read(mosq_, 1);
+      }
+      if (rc == MOSQ_ERR_SUCCESS && (rev & POLLOUT) != 0 && mosquitto_want_write(mosq_)) {
+        rc = mosquitto_loop_write(mosq_, 1);
+      }
+      if (rc == MOSQ_ERR_SUCCESS) {
+        rc = mosquitto_loop_misc(mosq_);  // keepalive
+      }
+      flush_locked();  // QoS 1 messages that waited behind our bytes
     }
     apply_events();
     if (rc != MOSQ_ERR_SUCCESS) {
@@ -189,7 +220,7 @@ void MosquittoClient::stop(std::chrono::milliseconds grace) {
   }
   started_ = false;
   write_held_locked();  // the owner's loop may have ended before its flush() ran
-  if (connected_ && !cfg_.status_topic.empty()) {
+  if (connected_ && raw_pending_locked() == 0 && !cfg_.status_topic.empty()) {
     const std::string s = status_payload_locked(false);
     int mid = 0;
     if (mosquitto_publish(mosq_, &mid, cfg_.status_topic.c_str(), static_cast<int>(s.size()),
@@ -200,8 +231,15 @@ void MosquittoClient::stop(std::chrono::milliseconds grace) {
   }
   stopping_ = true;
   wake_.notify_all();
+  if (raw_pending_locked() == 0) {
+    mosquitto_disconnect(mosq_);
+  } else if (const int sock = mosquitto_socket(mosq_); sock >= 0) {
+    // A DISCONNECT now would land inside our half-written packet; the broker publishes the
+    // will ("offline") for a connection that just ends, which is what stopping means here.
+    ::shutdown(sock, SHUT_RDWR);
+  }
+  drop_raw_locked();
   lock.unlock();
-  mosquitto_disconnect(mosq_);
   wake_network();
   if (thread_.joinable()) {
     thread_.join();
@@ -209,6 +247,7 @@ void MosquittoClient::stop(std::chrono::milliseconds grace) {
   lock.lock();
   connected_ = false;
   held_.clear();
+  drop_raw_locked();
 }
 
 void MosquittoClient::publish(std::string_view topic, std::string payload, Qos qos, bool retain) {
@@ -230,9 +269,8 @@ void MosquittoClient::publish(std::string_view topic, std::string payload, Qos q
       return;
     }
     if (connected_) {
-      mosquitto_publish(mosq_, nullptr, std::string(topic).c_str(),
-                        static_cast<int>(payload.size()), payload.data(), 0, retain);
-      wake_if_unwritten_locked();
+      held_.push_back(OutMessage{std::string(topic), std::move(payload), qos, retain});
+      write_held_locked();
     }
     return;
   }
@@ -259,29 +297,91 @@ void MosquittoClient::write_held_locked() {
   if (held_.empty()) {
     return;
   }
-  if (connected_) {
-    // Corked, each mosquitto_publish only copies into the socket's buffer; uncorking sends the
-    // batch as one segment (TCP_CORK overrides TCP_NODELAY while it is set, tcp(7)). The two
-    // setsockopt calls pay from about four messages on (mqtt_publish_bench: no gain at two, a
-    // quarter less CPU at sixteen); libmosquitto still writes packet by packet.
-    constexpr std::size_t kCorkFrom = 4;
-    const int sock = mosquitto_socket(mosq_);
-    const int on = 1;
-    const int off = 0;
-    const bool corked = sock >= 0 && held_.size() >= kCorkFrom &&
-                        ::setsockopt(sock, IPPROTO_TCP, TCP_CORK, &on, sizeof on) == 0;
+  if (!connected_) {
+    held_.clear();
+    return;
+  }
+  if (raw_pending_locked() == 0 && mosquitto_want_write(mosq_)) {
+    // libmosquitto has bytes of its own waiting (a QoS 1 packet the socket did not take whole):
+    // ours go behind them, through it.
     for (const OutMessage& m : held_) {
       mosquitto_publish(mosq_, nullptr, m.topic.c_str(), static_cast<int>(m.payload.size()),
                         m.payload.data(), 0, m.retain);
     }
-    if (corked) {
-      ::setsockopt(sock, IPPROTO_TCP, TCP_CORK, &off, sizeof off);
-    }
-    ++batches_;
-    batched_messages_ += held_.size();
     wake_if_unwritten_locked();
+  } else {
+    const std::size_t before = raw_.size();
+    for (const OutMessage& m : held_) {
+      if (raw_.size() - raw_sent_ > kRawBacklogMax) {
+        // The broker has not read for a while: a QoS 0 message may be lost, never cut.
+        if (raw_discarded_++ == 0 || raw_discarded_ % 1000 == 0) {
+          spdlog::warn("mqtt: the broker {}:{} is not reading; {} QoS 0 messages discarded",
+                       cfg_.host, cfg_.port, raw_discarded_);
+        }
+        continue;
+      }
+      try {
+        append_qos0_publish(raw_, m.topic, m.payload, m.retain);
+      } catch (const PacketError& e) {
+        ++refused_;
+        spdlog::error("{}; message discarded", e.what());
+      }
+    }
+    if (raw_.size() > before) {
+      send_raw_locked();
+    }
   }
+  ++batches_;
+  batched_messages_ += held_.size();
   held_.clear();
+}
+
+std::size_t MosquittoClient::raw_pending_locked() const {
+  return raw_.size() - raw_sent_;
+}
+
+void MosquittoClient::send_raw_locked() {
+  const int sock = mosquitto_socket(mosq_);
+  if (sock < 0) {
+    drop_raw_locked();
+    return;
+  }
+  while (raw_pending_locked() > 0) {
+    const ssize_t n =
+        ::send(sock, raw_.data() + raw_sent_, raw_pending_locked(), MSG_NOSIGNAL | MSG_DONTWAIT);
+    if (n > 0) {
+      raw_sent_ += static_cast<std::size_t>(n);
+      ++raw_sends_;
+      if (raw_waiting_) {
+        raw_stalled_since_ = clock_.steady_now();  // it moves: not stalled
+      }
+      continue;
+    }
+    if (n < 0 && errno == EINTR) {
+      continue;
+    }
+    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
+      // The network thread finishes it when the socket has room, before libmosquitto writes.
+      if (!raw_waiting_) {
+        raw_waiting_ = true;
+        raw_stalled_since_ = clock_.steady_now();
+        ++raw_deferred_;
+        wake_network();
+      }
+      return;
+    }
+    // The connection is broken; libmosquitto's next read says so and the client reconnects.
+    spdlog::debug("mqtt: writing to the broker failed: {}", std::strerror(errno));
+    drop_raw_locked();
+    return;
+  }
+  drop_raw_locked();  // all sent
+}
+
+void MosquittoClient::drop_raw_locked() {
+  raw_.clear();  // keeps its capacity: the next batch allocates nothing
+  raw_sent_ = 0;
+  raw_waiting_ = false;
 }
 
 void MosquittoClient::wake_if_unwritten_locked() {
@@ -293,7 +393,8 @@ void MosquittoClient::wake_if_unwritten_locked() {
 }
 
 void MosquittoClient::flush_locked() {
-  while (connected_ && inflight_.size() < cfg_.max_inflight && !outbox_.empty()) {
+  while (connected_ && raw_pending_locked() == 0 && inflight_.size() < cfg_.max_inflight &&
+         !outbox_.empty()) {
     OutMessage m = *outbox_.pop();
     int mid = 0;
     const int rc =
@@ -400,6 +501,7 @@ void MosquittoClient::apply_events() {
                          cfg_.port);
           }
           connected_ = false;
+          drop_raw_locked();
           acked_.notify_all();
           break;
         case Event::kPublished:
@@ -451,6 +553,18 @@ std::uint64_t MosquittoClient::batches() const {
 std::uint64_t MosquittoClient::batched_messages() const {
   std::lock_guard lock(mutex_);
   return batched_messages_;
+}
+std::uint64_t MosquittoClient::raw_sends() const {
+  std::lock_guard lock(mutex_);
+  return raw_sends_;
+}
+std::uint64_t MosquittoClient::raw_deferred() const {
+  std::lock_guard lock(mutex_);
+  return raw_deferred_;
+}
+std::uint64_t MosquittoClient::raw_discarded() const {
+  std::lock_guard lock(mutex_);
+  return raw_discarded_;
 }
 int MosquittoClient::last_connack() const {
   std::lock_guard lock(mutex_);

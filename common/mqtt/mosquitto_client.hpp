@@ -20,10 +20,19 @@
 ///
 /// Batching: with set_flush_request(), QoS 0 messages are held and written together at flush(),
 /// which the owner runs once its thread has done what one wake-up brought (its-station posts it
-/// onto its io_context). A batch of four or more is written corked, as one TCP segment that
-/// wakes the broker once. libmosquitto still makes one write (and one byte to its socket pair)
-/// per message (issue 33, docs/latency.md). A QoS 1 message first writes what is held, so that
-/// messages leave in the order they were published.
+/// onto its io_context). A QoS 1 message first writes what is held, so that messages leave in
+/// the order they were published.
+///
+/// QoS 0 writes: this class encodes QoS 0 PUBLISH packets itself (publish_packet.hpp) and sends
+/// a batch with one send(): libmosquitto would make a write per packet plus a write of a byte to
+/// its internal socket pair per publish, the largest share of a station's system calls (issue
+/// 33, docs/latency.md). Bytes of two writers on one stream must never interleave inside a
+/// packet, so: every libmosquitto call that may write is made under mutex_; our bytes go only
+/// when libmosquitto has nothing half written (mosquitto_want_write), else through
+/// mosquitto_publish behind its own; and while our bytes are half written (the socket was full)
+/// the network thread finishes them before libmosquitto reads, writes or pings again. A broker
+/// that takes nothing for a keepalive period loses the connection, as an unanswered ping would.
+/// QoS 0 messages beyond kRawBacklogMax bytes waiting are discarded whole, never cut.
 ///
 /// Subscriptions: the topic filters in ClientConfig::subscriptions are (re)subscribed on every
 /// connection (the broker keeps no session for a clean client), and each message is handed to
@@ -105,9 +114,19 @@ class MosquittoClient final : public MqttSink {
   /// Writes the held messages in one corked burst (discards them when not connected, as any
   /// QoS 0 message).
   void flush();
-  /// Batches written by flush() (with at least one message) and the messages in them.
+  /// QoS 0 writes (a flush() with at least one message, or one unheld QoS 0 message while
+  /// connected) and the messages in them.
   std::uint64_t batches() const;
   std::uint64_t batched_messages() const;
+  /// send() calls that wrote QoS 0 packets of this class's own encoding.
+  std::uint64_t raw_sends() const;
+  /// Times the socket was full and our bytes waited for the network thread.
+  std::uint64_t raw_deferred() const;
+  /// QoS 0 messages discarded because kRawBacklogMax bytes were already waiting.
+  std::uint64_t raw_discarded() const;
+
+  /// How many bytes of our QoS 0 packets may wait for a broker that does not read.
+  static constexpr std::size_t kRawBacklogMax = 1 << 20;
 
   bool connected() const;
   /// QoS 1 messages dropped because the queue overflowed while the broker was away.
@@ -134,6 +153,10 @@ class MosquittoClient final : public MqttSink {
   void wake_if_unwritten_locked();
   void flush_locked();
   void write_held_locked();
+  std::size_t raw_pending_locked() const;
+  /// Sends what is encoded and unsent, as far as the socket takes it without blocking.
+  void send_raw_locked();
+  void drop_raw_locked();
   std::string status_payload_locked(bool online) const;
 
   const clock::Clock& clock_;
@@ -172,6 +195,13 @@ class MosquittoClient final : public MqttSink {
   std::vector<OutMessage> held_;  ///< QoS 0 messages waiting for flush()
   std::uint64_t batches_ = 0;
   std::uint64_t batched_messages_ = 0;
+  std::string raw_;           ///< QoS 0 packets encoded here; raw_sent_ bytes of it are sent
+  std::size_t raw_sent_ = 0;  ///< raw_[raw_sent_, end) waits for room in the socket
+  bool raw_waiting_ = false;
+  clock::SteadyTime raw_stalled_since_{};  ///< the socket's last progress while raw_waiting_
+  std::uint64_t raw_sends_ = 0;
+  std::uint64_t raw_deferred_ = 0;
+  std::uint64_t raw_discarded_ = 0;
 };
 
 }  // namespace tb::mqtt

@@ -134,6 +134,9 @@ class Broker {
     }
     pid_ = -1;
   }
+  /// SIGSTOP / SIGCONT: a broker that stops reading, as one that is swamped.
+  void pause() { ::kill(pid_, SIGSTOP); }
+  void resume() { ::kill(pid_, SIGCONT); }
   std::string log() const {
     std::ifstream f(dir_ / "broker.log");
     return std::string(std::istreambuf_iterator<char>(f), {});
