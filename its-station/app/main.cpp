@@ -187,7 +187,10 @@ int run(const Options& o) {
   const tb::its::station::StationConfig config = tb::its::station::make_station_config(
       o.station_id, scenario ? &*scenario : nullptr, vehicle, station_overrides);
 
-  asio::io_context io;
+  // One thread runs it (concurrency hint 1): a handler's post() (the MQTT flush, the pooled
+  // links' flush) then waits in the thread's private queue, where the default hint makes each
+  // one interrupt the reactor (an epoll_ctl and an extra epoll_wait, issue 33).
+  asio::io_context io{1};
   tb::clock::AsioRuntime runtime(io);
 
   // Positioning: our own gpsd fed NMEA over UDP, unless told to use an existing one.

@@ -114,7 +114,10 @@ int run(const Options& o) {
       pki_dirs.push_back(tb::host::station_pki_dir(o.pki_dir, id));
 
   const tb::map::ScenarioMap map(scenario);
-  asio::io_context io;
+  // One thread runs it (concurrency hint 1): a handler's post() (the MQTT flush, the pooled
+  // links' flush) then waits in the thread's private queue, where the default hint makes each
+  // one interrupt the reactor (an epoll_ctl and an extra epoll_wait, issue 33).
+  asio::io_context io{1};
   tb::clock::AsioRuntime asio_runtime(io);
   // A frame read or a state datagram is taken up by many stations at one instant: the clock is
   // read once for all of them (common/clock/held_clock_runtime.hpp).
