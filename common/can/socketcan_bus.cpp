@@ -7,10 +7,12 @@
 #include <sys/time.h>
 #include <unistd.h>
 
+#include <array>
 #include <cerrno>
 #include <cstring>
 
 #include "common/can/netns.hpp"
+#include "common/util/kernel_stamp.hpp"
 
 namespace tb::can {
 
@@ -52,7 +54,7 @@ Expected<std::unique_ptr<SocketCanBus>, std::error_code> SocketCanBus::open(
     }
     // Receive times from the kernel, and a count of frames dropped for a full socket buffer.
     const int on = 1;
-    ::setsockopt(fd, SOL_SOCKET, SO_TIMESTAMP, &on, sizeof on);
+    ::setsockopt(fd, SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof on);
     ::setsockopt(fd, SOL_SOCKET, SO_RXQ_OVFL, &on, sizeof on);
   });
   if (ns_ec)
@@ -65,9 +67,14 @@ Expected<std::unique_ptr<SocketCanBus>, std::error_code> SocketCanBus::open(
   return std::unique_ptr<SocketCanBus>(new SocketCanBus(io, fd));
 }
 
-SocketCanBus::SocketCanBus(boost::asio::io_context& io, int fd) : descriptor_(io, fd) {}
+SocketCanBus::SocketCanBus(boost::asio::io_context& io, int fd) : descriptor_(io, fd), fd_(fd) {}
 
-SocketCanBus::~SocketCanBus() = default;
+SocketCanBus::~SocketCanBus() {
+  if (backstop_)
+    backstop_->cancel();
+  if (released_)
+    ::close(fd_);
+}
 
 std::error_code SocketCanBus::send(std::span<const CanFrame> frames) {
   for (const CanFrame& f : frames) {
@@ -77,7 +84,7 @@ std::error_code SocketCanBus::send(std::span<const CanFrame> frames) {
     out.can_id = f.can_id;
     out.can_dlc = std::min<std::uint8_t>(f.len, CAN_MAX_DLEN);
     std::memcpy(out.data, f.data.data(), out.can_dlc);
-    const ssize_t n = ::write(descriptor_.native_handle(), &out, sizeof out);
+    const ssize_t n = ::write(fd_, &out, sizeof out);
     if (n < 0)
       return last_error();
     if (n != static_cast<ssize_t>(sizeof out))
@@ -96,6 +103,13 @@ void SocketCanBus::start_on_demand(FrameHandler handler, std::chrono::millisecon
   on_demand_ = true;
   backstop_period_ = backstop;
   backstop_ = std::make_unique<boost::asio::steady_timer>(descriptor_.get_executor());
+  // A descriptor stays in the io_context's epoll set whether or not anyone waits on it, so each
+  // frame (100 a second at the vehicle's dynamics rate) would wake the io thread for nothing
+  // (issue 33, as UdpCanBus). release() takes it out; the socket is non-blocking already.
+  if (!released_) {
+    fd_ = descriptor_.release();
+    released_ = true;
+  }
   arm_backstop();
 }
 
@@ -125,38 +139,54 @@ void SocketCanBus::wait_next() {
 }
 
 std::size_t SocketCanBus::read_all() {
+  // One recvmmsg takes what queued since the last read (a few frames at 100 Hz and a poll every
+  // few ms) where a recvmsg per frame and one more for EAGAIN made several system calls. A
+  // batch shorter than kReadBatch means the queue was empty when the kernel looked.
+  static constexpr std::size_t kControl =
+      CMSG_SPACE(sizeof(timespec)) + CMSG_SPACE(sizeof(std::uint32_t));
+  std::array<can_frame, kReadBatch> in{};
+  std::array<iovec, kReadBatch> iov{};
+  std::array<mmsghdr, kReadBatch> msgs{};
+  alignas(cmsghdr) std::array<std::array<char, kControl>, kReadBatch> control{};
   std::size_t frames = 0;
   for (;;) {
-    can_frame in{};
-    iovec iov{&in, sizeof in};
-    alignas(cmsghdr) char control[CMSG_SPACE(sizeof(timeval)) + CMSG_SPACE(sizeof(std::uint32_t))];
-    msghdr msg{};
-    msg.msg_iov = &iov;
-    msg.msg_iovlen = 1;
-    msg.msg_control = control;
-    msg.msg_controllen = sizeof control;
-    const ssize_t n = ::recvmsg(descriptor_.native_handle(), &msg, MSG_DONTWAIT);
-    if (n < static_cast<ssize_t>(sizeof in))
-      return frames;  // EAGAIN: drained (or a short read, which CAN_RAW never produces)
-    std::int64_t rx_ns = 0;
-    for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c; c = CMSG_NXTHDR(&msg, c)) {
-      if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SO_TIMESTAMP) {
-        timeval tv{};
-        std::memcpy(&tv, CMSG_DATA(c), sizeof tv);
-        rx_ns = std::int64_t{tv.tv_sec} * 1'000'000'000 + std::int64_t{tv.tv_usec} * 1000;
-      } else if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SO_RXQ_OVFL) {
-        std::uint32_t dropped = 0;
-        std::memcpy(&dropped, CMSG_DATA(c), sizeof dropped);
-        dropped_ = dropped;
-      }
+    for (std::size_t i = 0; i < kReadBatch; ++i) {
+      iov[i] = {&in[i], sizeof in[i]};
+      msgs[i] = {};
+      msgs[i].msg_hdr.msg_iov = &iov[i];
+      msgs[i].msg_hdr.msg_iovlen = 1;
+      msgs[i].msg_hdr.msg_control = control[i].data();
+      msgs[i].msg_hdr.msg_controllen = kControl;  // the kernel shrinks it to what it wrote
     }
-    CanFrame f;
-    f.can_id = in.can_id;
-    f.len = std::min<std::uint8_t>(in.can_dlc, CAN_MAX_DLEN);
-    std::memcpy(f.data.data(), in.data, f.len);
-    ++frames;
-    if (handler_)
-      handler_(f, rx_ns);
+    const int n = ::recvmmsg(fd_, msgs.data(), kReadBatch, MSG_DONTWAIT, nullptr);
+    if (n <= 0)
+      return frames;  // EAGAIN: drained
+    ++stats_.reads;
+    for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i) {
+      msghdr& m = msgs[i].msg_hdr;
+      if (msgs[i].msg_len != sizeof(can_frame) || (m.msg_flags & MSG_TRUNC) != 0) {
+        // CAN_RAW hands out whole struct can_frame only (no CAN_RAW_FD_FRAMES here).
+        ++stats_.unexpected_size;
+        continue;
+      }
+      for (cmsghdr* c = CMSG_FIRSTHDR(&m); c; c = CMSG_NXTHDR(&m, c)) {
+        if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SO_RXQ_OVFL) {
+          std::uint32_t dropped = 0;
+          std::memcpy(&dropped, CMSG_DATA(c), sizeof dropped);
+          dropped_ = dropped;
+        }
+      }
+      CanFrame f;
+      f.can_id = in[i].can_id;
+      f.len = std::min<std::uint8_t>(in[i].can_dlc, CAN_MAX_DLEN);
+      std::memcpy(f.data.data(), in[i].data, f.len);
+      ++frames;
+      ++stats_.frames;
+      if (handler_)
+        handler_(f, kernel_rx_unix_ns(m).value_or(0));
+    }
+    if (static_cast<std::size_t>(n) < kReadBatch)
+      return frames;
   }
 }
 

@@ -30,6 +30,7 @@
 
 #include "common/can/netns.hpp"
 #include "common/clock/clock.hpp"
+#include "common/test_support/stale_netns.hpp"
 #include "common/wire/vehicle_state.hpp"
 
 extern char** environ;
@@ -84,6 +85,7 @@ int main(int argc, char** argv) {
     return 2;
   }
 
+  tb::test_support::remove_stale_netns({"shl"});
   const auto tag = std::to_string(::getpid());
   const std::string ns = "shl" + tag;
   const fs::path dir = fs::temp_directory_path() / ("station-host-load-" + tag);

@@ -34,6 +34,7 @@
 
 #include "common/can/netns.hpp"
 #include "common/geodesy/local_frame.hpp"
+#include "common/test_support/stale_netns.hpp"
 #include "common/wire/vehicle_state.hpp"
 #include "its-station/facilities/tests/nmea_feed.hpp"
 
@@ -147,6 +148,7 @@ class StationHostIt : public ::testing::TestWithParam<Case> {
         GTEST_SKIP() << p << " not built";
     if (sh("command -v tshark") != 0)
       GTEST_SKIP() << "tshark not installed";
+    tb::test_support::remove_stale_netns({"shF", "shH"});
     const auto tag = std::to_string(getpid());
     ns_full = "shF" + tag;
     ns_host = "shH" + tag;

@@ -15,6 +15,7 @@
 
 #include "common/can/netns.hpp"
 #include "common/can/udp_can_bus.hpp"
+#include "common/test_support/stale_netns.hpp"
 
 namespace tb::can {
 namespace {
@@ -176,11 +177,13 @@ TEST(UdpCanBus, ReportsAnAbsentReceiverAsConnectionRefused) {
   EXPECT_EQ(ec, std::errc::connection_refused) << ec.message();
 }
 
-/// A network namespace with a veth pair to the host, removed again in the destructor.
+/// A network namespace with a veth pair to the host, removed again in the destructor (and by
+/// the next run when this one is killed first: the name carries the whole pid for that).
 class VethNamespace {
  public:
   VethNamespace() {
-    const int id = static_cast<int>(::getpid()) % 100000;
+    test_support::remove_stale_netns({"emucan"});
+    const int id = static_cast<int>(::getpid());
     ns_ = fmt::format("emucan{}", id);
     host_if_ = fmt::format("emuc{}a", id);
     const std::string ns_if = fmt::format("emuc{}b", id);

@@ -34,6 +34,7 @@
 
 #include "common/can/netns.hpp"
 #include "common/geodesy/local_frame.hpp"
+#include "common/test_support/stale_netns.hpp"
 #include "common/wire/sim_protocol.hpp"
 #include "its-station/btp/header.hpp"
 #include "its-station/facilities/tests/nmea_feed.hpp"
@@ -146,6 +147,7 @@ class RsuStation : public ::testing::Test {
       GTEST_SKIP() << station_bin << " not built";
     const char* root = std::getenv("TESTBED_ROOT");
     scenario = fs::path(root ? root : ".") / "scenarios" / "signals-junction.json";
+    tb::test_support::remove_stale_netns({"rsuR", "rsuA"});
     const auto tag = std::to_string(getpid());
     ns_rsu = "rsuR" + tag;
     ns_air = "rsuA" + tag;

@@ -24,6 +24,7 @@
 
 #include "common/can/netns.hpp"
 #include "common/geodesy/local_frame.hpp"
+#include "common/test_support/stale_netns.hpp"
 #include "its-station/facilities/cam_rules.hpp"
 #include "its-station/facilities/tests/nmea_feed.hpp"
 
@@ -72,6 +73,7 @@ class TwoStationNamespaces : public ::testing::Test {
     station_bin = bin ? fs::path(bin) / "its-station" : fs::path("its-station");
     if (!fs::exists(station_bin))
       GTEST_SKIP() << station_bin << " not built";
+    tb::test_support::remove_stale_netns({"facA", "facB"});
     const auto tag = std::to_string(getpid());
     ns_a = "facA" + tag;
     ns_b = "facB" + tag;

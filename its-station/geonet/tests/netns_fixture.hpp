@@ -1,7 +1,8 @@
 #pragma once
 // Two network namespaces joined by a veth pair whose ends are both named wlan0, as the radio
 // stand-in gives each station. Names carry the test process's pid, so parallel tests do not
-// collide; TearDown deletes the namespaces (and with them the veth pair) even after a failure.
+// collide; TearDown deletes the namespaces (and with them the veth pair) even after a failure,
+// and SetUp first removes those of runs killed before their TearDown.
 
 #include <fcntl.h>
 #include <sched.h>
@@ -19,6 +20,7 @@
 
 #include <boost/asio/io_context.hpp>
 
+#include "common/test_support/stale_netns.hpp"
 #include "its-station/link/packet_socket_link.hpp"
 
 namespace tb::its::testing {
@@ -55,6 +57,7 @@ class VethPair : public ::testing::Test {
   void SetUp() override {
     if (::geteuid() != 0)
       GTEST_SKIP() << "needs root to create network namespaces";
+    test_support::remove_stale_netns({"gnA", "gnB"});
     const std::string id = std::to_string(::getpid());
     a_ = std::make_unique<Netns>("gnA" + id);
     b_ = std::make_unique<Netns>("gnB" + id);

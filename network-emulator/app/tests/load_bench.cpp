@@ -49,6 +49,7 @@
 #include <CLI/CLI.hpp>
 
 #include "common/can/netns.hpp"
+#include "common/test_support/stale_netns.hpp"
 #include "common/wire/vehicle_state.hpp"
 
 extern char** environ;
@@ -117,6 +118,7 @@ class Receivers {
     }
     nmea_port_ = 10110;
     can_port_ = 20000;
+    tb::test_support::remove_stale_netns({"tbload"});
     std::string batch;
     for (int i = 0; i < namespaces; ++i) {
       names_.push_back("tbload" + std::to_string(::getpid()) + "-" + std::to_string(i));

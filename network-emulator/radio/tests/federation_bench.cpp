@@ -106,6 +106,7 @@ Result measure(const std::string& forwarding, int repetitions, int samples) {
   using radio::TestNetns;
   const fs::path dir = fs::temp_directory_path() / ("federation-bench-" + radio::kTag);
   fs::create_directories(dir);
+  tb::test_support::remove_stale_netns({"tbfba", "tbfbb", "tbfbs"});
   TestNetns node_a("tbfba" + radio::kTag), node_b("tbfbb" + radio::kTag);
   TestNetns st_a("tbfbs" + radio::kTag + "a"), st_b("tbfbs" + radio::kTag + "b");
   const std::string a = node_a.name(), b = node_b.name();

@@ -52,6 +52,7 @@ class FederationIT : public ::testing::Test {
   void SetUp() override {
     if (::geteuid() != 0)
       GTEST_SKIP() << "needs root (network namespaces, veth)";
+    test_support::remove_stale_netns({"tbfa", "tbfb", "tbfs"});
     dir_ = fs::temp_directory_path() / ("federation-it-" + kTag);
     fs::create_directories(dir_);
     node_a_ = std::make_unique<TestNetns>("tbfa" + kTag);

@@ -26,6 +26,7 @@
 
 #include <gtest/gtest.h>
 
+#include "common/test_support/stale_netns.hpp"
 #include "common/wire/pooled_delivery.hpp"
 #include "network-emulator/radio/netns.hpp"
 #include "network-emulator/radio/packet_socket.hpp"

@@ -70,6 +70,7 @@ class VethMediumIT : public ::testing::Test {
   void SetUp() override {
     if (::geteuid() != 0)
       GTEST_SKIP() << "needs root (network namespaces, veth)";
+    test_support::remove_stale_netns({"tbrit"});
     for (const char* s : {"a", "b", "c"})
       ns_.push_back(std::make_unique<TestNetns>("tbrit" + kTag + s));
   }

@@ -142,6 +142,16 @@ fi
 kill $can1 $can2 $candump 2>/dev/null
 for ns in tbvm1 tbvm2; do ip -n $ns link del vcan0; done
 
+# ---- CAN: the station's reader (SocketCanBus) at arrival and on demand, its own gtest ---------
+# It reads vehicle.dbc at the path built into it, and makes its own namespaces and vcan0.
+mkdir -p "$(dirname "$TB_VM_DBC_PATH")" && cp /tb/share/vehicle.dbc "$TB_VM_DBC_PATH"
+/tb/tests/can_socketcan_it >"$T/can_socketcan_it.log" 2>&1
+rc=$?
+passed_line=$(grep -o '\[  PASSED  \] [0-9]* tests\?' "$T/can_socketcan_it.log")
+skipped=$(grep -c '^\[  SKIPPED \]' "$T/can_socketcan_it.log")
+[[ $rc == 0 && -n $passed_line && $skipped == 0 ]]
+check can.socketcan_bus_it $? "(exit $rc; ${passed_line:-no PASSED line}; $skipped skipped: $(grep -E '^\[ +(OK|FAILED|SKIPPED) +\]' "$T/can_socketcan_it.log" | tr -s ' \n' ' ' | head -c 500))"
+
 echo "stage radios: starts $SECONDS s into the test script"
 # ---- radios: mac80211_hwsim in OCB mode, driven by radio-medium ----------------------------
 radio-medium --scenario "$S" --stations 11=tbvm1,12=tbvm2,13=tbvm3 --mode hwsim --prefix tbvm \
