@@ -1,13 +1,25 @@
 # shellcheck shell=bash disable=SC2154,SC2034  # sourced by scripts/up, whose variables it uses
 # scripts/up --swarm (issue 35): the images into the registry, the plan, `docker stack deploy`.
 #
-#   swarm_deploy    after scripts/up built the images (testbed/<name>); sets swarm_up=1 once
-#                   the stack exists (scripts/up's cleanup then runs `docker stack rm testbed`)
+#   swarm_deploy    after scripts/up built the images (testbed/<name>), or with --pushed (the
+#                   images in the registry already); sets swarm_up=1 once the stack exists
+#                   (scripts/up's cleanup then runs `docker stack rm testbed`)
 #
 # The images go to REGISTRY/testbed/<name>:latest. A registry on this host is pushed to as
 # 127.0.0.1:PORT (dockerd trusts plain HTTP on loopback without configuration); the nodes pull
 # the same repositories as ADDR:PORT, which their dockerd must list in insecure-registries
 # (docs/scale-out.md, "Registry").
+
+registry_has() {  # registry_has HOST:PORT REPOSITORY: its tag latest is there
+  /usr/bin/python3 - "$1" "$2" <<'EOF'
+import json, sys, urllib.request
+try:
+    with urllib.request.urlopen(f"http://{sys.argv[1]}/v2/{sys.argv[2]}/tags/list", timeout=5) as r:
+        sys.exit(0 if "latest" in (json.load(r).get("tags") or []) else 1)
+except Exception:
+    sys.exit(1)
+EOF
+}
 
 registry_answers() {  # registry_answers HOST:PORT
   /usr/bin/python3 - "$1" <<'EOF'
@@ -55,19 +67,32 @@ swarm_deploy() {
   local manager addr reg push_to local_reg=0 name nodes known dir n
   manager=$(docker node inspect self --format '{{.Description.Hostname}}') ||
     fail 1 "docker node inspect self failed (above)"
+  swarm_manager=$manager  # scripts/up's cleanup: the node whose volumes it can remove
   addr=$(docker info --format '{{.Swarm.NodeAddr}}')
   reg=${registry:-$addr:5000}
   [[ ${reg%%:*} == "$addr" || ${reg%%:*} == 127.0.0.1 || ${reg%%:*} == localhost ]] && local_reg=1
-  ensure_registry "$reg" "$local_reg"
-  push_to=$reg
-  ((local_reg)) && push_to=127.0.0.1:${reg##*:}
-  for name in broker emulator station sim-server sim-client; do
-    say "pushing testbed/$name to $reg"
-    { docker tag "testbed/$name" "$push_to/testbed/$name:latest" &&
-      docker push "$push_to/testbed/$name:latest"; } >>"$logdir/push.log" 2>&1 ||
-      fail 1 "pushing testbed/$name to $push_to failed ($(tail -n 1 "$logdir/push.log"); all in" \
-        "$logdir/push.log)"
-  done
+  local station_image=testbed/station
+  if ((pushed)); then
+    # The registry must answer and hold every image: a node that cannot pull one would wait
+    # for it until UP_TIMEOUT.
+    registry_answers "$reg" || fail 1 "--pushed: no registry answers at $reg (http://$reg/v2/)"
+    for name in broker emulator station sim-server sim-client; do
+      registry_has "$reg" "testbed/$name" ||
+        fail 1 "--pushed: $reg has no testbed/$name:latest (push it first, e.g. tests/swarm/lab push)"
+    done
+    station_image=$reg/testbed/station:latest
+  else
+    ensure_registry "$reg" "$local_reg"
+    push_to=$reg
+    ((local_reg)) && push_to=127.0.0.1:${reg##*:}
+    for name in broker emulator station sim-server sim-client; do
+      say "pushing testbed/$name to $reg"
+      { docker tag "testbed/$name" "$push_to/testbed/$name:latest" &&
+        docker push "$push_to/testbed/$name:latest"; } >>"$logdir/push.log" 2>&1 ||
+        fail 1 "pushing testbed/$name to $push_to failed ($(tail -n 1 "$logdir/push.log"); all in" \
+          "$logdir/push.log)"
+    done
+  fi
 
   # The nodes: --nodes (each must be a node of this swarm), else every ready, active node.
   known=$(docker node ls --format '{{.Hostname}} {{.Status}} {{.Availability}}')
@@ -88,9 +113,10 @@ swarm_deploy() {
   # A signing scenario's one PKI is made by its-pki from the station image (the host may have no
   # build of its own).
   mkdir -p "$dir"
+  [[ -n ${TESTBED_TRACE_DIR:-} ]] && plan_opts+=(--trace-dir "$TESTBED_TRACE_DIR")
   "$root/scripts/swarm-plan" "$scenario" "${swarm_opts[@]}" "${plan_opts[@]}" --manager "$manager" \
     --registry "$reg" --out "$dir" \
-    --its-pki "docker run --rm -v $dir:$dir --entrypoint /usr/local/bin/its-pki testbed/station" ||
+    --its-pki "docker run --rm -v $dir:$dir --entrypoint /usr/local/bin/its-pki $station_image" ||
     fail 2 "the placement was refused (above); nothing started"
 
   swarm_up=1
@@ -130,8 +156,8 @@ for n in json.load(open(sys.argv[1]))["nodes"]:
     extra = ", %d pooled in %d station-host(s)" % (len(n["pooled"]), n["station_hosts"])
     print("[up] node %s: stations %s%s" % (n["name"], ids, extra if n["pooled"] else ""))' "$dir/placement.json"
   say "up: stack testbed on the swarm (manager $manager); placement $dir/placement.json; logs in $logdir"
-  say "HMI: http://$addr:9001/ (any node's address: the swarm publishes the ports on every node)," \
-    "user hmi, password hmi"
+  say "HMI: http://$addr:9001/ (the manager's address: the stack publishes the ports on the node" \
+    "of their task, docs/scale-out.md), user hmi, password hmi"
   say "MQTT: mosquitto_sub -h $addr -p 1883 -u hmi -P hmi -t 'its/#' -v"
   say "tasks: docker stack ps testbed"
   for h in $humans; do

@@ -79,7 +79,8 @@ void Federation::on_local_frame(StationId from, std::span<const std::uint8_t> fr
   }
 }
 
-void Federation::on_datagram(std::span<const std::uint8_t> bytes, std::int64_t rx_unix_ns) {
+void Federation::on_datagram(std::span<const std::uint8_t> bytes, std::int64_t rx_unix_ns,
+                             std::int64_t kernel_rx_unix_ns) {
   const auto d = decode_federation_datagram(bytes);
   if (!d) {
     reject(to_string(d.error()));
@@ -106,7 +107,7 @@ void Federation::on_datagram(std::span<const std::uint8_t> bytes, std::int64_t r
   if (d->has_position && !positions_.position(d->sender))
     positions_.set(d->sender, StationPosition{d->position, -1});
   if (hop_observer_)
-    hop_observer_(*d, rx_unix_ns != 0 ? rx_unix_ns : now_ns());
+    hop_observer_(*d, rx_unix_ns != 0 ? rx_unix_ns : now_ns(), kernel_rx_unix_ns);
   ++frames_in_;
   sink_.deliver_remote(d->sender, d->frame);
 }

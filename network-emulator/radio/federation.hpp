@@ -88,7 +88,8 @@ class Federation {
   /// A datagram from the federation socket, received at @p rx_unix_ns (0: now). Malformed
   /// ones, and frames whose sender is not a station of the peer that says it sent them, are
   /// counted and dropped.
-  void on_datagram(std::span<const std::uint8_t> bytes, std::int64_t rx_unix_ns);
+  void on_datagram(std::span<const std::uint8_t> bytes, std::int64_t rx_unix_ns,
+                   std::int64_t kernel_rx_unix_ns = 0);
 
   /// Every kHeartbeatInterval: heartbeats to every peer, and peers silent for kSilenceLimit
   /// are declared down.
@@ -98,8 +99,10 @@ class Federation {
   void on_send_error(std::size_t peer, const std::string& why);
 
   void set_peer_events(std::function<void(const PeerEvent&)> f) { events_ = std::move(f); }
-  /// Sees every frame from a peer before it is delivered (the trace's `medium.hop`).
-  using HopObserver = std::function<void(const FederationDatagram&, std::int64_t rx_unix_ns)>;
+  /// Sees every frame from a peer before it is delivered (the trace's `medium.hop`), with the
+  /// time it was read and the kernel's receive stamp of its datagram (0 when there is none).
+  using HopObserver = std::function<void(const FederationDatagram&, std::int64_t rx_unix_ns,
+                                         std::int64_t kernel_rx_unix_ns)>;
   void set_hop_observer(HopObserver f) { hop_observer_ = std::move(f); }
   /// Sees every malformed or foreign datagram, with the reason (logged once by the program).
   using RejectObserver = std::function<void(std::string_view why)>;

@@ -1,9 +1,12 @@
 #include "network-emulator/radio/federation_socket.hpp"
 
+#include <sys/socket.h>
+
 #include <fmt/format.h>
 #include <boost/asio/post.hpp>
 
 #include "common/trace/tracer.hpp"
+#include "common/util/kernel_stamp.hpp"
 
 namespace tb::emu::radio {
 
@@ -21,6 +24,11 @@ FederationSocket::FederationSocket(asio::io_context& io, const udp::endpoint& li
       on_error_(std::move(on_error)) {
   // Room for a burst of frames from every peer while this thread is busy.
   listen_.set_option(asio::socket_base::receive_buffer_size(4 << 20));
+  // The kernel's receive stamp splits the hop (medium.hop) into the way to this host and this
+  // medium's wake-up; without it the datagram is dated at its read alone.
+  const int on = 1;
+  ::setsockopt(listen_.native_handle(), SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof on);
+  listen_.non_blocking(true);
   for (const auto& n : peers)
     peers_.push_back(Peer{n.medium_host, n.medium_port, n.name, nullptr, std::nullopt});
 }
@@ -35,14 +43,30 @@ void FederationSocket::start() {
 }
 
 void FederationSocket::receive() {
-  listen_.async_receive_from(
-      asio::buffer(buf_), from_, [this](const boost::system::error_code& ec, std::size_t n) {
-        if (ec == asio::error::operation_aborted)
-          return;
-        if (!ec)
-          on_datagram_(std::span<const std::uint8_t>(buf_.data(), n), trace::Tracer::now_ns());
-        receive();
-      });
+  listen_.async_wait(asio::socket_base::wait_read, [this](const boost::system::error_code& ec) {
+    if (ec == asio::error::operation_aborted)
+      return;
+    if (!ec)
+      drain();
+    receive();
+  });
+}
+
+void FederationSocket::drain() {
+  // Bounded, so that a flood from a peer cannot keep the medium from its local frames.
+  for (int k = 0; k < 64; ++k) {
+    iovec iov{buf_.data(), buf_.size()};
+    msghdr m{};
+    m.msg_iov = &iov;
+    m.msg_iovlen = 1;
+    m.msg_control = control_.data();
+    m.msg_controllen = control_.size();
+    const ssize_t n = ::recvmsg(listen_.native_handle(), &m, MSG_DONTWAIT);
+    if (n < 0)
+      return;  // EAGAIN: all read; ICMP errors on the listener are not this socket's to report
+    on_datagram_(std::span<const std::uint8_t>(buf_.data(), static_cast<std::size_t>(n)),
+                 trace::Tracer::now_ns(), kernel_rx_unix_ns(m).value_or(0));
+  }
 }
 
 void FederationSocket::resolve_all() {

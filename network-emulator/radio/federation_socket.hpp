@@ -26,7 +26,10 @@ namespace tb::emu::radio {
 class FederationSocket final : public FederationTransport {
  public:
   static constexpr std::chrono::seconds kResolveInterval{5};
-  using DatagramHandler = std::function<void(std::span<const std::uint8_t>, std::int64_t rx_ns)>;
+  /// A datagram, the time it was read (CLOCK_REALTIME) and the kernel's receive stamp of it
+  /// (SO_TIMESTAMPNS; 0 when none came): their difference is this medium's wake-up.
+  using DatagramHandler = std::function<void(std::span<const std::uint8_t>, std::int64_t rx_ns,
+                                             std::int64_t kernel_rx_ns)>;
   using ErrorHandler = std::function<void(std::size_t peer, const std::string& why)>;
 
   /// Listens on @p listen (@throws boost::system::system_error when it cannot) for datagrams
@@ -55,6 +58,7 @@ class FederationSocket final : public FederationTransport {
     std::optional<boost::asio::ip::udp::endpoint> endpoint;
   };
   void receive();
+  void drain();
   void resolve_all();
   void resolved(std::size_t k, const boost::asio::ip::udp::endpoint& ep);
   void report(std::size_t k, std::string why);
@@ -67,7 +71,7 @@ class FederationSocket final : public FederationTransport {
   DatagramHandler on_datagram_;
   ErrorHandler on_error_;
   std::array<std::uint8_t, 65536> buf_{};
-  boost::asio::ip::udp::endpoint from_;
+  std::array<std::uint8_t, 64> control_{};  ///< room for one SCM_TIMESTAMPNS
   std::shared_ptr<bool> alive_ = std::make_shared<bool>(true);
   std::uint64_t send_errors_ = 0;
   std::uint64_t not_resolved_drops_ = 0;

@@ -477,9 +477,10 @@ int run(const Options& opt) {
     try {
       federation_socket = std::make_unique<radio::FederationSocket>(
           io, federation_ep, peers,
-          [&federation](std::span<const std::uint8_t> d, std::int64_t rx_ns) {
+          [&federation](std::span<const std::uint8_t> d, std::int64_t rx_ns,
+                        std::int64_t kernel_rx_ns) {
             if (federation)
-              federation->on_datagram(d, rx_ns);
+              federation->on_datagram(d, rx_ns, kernel_rx_ns);
           },
           [&federation](std::size_t peer, const std::string& why) {
             if (federation)
@@ -597,23 +598,26 @@ int run(const Options& opt) {
             why);
     });
     if (tb::trace::global().enabled())
-      federation->set_hop_observer([](const radio::FederationDatagram& d, std::int64_t rx_ns) {
-        auto& t = tb::trace::global();
-        if (const auto cam = radio::peek_cam(d.frame, radio::LinkFraming::kEthernet))
-          t.record_at(rx_ns, "medium.hop",
-                      {{"src", d.sender},
-                       {"node", d.node},
-                       {"station", cam->station_id},
-                       {"gdt", unsigned{cam->generation_delta_time}},
-                       {"tx_ns", d.tx_unix_ns},
-                       {"bytes", d.frame.size()}});
-        else
-          t.record_at(rx_ns, "medium.hop",
-                      {{"src", d.sender},
-                       {"node", d.node},
-                       {"tx_ns", d.tx_unix_ns},
-                       {"bytes", d.frame.size()}});
-      });
+      federation->set_hop_observer(
+          [](const radio::FederationDatagram& d, std::int64_t rx_ns, std::int64_t kernel_rx_ns) {
+            auto& t = tb::trace::global();
+            if (const auto cam = radio::peek_cam(d.frame, radio::LinkFraming::kEthernet))
+              t.record_at(rx_ns, "medium.hop",
+                          {{"src", d.sender},
+                           {"node", d.node},
+                           {"station", cam->station_id},
+                           {"gdt", unsigned{cam->generation_delta_time}},
+                           {"tx_ns", d.tx_unix_ns},
+                           {"kernel_rx_ns", kernel_rx_ns},
+                           {"bytes", d.frame.size()}});
+            else
+              t.record_at(rx_ns, "medium.hop",
+                          {{"src", d.sender},
+                           {"node", d.node},
+                           {"tx_ns", d.tx_unix_ns},
+                           {"kernel_rx_ns", kernel_rx_ns},
+                           {"bytes", d.frame.size()}});
+          });
     federation_socket->start();
     arm_heartbeat = [&] {
       heartbeat.expires_after(radio::Federation::kHeartbeatInterval);

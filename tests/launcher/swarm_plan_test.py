@@ -230,6 +230,23 @@ class SwarmPlan(unittest.TestCase):
         self.assertEqual(sorted(map(int, creds["stations"])), sorted(full + pooled))
         self.assertEqual(creds["hosts"]["station-host"]["stations"], pooled)
 
+    def test_trace_dir_in_emulators_and_stations(self):
+        self.run_plan(SCEN / "dense-ring.json", "--nodes", "n1,n2", "--trace-dir", "/tmp/tr")
+        services = self.stack()["services"]
+        traced = {n for n, s in services.items() if "TESTBED_TRACE_DIR" in s.get("environment", {})}
+        want = {f"{kind}-{n}" for kind in ("emulator", "station", "station-host") for n in ("n1", "n2")}
+        self.assertEqual(traced, want)
+        for n in want:
+            self.assertEqual(services[n]["environment"]["TESTBED_TRACE_DIR"], "/tmp/tr")
+        # Without the option no service traces (the trace files cost disk in the containers).
+        self.run_plan(SCEN / "dense-ring.json", "--nodes", "n1,n2", out=self.tmp / "o2")
+        st = yaml.safe_load((self.tmp / "o2" / "stack.yml").read_text())
+        self.assertFalse([n for n, s in st["services"].items()
+                          if "TESTBED_TRACE_DIR" in s.get("environment", {})])
+        r = self.run_plan(SCEN / "demo.json", "--nodes", "a", "--trace-dir", "tr", expect=2,
+                          out=self.tmp / "o3")
+        self.assertIn("--trace-dir: 'tr' must be an absolute path", r.stderr)
+
     def test_manager_without_stations(self):
         self.run_plan(SCEN / "lcrw-frontal.json", "--nodes", "a,b", "--manager", "boss")
         services = self.stack()["services"]
@@ -461,7 +478,14 @@ class UpSwarm(unittest.TestCase):
     def test_swarm_options_need_swarm(self):
         r = self.run_up("demo", "--nodes", "a,b")
         self.assertEqual(r.returncode, 2)
-        self.assertIn("--nodes, --by, --registry and --station-hosts go with --swarm", r.stderr)
+        self.assertIn("--nodes, --by, --registry, --pushed and --station-hosts go with --swarm",
+                      r.stderr)
+        r = self.run_up("demo", "--pushed")
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("go with --swarm", r.stderr)
+        r = self.run_up("--swarm", "demo", "--pushed")
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("--pushed needs --registry ADDR", r.stderr)
         r = self.run_up("--swarm", "demo", "--by")
         self.assertEqual(r.returncode, 2)
         self.assertIn("--by needs a value", r.stderr)

@@ -7,6 +7,10 @@
 // medium".
 //
 // radio-federation-bench [--samples N] [--repetitions R] [--forwarding user|kernel|both]
+//                        [--frame-bytes B] [--link-mtu M]
+// --frame-bytes: the frame's size on wlan0 (default 100, a CAM's order; up to 1514); --link-mtu:
+// the MTU of the link between the nodes (default 1500; 1450 is a VXLAN overlay's, docker's
+// default), so that a full-size frame's datagram is IP-fragmented as on the swarm's overlay.
 
 #include <time.h>
 
@@ -51,14 +55,15 @@ double percentile(std::vector<double> v, double p) {
 // One station's raw socket on wlan0 in its namespace; frames carry (seq, send time).
 class Endpoint {
  public:
-  Endpoint(radio::StationId id, const std::string& netns) : id_(id) {
+  Endpoint(radio::StationId id, const std::string& netns, std::size_t frame_bytes)
+      : id_(id), frame_bytes_(frame_bytes) {
     socket_ = radio::in_netns(radio::NetnsFd::open(netns), [] {
       return std::make_unique<radio::PacketSocket>(radio::kStationIfname,
                                                    radio::kEthertypeGeoNetworking, 4 << 20);
     });
   }
   bool send(std::uint32_t seq) {
-    std::vector<std::uint8_t> f(100, 0);
+    std::vector<std::uint8_t> f(frame_bytes_, 0);
     std::fill_n(f.begin(), 6, 0xff);
     const auto src = radio::station_mac(id_);
     std::copy(src.begin(), src.end(), f.begin() + 6);
@@ -93,6 +98,7 @@ class Endpoint {
 
  private:
   radio::StationId id_;
+  std::size_t frame_bytes_;
   std::unique_ptr<radio::PacketSocket> socket_;
 };
 
@@ -102,7 +108,8 @@ struct Result {
   std::size_t lost = 0;
 };
 
-Result measure(const std::string& forwarding, int repetitions, int samples) {
+Result measure(const std::string& forwarding, int repetitions, int samples, std::size_t frame_bytes,
+               int link_mtu) {
   using radio::TestNetns;
   const fs::path dir = fs::temp_directory_path() / ("federation-bench-" + radio::kTag);
   fs::create_directories(dir);
@@ -114,7 +121,9 @@ Result measure(const std::string& forwarding, int repetitions, int samples) {
                           " && ip -n " + a + " addr add 10.77.0.1/24 dev fed0 && ip -n " + b +
                           " addr add 10.77.0.2/24 dev fed0 && ip -n " + a +
                           " link set fed0 up && ip -n " + b + " link set fed0 up && ip -n " + a +
-                          " link set lo up && ip -n " + b + " link set lo up";
+                          " link set lo up && ip -n " + b + " link set lo up && ip -n " + a +
+                          " link set fed0 mtu " + std::to_string(link_mtu) + " && ip -n " + b +
+                          " link set fed0 mtu " + std::to_string(link_mtu);
   if (std::system(cmd.c_str()) != 0)
     throw std::runtime_error("cannot join the node namespaces: " + cmd);
   const bool user = forwarding == "user";
@@ -158,7 +167,7 @@ Result measure(const std::string& forwarding, int repetitions, int samples) {
         throw std::runtime_error("the media did not hear from each other");
       std::this_thread::sleep_for(20ms);
     }
-    Endpoint tx(11, st_a.name()), rx(21, st_b.name());
+    Endpoint tx(11, st_a.name(), frame_bytes), rx(21, st_b.name(), frame_bytes);
     std::uint32_t seq = 0;
     for (int i = 0; i < 50; ++i) {  // warm-up: caches, ARP, first wake-ups
       tx.send(++seq);
@@ -199,10 +208,16 @@ int main(int argc, char** argv) {
   CLI::App app{"radio-federation-bench: latency of the federated medium's hop between two nodes"};
   int samples = 2000, repetitions = 3;
   std::string forwarding = "both";
+  std::size_t frame_bytes = 100;
+  int link_mtu = 1500;
   app.add_option("--samples", samples, "frames per run")->check(CLI::PositiveNumber);
   app.add_option("--repetitions", repetitions, "runs per forwarding")->check(CLI::PositiveNumber);
   app.add_option("--forwarding", forwarding, "user, kernel or both")
       ->check(CLI::IsMember({"user", "kernel", "both"}));
+  app.add_option("--frame-bytes", frame_bytes, "frame size on wlan0, 26..1514")
+      ->check(CLI::Range(26, 1514));
+  app.add_option("--link-mtu", link_mtu, "MTU of the link between the nodes")
+      ->check(CLI::Range(1280, 9000));
   CLI11_PARSE(app, argc, argv);
   if (::geteuid() != 0) {
     std::fprintf(stderr, "radio-federation-bench: needs root (namespaces, veth)\n");
@@ -212,13 +227,14 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "radio-federation-bench: set TESTBED_BIN to the folder of radio-medium\n");
     return 1;
   }
-  std::printf("load average before: %s\n", loadavg().c_str());
+  std::printf("load average before: %s; frames of %zu bytes, link MTU %d\n", loadavg().c_str(),
+              frame_bytes, link_mtu);
   std::vector<std::string> modes = forwarding == "both" ? std::vector<std::string>{"user", "kernel"}
                                                         : std::vector<std::string>{forwarding};
   for (const auto& mode : modes) {
     Result r;
     try {
-      r = measure(mode, repetitions, samples);
+      r = measure(mode, repetitions, samples, frame_bytes, link_mtu);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "radio-federation-bench: %s\n", e.what());
       return 1;

@@ -185,7 +185,7 @@ TEST_F(FederationTest, ARemoteFrameGetsTheChannelPerLocalReceiver) {
   MediumRemoteSink sink(medium);
   Federation f(three_nodes(), "a", *ch, positions, rt, transport, sink);
   std::vector<std::int64_t> hops;
-  f.set_hop_observer([&](const FederationDatagram& d, std::int64_t rx) {
+  f.set_hop_observer([&](const FederationDatagram& d, std::int64_t rx, std::int64_t) {
     EXPECT_EQ(d.sender, 11u);
     hops.push_back(rx - d.tx_unix_ns);
   });
