@@ -23,6 +23,7 @@
 
 #include "common/can/dbc.hpp"
 #include "common/can/socketcan_bus.hpp"
+#include "common/test_support/epoll_watch.hpp"
 
 namespace tb::can {
 namespace {
@@ -33,21 +34,7 @@ std::int64_t now_unix_ns() {
       .count();
 }
 
-/// How many descriptors the process's epoll sets watch (the "tfd:" lines of each epoll
-/// descriptor's /proc fdinfo, proc(5)).
-std::size_t epoll_watched_descriptors() {
-  std::size_t n = 0;
-  for (const auto& e : std::filesystem::directory_iterator("/proc/self/fd")) {
-    std::error_code ec;
-    const auto target = std::filesystem::read_symlink(e.path(), ec);
-    if (ec || target.string() != "anon_inode:[eventpoll]")
-      continue;
-    std::ifstream info("/proc/self/fdinfo/" + e.path().filename().string());
-    for (std::string line; std::getline(info, line);)
-      n += line.starts_with("tfd:") ? 1 : 0;
-  }
-  return n;
-}
+using test_support::epoll_watched_descriptors;
 
 /// A sender and a receiver on vcan0 of a namespace of their own. CAN_RAW loops a frame sent on
 /// vcan back to every other socket on the interface, so the receiver sees what the sender sends.

@@ -15,6 +15,7 @@
 
 #include "common/can/netns.hpp"
 #include "common/can/udp_can_bus.hpp"
+#include "common/test_support/epoll_watch.hpp"
 #include "common/test_support/stale_netns.hpp"
 
 namespace tb::can {
@@ -113,21 +114,7 @@ TEST(UdpCanBus, OnePollReadsMoreDatagramsThanOneBatchInOrder) {
   EXPECT_EQ(rx->poll(), 0u);
 }
 
-/// How many descriptors the process's epoll sets watch (the "tfd:" lines of each epoll
-/// descriptor's /proc fdinfo, proc(5)).
-std::size_t epoll_watched_descriptors() {
-  std::size_t n = 0;
-  for (const auto& e : std::filesystem::directory_iterator("/proc/self/fd")) {
-    std::error_code ec;
-    const auto target = std::filesystem::read_symlink(e.path(), ec);
-    if (ec || target.string() != "anon_inode:[eventpoll]")
-      continue;
-    std::ifstream info("/proc/self/fdinfo/" + e.path().filename().string());
-    for (std::string line; std::getline(info, line);)
-      n += line.starts_with("tfd:") ? 1 : 0;
-  }
-  return n;
-}
+using test_support::epoll_watched_descriptors;
 
 TEST(UdpCanBus, OnDemandLeavesTheEpollSetSoThatDatagramsWakeNobody) {
   // Registered with the io_context's epoll, every datagram would wake the thread that runs it
