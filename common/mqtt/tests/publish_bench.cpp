@@ -31,11 +31,8 @@ Broker& broker() {
 }
 
 tb::mqtt::ClientConfig station(const Broker& b) {
-  tb::mqtt::ClientConfig c;
-  c.port = b.port();
-  c.client_id = "station-1001-bench";
-  c.username = "station-1001";
-  c.password = b.password(1001);
+  tb::mqtt::ClientConfig c = b.station_account(1001);
+  c.client_id += "-bench";
   return c;
 }
 

@@ -24,6 +24,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/mqtt/mosquitto_client.hpp"
+
 namespace tb::mqtt::testing {
 
 namespace fs = std::filesystem;
@@ -106,6 +108,15 @@ class Broker {
   int port() const { return tcp_port_; }
   std::string password(std::uint32_t station) const {
     return creds_["stations"][std::to_string(station)]["password"].get<std::string>();
+  }
+  /// A client of this broker logged in as station @p station (user and client id
+  /// "station-<id>"), as its-station connects.
+  ClientConfig station_account(std::uint32_t station) const {
+    ClientConfig c;
+    c.port = tcp_port_;
+    c.client_id = c.username = "station-" + std::to_string(station);
+    c.password = password(station);
+    return c;
   }
 
   bool start() {

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "common/clock/runtime.hpp"
+#include "network-emulator/radio/tests/recording_sink.hpp"
 
 namespace tb::emu::radio {
 namespace {
@@ -20,16 +21,8 @@ struct RecordingTransport : FederationTransport {
   std::vector<std::pair<std::size_t, std::vector<std::uint8_t>>> sent;
 };
 
-struct RecordingSink : FrameSink {
-  void transmit(std::span<const std::uint8_t> frame) override {
-    frames.emplace_back(frame.begin(), frame.end());
-  }
-  std::vector<std::vector<std::uint8_t>> frames;
-};
-
-std::vector<std::uint8_t> frame(std::uint8_t tag) {
-  return {0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 2, 0, 0, 0, 0, 1, 0x89, 0x47, tag};
-}
+using testing::frame;
+using testing::RecordingSink;
 
 // Node a (this one): 1 and 2; b: 11 and pooled 12; c: 21, 22.
 Placement three_nodes() {

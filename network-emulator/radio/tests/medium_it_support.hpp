@@ -164,6 +164,20 @@ class MediumProcess {
   std::string seen_;
 };
 
+// A broadcast GeoNetworking-typed frame from station @p id's MAC carrying its id and @p seq
+// (bytes 14–21, host order): what the test stations send and recognise.
+inline std::vector<std::uint8_t> test_frame(StationId id, std::uint32_t seq) {
+  std::vector<std::uint8_t> f(100, 0);
+  std::fill_n(f.begin(), 6, 0xff);
+  const MacAddress src = station_mac(id);
+  std::copy(src.begin(), src.end(), f.begin() + 6);
+  f[12] = 0x89;
+  f[13] = 0x47;
+  std::memcpy(&f[14], &id, 4);
+  std::memcpy(&f[18], &seq, 4);
+  return f;
+}
+
 // A station's end: AF_PACKET on wlan0 inside its namespace.
 class Station {
  public:
@@ -173,15 +187,8 @@ class Station {
     });
   }
   void send(std::uint32_t seq) {
-    std::vector<std::uint8_t> f(100, 0);
-    std::fill_n(f.begin(), 6, 0xff);
-    const MacAddress src = station_mac(id_);
-    std::copy(src.begin(), src.end(), f.begin() + 6);
-    f[12] = 0x89;
-    f[13] = 0x47;
-    std::memcpy(&f[14], &id_, 4);
-    std::memcpy(&f[18], &seq, 4);
-    ASSERT_TRUE(socket_->send(f)) << "send on station " << id_ << ": " << std::strerror(errno);
+    ASSERT_TRUE(socket_->send(test_frame(id_, seq)))
+        << "send on station " << id_ << ": " << std::strerror(errno);
   }
   // Reads every frame waiting, or waits up to @p wait for the first.
   void poll_frames(std::chrono::milliseconds wait = 0ms) {
@@ -237,15 +244,8 @@ class RawHost {
     });
   }
   void send_as(StationId id, std::uint32_t seq) {
-    std::vector<std::uint8_t> f(100, 0);
-    std::fill_n(f.begin(), 6, 0xff);
-    const MacAddress src = station_mac(id);
-    std::copy(src.begin(), src.end(), f.begin() + 6);
-    f[12] = 0x89;
-    f[13] = 0x47;
-    std::memcpy(&f[14], &id, 4);
-    std::memcpy(&f[18], &seq, 4);
-    ASSERT_TRUE(socket_->send(f)) << "send as " << id << ": " << std::strerror(errno);
+    ASSERT_TRUE(socket_->send(test_frame(id, seq)))
+        << "send as " << id << ": " << std::strerror(errno);
   }
   struct Got {
     bool pooled = false;            ///< a TBPD frame (else a plain GN frame)

@@ -1,4 +1,5 @@
 #include "network-emulator/radio/medium.hpp"
+#include "network-emulator/radio/tests/recording_sink.hpp"
 
 #include <gtest/gtest.h>
 
@@ -8,16 +9,8 @@ namespace {
 using namespace std::chrono_literals;
 using Kind = scenario::ChannelModel::Kind;
 
-struct RecordingSink : FrameSink {
-  void transmit(std::span<const std::uint8_t> frame) override {
-    frames.emplace_back(frame.begin(), frame.end());
-  }
-  std::vector<std::vector<std::uint8_t>> frames;
-};
-
-std::vector<std::uint8_t> frame(std::uint8_t tag) {
-  return {0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 2, 0, 0, 0, 0, 1, 0x89, 0x47, tag};
-}
+using testing::frame;
+using testing::RecordingSink;
 
 class MediumTest : public ::testing::Test {
  protected:

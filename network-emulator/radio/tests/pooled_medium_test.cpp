@@ -9,19 +9,13 @@
 
 #include "network-emulator/radio/medium.hpp"
 #include "network-emulator/radio/sender_attribution.hpp"
+#include "network-emulator/radio/tests/recording_sink.hpp"
 
 namespace tb::emu::radio {
 namespace {
 
 using namespace std::chrono_literals;
 using Kind = scenario::ChannelModel::Kind;
-
-struct RecordingSink : FrameSink {
-  void transmit(std::span<const std::uint8_t> frame) override {
-    frames.emplace_back(frame.begin(), frame.end());
-  }
-  std::vector<std::vector<std::uint8_t>> frames;
-};
 
 struct RecordingHost : PooledSink {
   struct Delivery {
@@ -35,9 +29,8 @@ struct RecordingHost : PooledSink {
   std::vector<Delivery> got;
 };
 
-std::vector<std::uint8_t> frame(std::uint8_t tag) {
-  return {0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 2, 0, 0, 0, 0, 1, 0x89, 0x47, tag};
-}
+using testing::frame;
+using testing::RecordingSink;
 
 scenario::ChannelModel range(double m) {
   scenario::ChannelModel c;

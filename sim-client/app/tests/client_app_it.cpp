@@ -328,10 +328,7 @@ TEST(ClientApp, MqttWarningBannerComesAndGoes) {
   ASSERT_TRUE(broker.configured());
   ASSERT_TRUE(broker.start()) << broker.log();
   clock::SystemClock clk;
-  mqtt::ClientConfig sc;
-  sc.port = broker.port();
-  sc.client_id = sc.username = "station-1001";
-  sc.password = broker.password(1001);
+  mqtt::ClientConfig sc = broker.station_account(1001);
   mqtt::MosquittoClient station(clk, sc);
   station.start();
 
@@ -396,15 +393,10 @@ TEST(ClientApp, WatcherFollowsTheCarItNamesAndShowsItsSignalPanel) {
   ASSERT_TRUE(broker.configured());
   ASSERT_TRUE(broker.start()) << broker.log();
   clock::SystemClock clk;
-  mqtt::ClientConfig sc;
-  sc.port = broker.port();
-  sc.client_id = sc.username = "station-1002";
-  sc.password = broker.password(1002);
+  mqtt::ClientConfig sc = broker.station_account(1002);
   mqtt::MosquittoClient station(clk, sc);
   station.start();
-  mqtt::ClientConfig first = sc;
-  first.client_id = first.username = "station-1001";
-  first.password = broker.password(1001);
+  mqtt::ClientConfig first = broker.station_account(1001);
   mqtt::MosquittoClient first_station(clk, first);
   first_station.start();
 
@@ -479,10 +471,7 @@ TEST(ClientApp, MqttSignalPanelAndRedLightBannerComeAndGo) {
   ASSERT_TRUE(broker.configured());
   ASSERT_TRUE(broker.start()) << broker.log();
   clock::SystemClock clk;
-  mqtt::ClientConfig sc;
-  sc.port = broker.port();
-  sc.client_id = sc.username = "station-1001";
-  sc.password = broker.password(1001);
+  mqtt::ClientConfig sc = broker.station_account(1001);
   mqtt::MosquittoClient station(clk, sc);
   station.start();
 

@@ -286,10 +286,7 @@ TEST_F(View3dRender, WarningBannerWhileMqttCarriesAWarningAndGoneAfterCleared) {
   v2x::V2xSubscriber reader(clk, monitor,
                             {"127.0.0.1", static_cast<std::uint16_t>(broker.port()), "hmi", "hmi"});
   reader.start();
-  mqtt::ClientConfig sc;
-  sc.port = broker.port();
-  sc.client_id = sc.username = "station-1001";
-  sc.password = broker.password(1001);
+  mqtt::ClientConfig sc = broker.station_account(1001);
   mqtt::MosquittoClient station(clk, sc);
   station.start();
   ASSERT_TRUE(
