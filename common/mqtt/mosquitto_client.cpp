@@ -312,7 +312,7 @@ void MosquittoClient::write_held_locked() {
   } else {
     const std::size_t before = raw_.size();
     for (const OutMessage& m : held_) {
-      if (raw_.size() - raw_sent_ > kRawBacklogMax) {
+      if (raw_pending_locked() > kRawBacklogMax) {
         // The broker has not read for a while: a QoS 0 message may be lost, never cut.
         if (raw_discarded_++ == 0 || raw_discarded_ % 1000 == 0) {
           spdlog::warn("mqtt: the broker {}:{} is not reading; {} QoS 0 messages discarded",
@@ -351,7 +351,6 @@ void MosquittoClient::send_raw_locked() {
         ::send(sock, raw_.data() + raw_sent_, raw_pending_locked(), MSG_NOSIGNAL | MSG_DONTWAIT);
     if (n > 0) {
       raw_sent_ += static_cast<std::size_t>(n);
-      ++raw_sends_;
       if (raw_waiting_) {
         raw_stalled_since_ = clock_.steady_now();  // it moves: not stalled
       }
@@ -553,10 +552,6 @@ std::uint64_t MosquittoClient::batches() const {
 std::uint64_t MosquittoClient::batched_messages() const {
   std::lock_guard lock(mutex_);
   return batched_messages_;
-}
-std::uint64_t MosquittoClient::raw_sends() const {
-  std::lock_guard lock(mutex_);
-  return raw_sends_;
 }
 std::uint64_t MosquittoClient::raw_deferred() const {
   std::lock_guard lock(mutex_);

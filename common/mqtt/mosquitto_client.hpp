@@ -118,8 +118,6 @@ class MosquittoClient final : public MqttSink {
   /// connected) and the messages in them.
   std::uint64_t batches() const;
   std::uint64_t batched_messages() const;
-  /// send() calls that wrote QoS 0 packets of this class's own encoding.
-  std::uint64_t raw_sends() const;
   /// Times the socket was full and our bytes waited for the network thread.
   std::uint64_t raw_deferred() const;
   /// QoS 0 messages discarded because kRawBacklogMax bytes were already waiting.
@@ -199,7 +197,6 @@ class MosquittoClient final : public MqttSink {
   std::size_t raw_sent_ = 0;  ///< raw_[raw_sent_, end) waits for room in the socket
   bool raw_waiting_ = false;
   clock::SteadyTime raw_stalled_since_{};  ///< the socket's last progress while raw_waiting_
-  std::uint64_t raw_sends_ = 0;
   std::uint64_t raw_deferred_ = 0;
   std::uint64_t raw_discarded_ = 0;
 };
