@@ -10,6 +10,8 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <system_error>
+#include <utility>
 
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
@@ -27,6 +29,7 @@
 #include "common/mqtt/mosquitto_client.hpp"
 #include "common/scenario/loader.hpp"
 #include "common/trace/tracer.hpp"
+#include "common/util/snapshot_file.hpp"
 #include "its-station/app/rsu_mode.hpp"
 #include "its-station/apps/mqtt/messages.hpp"
 #include "its-station/facilities/can_vehicle_data.hpp"
@@ -304,17 +307,27 @@ int run(const Options& o) {
     }
   }
 
-  // Status file: the LDM as the station sees it, for operators and tests.
+  // Status file: the LDM as the station sees it, for operators and tests. A write that fails
+  // is logged when it starts failing and when it works again, not twice a second.
   asio::steady_timer status_timer(io);
+  std::optional<tb::SnapshotFile> status_file;
+  if (!o.status_file.empty())
+    status_file.emplace(o.status_file);
+  bool status_failing = false;
   auto write_status = [&] {
-    if (o.status_file.empty())
+    if (!status_file)
       return;
     nlohmann::json j = station.status();
     if (rsu_mode)
       j["rsu"] = rsu_mode->status();
-    const std::string tmp = o.status_file + ".tmp";
-    std::ofstream(tmp) << j.dump() << "\n";
-    std::rename(tmp.c_str(), o.status_file.c_str());
+    try {
+      status_file->write(j.dump() + "\n");
+      if (std::exchange(status_failing, false))
+        spdlog::info("status file {} written again", status_file->path());
+    } catch (const std::system_error& e) {
+      if (!std::exchange(status_failing, true))
+        spdlog::error("status file: {}", e.what());
+    }
   };
   std::function<void()> status_tick = [&] {
     write_status();

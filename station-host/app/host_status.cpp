@@ -1,7 +1,9 @@
 #include "station-host/app/host_status.hpp"
 
-#include <cstdio>
-#include <fstream>
+#include <system_error>
+#include <utility>
+
+#include <spdlog/spdlog.h>
 
 namespace tb::host {
 
@@ -39,7 +41,7 @@ nlohmann::json station_status(const its::station::Station& s,
 void HostStatus::write(std::span<const its::station::Station* const> stations,
                        std::span<const its::security::SecurityEntity* const> security,
                        const DemuxCounters& link, const HostSocketStats& socket,
-                       const StateFeed::Counters& states) const {
+                       const StateFeed::Counters& states) {
   nlohmann::json j;
   nlohmann::json list = nlohmann::json::array();
   for (std::size_t i = 0; i < stations.size(); ++i)
@@ -62,12 +64,14 @@ void HostStatus::write(std::span<const its::station::Station* const> stations,
                  {"malformed", states.malformed},
                  {"states", states.states},
                  {"other_station", states.other_station}};
-  const std::string tmp = path_ + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << j.dump() << "\n";
+  try {
+    file_.write(j.dump() + "\n");
+    if (std::exchange(failing_, false))
+      spdlog::info("status file {} written again", file_.path());
+  } catch (const std::system_error& e) {
+    if (!std::exchange(failing_, true))
+      spdlog::error("status file: {}", e.what());
   }
-  std::rename(tmp.c_str(), path_.c_str());
 }
 
 }  // namespace tb::host

@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/util/snapshot_file.hpp"
+
 #include "its-station/security/security_entity.hpp"
 #include "its-station/station/station.hpp"
 #include "station-host/feed/state_feed.hpp"
@@ -22,15 +24,17 @@ nlohmann::json station_status(const its::station::Station& station,
 
 class HostStatus {
  public:
-  explicit HostStatus(std::string path) : path_(std::move(path)) {}
-  /// Writes FILE.tmp and renames it over FILE, so that a reader never sees half a file.
+  explicit HostStatus(std::string path) : file_(std::move(path)) {}
+  /// Replaces the file whole (a reader never sees half of it). A write that fails is logged
+  /// when writes start failing and when they work again.
   void write(std::span<const its::station::Station* const> stations,
              std::span<const its::security::SecurityEntity* const> security,
              const DemuxCounters& link, const HostSocketStats& socket,
-             const StateFeed::Counters& states) const;
+             const StateFeed::Counters& states);
 
  private:
-  std::string path_;
+  SnapshotFile file_;
+  bool failing_ = false;
 };
 
 }  // namespace tb::host
