@@ -90,10 +90,17 @@ void Signal::insert_raw(std::int64_t raw, std::span<std::uint8_t> data) const {
 
 std::int64_t Signal::extract_raw(std::span<const std::uint8_t> data) const {
   std::uint64_t u = 0;
-  for_each_bit(*this, [&](unsigned pos, unsigned bit) {
-    if (pos / 8 < data.size() && ((data[pos / 8] >> (pos % 8)) & 1u))
-      u |= std::uint64_t{1} << bit;
-  });
+  if (byte_order == ByteOrder::kIntel && start_bit % 8 == 0 && length % 8 == 0 &&
+      start_bit / 8 + length / 8 <= data.size()) {
+    // Whole little-endian bytes, as insert_raw: a station decodes every vehicle frame's signals.
+    for (unsigned b = 0; b < length / 8; ++b)
+      u |= std::uint64_t{data[start_bit / 8 + b]} << (8 * b);
+  } else {
+    for_each_bit(*this, [&](unsigned pos, unsigned bit) {
+      if (pos / 8 < data.size() && ((data[pos / 8] >> (pos % 8)) & 1u))
+        u |= std::uint64_t{1} << bit;
+    });
+  }
   if (is_signed && length < 64 && ((u >> (length - 1)) & 1u))
     u |= ~std::uint64_t{0} << length;
   return static_cast<std::int64_t>(u);

@@ -9,6 +9,8 @@
 #include <memory>
 #include <system_error>
 
+#include <fmt/compile.h>
+
 namespace tb::trace {
 namespace {
 
@@ -42,16 +44,23 @@ void append_escaped(fmt::memory_buffer& out, std::string_view s) {
   out.push_back('"');
 }
 
+// Integers through format_int and doubles through a compiled format: no format string is parsed
+// per record (a full station writes ~2,000 records a second at 49 neighbours).
+void append_integer(fmt::memory_buffer& out, auto v) {
+  const fmt::format_int text(v);
+  out.append(text.data(), text.data() + text.size());
+}
+
 struct ValueWriter {
   fmt::memory_buffer& out;
-  void operator()(std::int64_t v) const { fmt::format_to(std::back_inserter(out), "{}", v); }
-  void operator()(std::uint64_t v) const { fmt::format_to(std::back_inserter(out), "{}", v); }
+  void operator()(std::int64_t v) const { append_integer(out, v); }
+  void operator()(std::uint64_t v) const { append_integer(out, v); }
   void operator()(double v) const {
     // JSON has no NaN or infinity; null keeps the line parseable.
     if (v != v || v - v != 0.0) {
       out.append(std::string_view{"null"});
     } else {
-      fmt::format_to(std::back_inserter(out), "{}", v);
+      fmt::format_to(std::back_inserter(out), FMT_COMPILE("{}"), v);
     }
   }
   void operator()(std::string_view v) const { append_escaped(out, v); }
@@ -60,7 +69,12 @@ struct ValueWriter {
 
 }  // namespace
 
-Tracer::Tracer(const std::string& path, std::string process) : process_(std::move(process)) {
+Tracer::Tracer(const std::string& path, std::string process) {
+  fmt::memory_buffer escaped;
+  escaped.append(std::string_view{",\"proc\":"});
+  append_escaped(escaped, process);
+  escaped.append(std::string_view{",\"ev\":"});
+  proc_field_ = fmt::to_string(escaped);
   fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
   if (fd_ < 0)
     throw std::system_error(errno, std::generic_category(), "trace file " + path);
@@ -81,10 +95,9 @@ std::int64_t Tracer::now_ns() {
 
 void Tracer::write(std::int64_t ts, std::string_view event, std::initializer_list<Field> fields) {
   std::lock_guard lock(mutex_);
-  auto out = std::back_inserter(buffer_);
-  fmt::format_to(out, "{{\"ts\":{},\"proc\":", ts);
-  append_escaped(buffer_, process_);
-  buffer_.append(std::string_view{",\"ev\":"});
+  buffer_.append(std::string_view{"{\"ts\":"});
+  append_integer(buffer_, ts);
+  buffer_.append(std::string_view{proc_field_});
   append_escaped(buffer_, event);
   for (const Field& f : fields) {
     buffer_.push_back(',');

@@ -69,7 +69,7 @@ class Tracer {
   void flush_locked();
 
   int fd_ = -1;
-  std::string process_;
+  std::string proc_field_;  ///< `,"proc":"<process>","ev":`, escaped once
   std::mutex mutex_;
   fmt::memory_buffer buffer_;
   std::int64_t last_flush_ns_ = 0;

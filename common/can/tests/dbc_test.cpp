@@ -222,5 +222,34 @@ TEST(Dbc, SixtyFourBitSignalsRoundTrip) {
   EXPECT_EQ(s.extract_raw(data), -1234567890123LL);
 }
 
+// Whole little-endian bytes (the vehicle frames' signals) are read without the bit loop: every
+// start byte, width and signedness against the integer the bytes spell, two's complement.
+TEST(Dbc, WholeByteIntelSignalsReadTheLittleEndianInteger) {
+  const std::array<std::uint8_t, 8> data{0x81, 0x02, 0xF3, 0x44, 0x95, 0x06, 0xE7, 0xF8};
+  for (unsigned start = 0; start < 64; start += 8) {
+    for (unsigned length = 8; start + length <= 64; length += 8) {
+      for (const bool is_signed : {false, true}) {
+        Signal s;
+        s.start_bit = start;
+        s.length = length;
+        s.is_signed = is_signed;
+        std::uint64_t want = 0;
+        for (unsigned b = 0; b < length / 8; ++b)
+          want |= std::uint64_t{data[start / 8 + b]} << (8 * b);
+        if (is_signed && length < 64 && (want >> (length - 1)) != 0)
+          want -= std::uint64_t{1} << length;  // negative: value − 2^length
+        EXPECT_EQ(s.extract_raw(data), static_cast<std::int64_t>(want))
+            << "start " << start << " length " << length << " signed " << is_signed;
+        // A frame one byte short: the missing top byte reads as zero (so no sign either), as
+        // the bit loop reads it.
+        const std::span<const std::uint8_t> cut(data.data(), start / 8 + length / 8 - 1);
+        const std::uint64_t low = length == 8 ? 0 : want & ((std::uint64_t{1} << (length - 8)) - 1);
+        EXPECT_EQ(s.extract_raw(cut), static_cast<std::int64_t>(low))
+            << "cut frame, start " << start << " length " << length;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace tb::can

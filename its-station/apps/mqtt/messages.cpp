@@ -176,6 +176,31 @@ std::string received_cam_payload(std::uint32_t source, clock::WallTime now, cons
   return fmt::to_string(out);
 }
 
+std::string state_payload(std::uint32_t source, clock::WallTime now, const StationState& s) {
+  fmt::memory_buffer out;
+  auto it = std::back_inserter(out);
+  fmt::format_to(it, "{{\"message\":{{\"basic_container\":{{\"reference_position\":");
+  write_reference_position(out, s.kinematics);
+  fmt::format_to(it, ",\"station_type\":{}}},\"gnss\":{{\"fix\":\"{}\"", s.station_type,
+                 to_string(s.fix));
+  if (s.hdop) {
+    // nlohmann's own number text (1.0, not fmt's 1), so that the payload equals the tree's dump.
+    fmt::format_to(it, ",\"hdop\":{}", json(*s.hdop).dump());
+  }
+  if (s.satellites_used) {
+    fmt::format_to(it, ",\"satellites_used\":{}", *s.satellites_used);
+  }
+  fmt::format_to(it, "}},\"high_frequency_container\":");
+  write_high_frequency(out, s.kinematics);
+  fmt::format_to(it, ",\"station_id\":{},\"timestamp_its\":{}}},", s.station_id,
+                 timestamp_its(s.time));
+  fmt::format_to(it,
+                 "\"origin\":\"self\",\"source_uuid\":\"station-{}\",\"timestamp\":{},"
+                 "\"type\":\"state\",\"version\":\"{}\"}}",
+                 source, unix_ms(now), kEnvelopeVersion);
+  return fmt::to_string(out);
+}
+
 json denm_message(const DenmView& d) {
   json mc{{"action_id",
            {{"originating_station_id", d.action_id.originating_station_id},

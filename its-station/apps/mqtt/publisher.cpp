@@ -23,7 +23,8 @@ void StationPublisher::send(const std::string& topic, std::string_view type,
 }
 
 void StationPublisher::publish_state(const StationState& s) {
-  send(topics_.state(), "state", kOriginSelf, state_message(s), tb::mqtt::Qos::kAtMostOnce, true);
+  sink_.publish(topics_.state(), state_payload(cfg_.station_id, clock_.wall_now(), s),
+                tb::mqtt::Qos::kAtMostOnce, true);
 }
 
 bool StationPublisher::publish_cam(const ReceivedCam& c) {

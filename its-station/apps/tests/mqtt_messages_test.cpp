@@ -118,6 +118,42 @@ TEST(CamMessage, WrittenPayloadEqualsTheEnvelopesDump) {
   }
 }
 
+TEST(StateMessage, WrittenPayloadEqualsTheEnvelopesDump) {
+  // Every combination of the optional members, whole and fractional HDOP (nlohmann writes 1.0
+  // where fmt writes 1), each fix kind: the writer must give the tree's text exactly.
+  const double hdops[] = {0.9, 1.0, 12.25, 99.99};
+  for (unsigned mask = 0; mask < 256; ++mask) {
+    StationState s;
+    s.station_id = 4'294'967'295u - mask;
+    s.station_type = static_cast<int>(mask % 16);
+    s.fix = static_cast<GnssFix>(mask % 3);
+    s.kinematics.latitude_deg = -33.8688;
+    s.kinematics.longitude_deg = 151.2093;
+    s.kinematics.reversing = (mask & 1u) != 0;
+    if (mask & 2u)
+      s.kinematics.altitude_m = 512.3;
+    if (mask & 4u)
+      s.kinematics.heading_deg = 0.05;
+    if (mask & 8u) {
+      s.kinematics.speed_mps = 13.9;
+      s.kinematics.longitudinal_accel_mps2 = 2.25;
+    }
+    if (mask & 16u) {
+      s.kinematics.length_m = 12.0;
+      s.kinematics.width_m = 2.55;
+    }
+    if (mask & 32u)
+      s.satellites_used = static_cast<int>(mask % 13);
+    if (mask & 64u)
+      s.hdop = hdops[mask % 4];
+    s.time = at_ms(1'700'000'000'123 + mask);
+    const auto now = at_ms(1'700'000'000'789);
+    EXPECT_EQ(state_payload(77, now, s),
+              envelope("state", "self", 77, now, state_message(s)).dump())
+        << "case " << mask;
+  }
+}
+
 TEST(StateMessage, IncludesGnssFix) {
   StationState s;
   s.station_id = 3;
