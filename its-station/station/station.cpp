@@ -431,7 +431,8 @@ nlohmann::json Station::status() {
   j["denms_sent"] = den_.counters().sent;
   j["denms_received"] = den_.counters().received;
   j["denms_forwarded"] = den_.counters().forwarded;
-  j["neighbours"] = nlohmann::json::array();
+  auto& neighbours = j["neighbours"] = nlohmann::json::array();
+  neighbours.get_ref<nlohmann::json::array_t&>().reserve(ldm_.neighbours().size());
   for (const auto& [id, n] : ldm_.neighbours()) {
     const auto& s = n.latest();
     nlohmann::json e{{"station_id", id},
@@ -442,7 +443,7 @@ nlohmann::json Station::status() {
       e["speed_mps"] = *s.speed_mps;
     if (s.heading_deg)
       e["heading_deg"] = *s.heading_deg;
-    j["neighbours"].push_back(e);
+    neighbours.push_back(std::move(e));
   }
   j["events"] = ldm_.active_events().size();
   if (signal_app_)
