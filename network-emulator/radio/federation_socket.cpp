@@ -15,9 +15,10 @@ using asio::ip::udp;
 
 FederationSocket::FederationSocket(asio::io_context& io, const udp::endpoint& listen,
                                    const std::vector<PlacementNode>& peers,
-                                   DatagramHandler on_datagram, ErrorHandler on_error)
+                                   DatagramHandler on_datagram, ErrorHandler on_error,
+                                   asio::io_context* listen_io)
     : io_(io),
-      listen_(io, listen),
+      listen_(listen_io != nullptr ? *listen_io : io, listen),
       resolver_(io),
       resolve_timer_(io),
       on_datagram_(std::move(on_datagram)),
@@ -38,7 +39,8 @@ FederationSocket::~FederationSocket() {
 }
 
 void FederationSocket::start() {
-  receive();
+  // Initiated on the listener's own executor: from then on only its thread touches it.
+  asio::post(listen_.get_executor(), [this] { receive(); });
   resolve_all();
 }
 
