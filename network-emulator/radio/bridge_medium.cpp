@@ -101,21 +101,12 @@ void BridgeMedium::federate(FrameObserver to_peers) {
 }
 
 void BridgeMedium::deliver_remote(StationId from, std::span<const std::uint8_t> frame) {
-  // The stations get the frame first; the channel's records of it are bookkeeping.
-  inject_remote(frame);
-  account_remote(from, frame);
-}
-
-void BridgeMedium::inject_remote(std::span<const std::uint8_t> frame) {
-  if (injector_ && !injector_->send(frame) && remote_send_errors_++ == 0)
-    spdlog::warn("radio: cannot write a remote frame into bridge {}: {} (counted, said once)",
-                 bridge_, std::system_category().message(errno));
-}
-
-void BridgeMedium::account_remote(StationId from, std::span<const std::uint8_t> /*frame*/) {
   ++remote_frames_in_;
   for (const StationId to : stations_)
     channel_.decide(from, to);
+  if (injector_ && !injector_->send(frame) && remote_send_errors_++ == 0)
+    spdlog::warn("radio: cannot write a remote frame into bridge {}: {} (counted, said once)",
+                 bridge_, std::system_category().message(errno));
 }
 
 void BridgeMedium::start() {

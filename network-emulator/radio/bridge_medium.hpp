@@ -10,7 +10,6 @@
 /// for the userspace medium. Only an ideal channel without delay or jitter can be left to the
 /// bridge (bridge_can_carry()): any other model decides per frame and link in the program.
 
-#include <atomic>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -70,13 +69,8 @@ class BridgeMedium final : public RemoteFrameSink {
   /// of every port (it learns no addresses) into every local station, pooled hosts too — what
   /// the ideal channel decides; the channel counts (and traces) each link as for a local frame.
   void deliver_remote(StationId from, std::span<const std::uint8_t> frame) override;
-  /// deliver_remote() in two halves: the write into the bridge, safe from another thread
-  /// (the federation's, as soon as the datagram is read; one send on a socket of its own), and
-  /// the channel's bookkeeping on this object's thread.
-  void inject_remote(std::span<const std::uint8_t> frame);
-  void account_remote(StationId from, std::span<const std::uint8_t> frame) override;
   std::uint64_t remote_frames_in() const { return remote_frames_in_; }
-  std::uint64_t remote_send_errors() const { return remote_send_errors_.load(); }
+  std::uint64_t remote_send_errors() const { return remote_send_errors_; }
 
   /// Brings the bridge up and starts reading the tap.
   void start();
@@ -109,7 +103,7 @@ class BridgeMedium final : public RemoteFrameSink {
   std::unique_ptr<PacketListener> federation_reader_;
   std::unique_ptr<PacketSocket> injector_;
   std::uint64_t remote_frames_in_ = 0;
-  std::atomic<std::uint64_t> remote_send_errors_{0};
+  std::uint64_t remote_send_errors_ = 0;
   std::unique_ptr<PacketTap> tap_;
   boost::asio::posix::stream_descriptor descriptor_;
   SenderAttribution attribution_;

@@ -79,21 +79,8 @@ void Federation::on_local_frame(StationId from, std::span<const std::uint8_t> fr
   }
 }
 
-std::optional<std::span<const std::uint8_t>> Federation::deliverable_frame(
-    std::span<const std::uint8_t> bytes) const {
-  const auto d = decode_federation_datagram(bytes);
-  if (!d || d->kind == FederationKind::kHeartbeat)
-    return std::nullopt;
-  const auto peer = peer_by_name_.find(std::string(d->node));
-  const auto owner = peer_of_station_.find(d->sender);
-  if (peer == peer_by_name_.end() || owner == peer_of_station_.end() ||
-      owner->second != peer->second)
-    return std::nullopt;
-  return d->frame;
-}
-
 void Federation::on_datagram(std::span<const std::uint8_t> bytes, std::int64_t rx_unix_ns,
-                             std::int64_t kernel_rx_unix_ns, bool written_early) {
+                             std::int64_t kernel_rx_unix_ns) {
   const auto d = decode_federation_datagram(bytes);
   if (!d) {
     reject(to_string(d.error()));
@@ -122,10 +109,7 @@ void Federation::on_datagram(std::span<const std::uint8_t> bytes, std::int64_t r
   if (hop_observer_)
     hop_observer_(*d, rx_unix_ns != 0 ? rx_unix_ns : now_ns(), kernel_rx_unix_ns);
   ++frames_in_;
-  if (written_early)
-    sink_.account_remote(d->sender, d->frame);
-  else
-    sink_.deliver_remote(d->sender, d->frame);
+  sink_.deliver_remote(d->sender, d->frame);
 }
 
 void Federation::tick() {

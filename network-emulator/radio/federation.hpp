@@ -12,7 +12,6 @@
 
 #include <cstdint>
 #include <functional>
-#include <optional>
 #include <span>
 #include <string>
 #include <unordered_map>
@@ -38,13 +37,6 @@ class RemoteFrameSink {
  public:
   virtual ~RemoteFrameSink() = default;
   virtual void deliver_remote(StationId from, std::span<const std::uint8_t> frame) = 0;
-  /// The frame is in the radios already (written early, from the federation's own thread):
-  /// only the bookkeeping a delivery makes (the channel's counts and records). Sinks that
-  /// cannot be written early are never handed frames this way.
-  virtual void account_remote(StationId from, std::span<const std::uint8_t> frame) {
-    (void)from;
-    (void)frame;
-  }
 };
 
 /// The program's forwarding: the channel decides per local receiver (Medium::on_remote_frame).
@@ -97,14 +89,7 @@ class Federation {
   /// ones, and frames whose sender is not a station of the peer that says it sent them, are
   /// counted and dropped.
   void on_datagram(std::span<const std::uint8_t> bytes, std::int64_t rx_unix_ns,
-                   std::int64_t kernel_rx_unix_ns = 0, bool written_early = false);
-  /// The frame of @p bytes when on_datagram() would deliver it — a well-formed frame datagram
-  /// from a peer of the placement, of a station the placement puts on that peer — else
-  /// nothing. Reads only what the constructor fixed: callable from another thread while this
-  /// one runs, so that a frame can be written into the radios as soon as its datagram is read
-  /// (then on_datagram(…, written_early = true) does the rest on this object's thread).
-  std::optional<std::span<const std::uint8_t>> deliverable_frame(
-      std::span<const std::uint8_t> bytes) const;
+                   std::int64_t kernel_rx_unix_ns = 0);
 
   /// Every kHeartbeatInterval: heartbeats to every peer, and peers silent for kSilenceLimit
   /// are declared down.

@@ -15,10 +15,9 @@ using asio::ip::udp;
 
 FederationSocket::FederationSocket(asio::io_context& io, const udp::endpoint& listen,
                                    const std::vector<PlacementNode>& peers,
-                                   DatagramHandler on_datagram, ErrorHandler on_error,
-                                   asio::io_context* listen_io)
+                                   DatagramHandler on_datagram, ErrorHandler on_error)
     : io_(io),
-      listen_(listen_io != nullptr ? *listen_io : io, listen),
+      listen_(io, listen),
       resolver_(io),
       resolve_timer_(io),
       on_datagram_(std::move(on_datagram)),
@@ -39,8 +38,7 @@ FederationSocket::~FederationSocket() {
 }
 
 void FederationSocket::start() {
-  // Initiated on the listener's own executor: from then on only its thread touches it.
-  asio::post(listen_.get_executor(), [this] { receive(); });
+  receive();
   resolve_all();
 }
 

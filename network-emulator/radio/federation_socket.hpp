@@ -35,11 +35,9 @@ class FederationSocket final : public FederationTransport {
   /// Listens on @p listen (@throws boost::system::system_error when it cannot) for datagrams
   /// to @p on_datagram; sends to @p peers (their medium HOST:PORT) once resolved, and reports
   /// send and resolution failures to @p on_error, posted (never from inside send()).
-  /// With @p listen_io the listening socket is read on that io_context's thread, and
-  /// @p on_datagram is called there (the sends, resolution and @p on_error stay on @p io's).
   FederationSocket(boost::asio::io_context& io, const boost::asio::ip::udp::endpoint& listen,
                    const std::vector<PlacementNode>& peers, DatagramHandler on_datagram,
-                   ErrorHandler on_error, boost::asio::io_context* listen_io = nullptr);
+                   ErrorHandler on_error);
   ~FederationSocket() override;
 
   void start();

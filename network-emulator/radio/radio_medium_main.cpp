@@ -13,12 +13,10 @@
 #include <optional>
 #include <set>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
-#include <boost/asio/executor_work_guard.hpp>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/udp.hpp>
 #include <boost/asio/signal_set.hpp>
@@ -471,22 +469,6 @@ int run(const Options& opt) {
   std::unique_ptr<radio::Federation> federation;
   std::unique_ptr<radio::FederationSocket> federation_socket;
   std::unique_ptr<radio::MediumRemoteSink> medium_sink;
-  // The federation's datagrams are read on a thread of their own, and a frame for the kernel's
-  // bridge is written into it there at once: the main thread's tap blocks, state batches and
-  // per-receiver bookkeeping never stand between a datagram and the stations
-  // (docs/scale-out.md, "The hop between media"). The rest of each datagram (liveness, the
-  // channel's records, `medium.hop`) is posted to the main thread, which owns the Federation.
-  asio::io_context federation_io{1};
-  std::optional<asio::executor_work_guard<asio::io_context::executor_type>> federation_work;
-  std::thread federation_thread;
-  radio::BridgeMedium* early_bridge = nullptr;  // set once the bridge exists, before start()
-  const auto stop_federation_thread = [&] {
-    if (federation_thread.joinable()) {
-      federation_work.reset();
-      federation_io.stop();
-      federation_thread.join();
-    }
-  };
   if (placement) {
     std::vector<radio::PlacementNode> peers;
     for (const auto& n : placement->nodes)
@@ -495,27 +477,15 @@ int run(const Options& opt) {
     try {
       federation_socket = std::make_unique<radio::FederationSocket>(
           io, federation_ep, peers,
-          [&federation, &early_bridge, &io](std::span<const std::uint8_t> d, std::int64_t rx_ns,
-                                            std::int64_t kernel_rx_ns) {
-            // On the federation thread. `federation` and `early_bridge` are set before the
-            // socket starts and never change while it runs.
-            if (!federation)
-              return;
-            bool early = false;
-            if (early_bridge)
-              if (const auto frame = federation->deliverable_frame(d)) {
-                early_bridge->inject_remote(*frame);
-                early = true;
-              }
-            asio::post(io, [&federation, bytes = std::vector<std::uint8_t>(d.begin(), d.end()),
-                            rx_ns, kernel_rx_ns,
-                            early] { federation->on_datagram(bytes, rx_ns, kernel_rx_ns, early); });
+          [&federation](std::span<const std::uint8_t> d, std::int64_t rx_ns,
+                        std::int64_t kernel_rx_ns) {
+            if (federation)
+              federation->on_datagram(d, rx_ns, kernel_rx_ns);
           },
           [&federation](std::size_t peer, const std::string& why) {
             if (federation)
               federation->on_send_error(peer, why);
-          },
-          &federation_io);
+          });
     } catch (const boost::system::system_error& e) {
       spdlog::error("radio-medium: --federation-listen {}: cannot listen: {}",
                     opt.federation_listen, e.code().message());
@@ -600,12 +570,6 @@ int run(const Options& opt) {
     return kExitSetup;
   }
 
-  // Whatever way this function is left, the federation thread ends before what it uses (the
-  // bridge, declared above) is destroyed.
-  struct JoinAtExit {
-    std::function<void()> f;
-    ~JoinAtExit() { f(); }
-  } join_at_exit{stop_federation_thread};
   asio::steady_timer heartbeat(io);
   std::function<void()> arm_heartbeat;
   if (placement) {
@@ -654,9 +618,6 @@ int run(const Options& opt) {
                            {"kernel_rx_ns", kernel_rx_ns},
                            {"bytes", d.frame.size()}});
           });
-    early_bridge = bridge.get();
-    federation_work.emplace(federation_io.get_executor());
-    federation_thread = std::thread([&federation_io] { federation_io.run(); });
     federation_socket->start();
     arm_heartbeat = [&] {
       heartbeat.expires_after(radio::Federation::kHeartbeatInterval);
@@ -750,7 +711,6 @@ int run(const Options& opt) {
   std::fflush(stdout);
 
   io.run();
-  stop_federation_thread();
   if (bridge)
     bridge->drain_all();  // what the tap holds yet
   write_stats(opt.stats_file, channel, {bridge.get(), ports.get(), federation.get()});

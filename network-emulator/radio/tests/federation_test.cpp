@@ -260,58 +260,6 @@ TEST_F(FederationTest, BadAndForeignDatagramsAreRefusedWithoutDelivery) {
   EXPECT_EQ(s1.frames.size(), 1u);
 }
 
-// The early path (radio-medium writes a frame into the bridge from the federation's thread):
-// deliverable_frame() must say yes to exactly the datagrams on_datagram() delivers.
-struct SplitSink : RemoteFrameSink {
-  void deliver_remote(StationId from, std::span<const std::uint8_t> f) override {
-    delivered.emplace_back(from, std::vector<std::uint8_t>(f.begin(), f.end()));
-  }
-  void account_remote(StationId from, std::span<const std::uint8_t> f) override {
-    accounted.emplace_back(from, std::vector<std::uint8_t>(f.begin(), f.end()));
-  }
-  std::vector<std::pair<StationId, std::vector<std::uint8_t>>> delivered, accounted;
-};
-
-TEST_F(FederationTest, TheEarlyPathAdmitsExactlyWhatOnDatagramDelivers) {
-  auto ch = channel(range_model());
-  SplitSink sink;
-  Federation f(three_nodes(), "a", *ch, positions, rt, transport, sink);
-  const auto good = datagram_from("b", 11, frame(1));
-  const auto pooled = datagram_from("b", 12, frame(2));
-  std::vector<std::vector<std::uint8_t>> bad = {datagram_from("b", 21, frame(1)),   // c's station
-                                                datagram_from("b", 1, frame(1)),    // ours
-                                                datagram_from("zz", 11, frame(1)),  // no such node
-                                                datagram_from("a", 11, frame(1))};  // ourselves
-  for (std::size_t n = 0; n < good.size(); ++n)
-    bad.emplace_back(good.begin(), good.begin() + static_cast<long>(n));  // cut short
-  std::vector<std::uint8_t> heartbeat;
-  ASSERT_TRUE(encode_federation_heartbeat("b", 5, heartbeat));
-  bad.push_back(heartbeat);
-  for (const auto& d : bad) {
-    EXPECT_FALSE(f.deliverable_frame(d));
-    f.on_datagram(d, 1);
-  }
-  EXPECT_TRUE(sink.delivered.empty());
-  EXPECT_EQ(f.frames_in(), 0u);
-  for (const auto* d : {&good, &pooled}) {
-    const auto early = f.deliverable_frame(*d);
-    ASSERT_TRUE(early);
-    // The frame it hands out is the one the datagram carries, as on_datagram delivers it.
-    f.on_datagram(*d, 1);
-    ASSERT_FALSE(sink.delivered.empty());
-    EXPECT_EQ(std::vector<std::uint8_t>(early->begin(), early->end()),
-              sink.delivered.back().second);
-  }
-  // Written early: on_datagram does the bookkeeping only, and counts the frame as delivered.
-  f.on_datagram(good, 1, 0, /*written_early=*/true);
-  EXPECT_EQ(sink.delivered.size(), 2u);
-  ASSERT_EQ(sink.accounted.size(), 1u);
-  EXPECT_EQ(sink.accounted[0].first, 11u);
-  EXPECT_EQ(sink.accounted[0].second, frame(1));
-  EXPECT_EQ(f.frames_in(), 3u);
-  EXPECT_TRUE(f.peer_up(0));  // b heard from
-}
-
 TEST_F(FederationTest, SilentOrUnreachablePeersAreReportedOnceAndAgainWhenBack) {
   auto ch = channel(range_model());
   Medium medium(rt, *ch);
