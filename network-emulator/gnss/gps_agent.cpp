@@ -20,6 +20,8 @@ GpsAgent::GpsAgent(const AgentConfig& config, const geodesy::Georeferencing& fra
                                     : 0) {
   if (period_ns_ <= 0)
     throw std::invalid_argument("GNSS rate must be positive");
+  if (config.epoch_offset.count() < 0 || config.epoch_offset.count() >= period_ns_)
+    throw std::invalid_argument("GNSS epoch offset must lie within one period");
   sky_ = make_sky(config.errors.satellites, config.errors.hdop,
                   mix_seed(config.seed ^ 0x5157, config.station_id));
   fix_.sky = sky_;
@@ -32,11 +34,13 @@ GpsAgent::GpsAgent(const AgentConfig& config, const geodesy::Georeferencing& fra
 std::optional<std::string_view> GpsAgent::on_state(const wire::VehicleState& s) {
   if (next_epoch_ns_ && s.sim_time_ns < *next_epoch_ns_)
     return std::nullopt;
-  // The next epoch is the next whole period after this state's time.
+  // The next epoch is the next point of the grid (whole periods + offset) after this state.
   const std::int64_t t = s.sim_time_ns;
-  const std::int64_t floor_t =
-      (t >= 0 ? t / period_ns_ : (t - period_ns_ + 1) / period_ns_) * period_ns_;
-  next_epoch_ns_ = floor_t + period_ns_;
+  const std::int64_t offset = config_.epoch_offset.count();
+  const std::int64_t rel = t - offset;
+  const std::int64_t floor_rel =
+      (rel >= 0 ? rel / period_ns_ : (rel - period_ns_ + 1) / period_ns_) * period_ns_;
+  next_epoch_ns_ = floor_rel + offset + period_ns_;
 
   const ErrorSample e = errors_.sample(t);
   fix_.time = config_.start_time + std::chrono::duration_cast<std::chrono::system_clock::duration>(

@@ -6,6 +6,10 @@
 /// boundary makes an epoch that describes that state, stamped with its sim time (scenario
 /// start_time + sim_time_ns). So a fix names the physics step it came from, and no time is
 /// lost waiting for a free-running timer. No sockets: the caller sends the datagram.
+///
+/// AgentConfig::epoch_offset moves the grid: epochs at k × period + offset. The emulator's
+/// agents keep 0; station-host gives each pooled station its own offset so that its stations'
+/// fixes, and so their CA checks, are not all at one instant (station-host/README.md).
 
 #include <chrono>
 #include <cstdint>
@@ -29,6 +33,8 @@ struct AgentConfig {
   std::uint64_t seed = 1;
   /// Where the antenna sits on the vehicle: the fix is the antenna's position, as a receiver's.
   scenario::GnssAntenna antenna;
+  /// Where the epochs fall within a period (0 ≤ offset < period): k × period + offset.
+  std::chrono::nanoseconds epoch_offset{0};
 };
 
 class GpsAgent {

@@ -1,11 +1,13 @@
 #include "station-host/feed/state_feed.hpp"
 
+#include <cmath>
 #include <stdexcept>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include "common/clock/utc.hpp"
+#include "station-host/feed/epoch_phase.hpp"
 
 namespace tb::host {
 
@@ -33,6 +35,11 @@ StationSources& StateFeed::add(std::uint32_t station_id) {
   gc.errors = scenario_.gnss;
   gc.seed = seed_;
   gc.antenna = v->model.antenna;
+  // Not the emulator's whole periods: each pooled station's epochs, and so its CA checks, at
+  // its own instant of the period (epoch_phase.hpp).
+  if (scenario_.rates.gnss_hz > 0)
+    gc.epoch_offset = epoch_phase(
+        station_id, std::chrono::nanoseconds{std::llround(1e9 / scenario_.rates.gnss_hz)});
   StationSources s;
   s.station_id = station_id;
   s.gnss = std::make_unique<StateGnssReceiver>(gc, frame_, runtime_);

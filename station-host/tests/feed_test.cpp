@@ -1,10 +1,14 @@
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <numbers>
+#include <set>
 
 #include <gtest/gtest.h>
 
 #include "common/geodesy/local_frame.hpp"
+#include "station-host/feed/epoch_phase.hpp"
 #include "station-host/feed/state_feed.hpp"
 
 namespace tb::host {
@@ -168,6 +172,7 @@ TEST(StateFeed, SeedsEachStationsErrorsAsTheEmulatorSeedsItsAgent) {
   c.start_time = clock::from_unix_ns(kStartNs);
   c.errors = s.gnss;
   c.seed = 77;
+  c.epoch_offset = epoch_phase(3002, 100ms);
   emu::gnss::GpsAgent agent(c, frame());
   for (std::int64_t ms = 0; ms < 2000; ms += 100) {
     ASSERT_TRUE(feed.handle_datagram(batch({state(3001, ms), state(3002, ms)})));
@@ -213,6 +218,119 @@ TEST(StateFeed, RefusesUnknownStationsAndMalformedDatagrams) {
   EXPECT_FALSE(feed.handle_datagram({}));
   EXPECT_EQ(feed.counters().malformed, 2u);
   EXPECT_EQ(feed.counters().states, 0u);
+}
+
+TEST(EpochPhase, LiesInThePeriodRepeatsAndFillsItEvenly) {
+  constexpr auto kPeriod = std::chrono::nanoseconds{100'000'000};
+  // Ids as a host gets them: consecutive, every second one (two nodes round-robin), every third.
+  for (const std::uint32_t step : {1u, 2u, 3u}) {
+    for (const std::size_t n : {29u, 290u}) {
+      std::vector<std::int64_t> phases;
+      for (std::size_t i = 0; i < n; ++i) {
+        const auto id = static_cast<std::uint32_t>(3001 + i * step);
+        const auto p = epoch_phase(id, kPeriod);
+        ASSERT_GE(p.count(), 0);
+        ASSERT_LT(p, kPeriod);
+        EXPECT_EQ(p, epoch_phase(id, kPeriod));  // from the id alone: runs repeat
+        phases.push_back(p.count());
+      }
+      std::sort(phases.begin(), phases.end());
+      // n evenly spread points on the circle of the period are period / n apart; no gap, the
+      // one across the period's end included, may be a third of that or three times it.
+      const double even = static_cast<double>(kPeriod.count()) / static_cast<double>(n);
+      phases.push_back(phases.front() + kPeriod.count());
+      for (std::size_t i = 1; i < phases.size(); ++i) {
+        const auto gap = static_cast<double>(phases[i] - phases[i - 1]);
+        EXPECT_GT(gap, even / 3) << "step " << step << ", n " << n << ", gap " << i;
+        EXPECT_LT(gap, even * 3) << "step " << step << ", n " << n << ", gap " << i;
+      }
+    }
+  }
+}
+
+/// A host's 29 pooled stations on 100 Hz states for 3 s: who gets a fix at which state.
+struct SpreadRun {
+  static constexpr std::size_t kStations = 29;
+  std::vector<std::uint32_t> ids;
+  std::map<std::int64_t, std::set<std::uint32_t>> fixed_at_ms;  ///< state tick → stations
+  std::map<std::uint32_t, std::vector<facilities::PositionFix>> fixes;
+  std::map<std::uint32_t, std::vector<std::int64_t>> fix_tick_ms;
+
+  SpreadRun() {
+    scenario::Scenario s = make_scenario();
+    s.vehicles.clear();
+    for (std::size_t i = 0; i < kStations; ++i) {
+      scenario::Vehicle v;
+      v.station_id = static_cast<std::uint32_t>(3004 + 2 * i);  // node 1's half of a ring
+      v.id = "car" + std::to_string(v.station_id);
+      s.vehicles.push_back(v);
+      ids.push_back(v.station_id);
+    }
+    clock::ManualRuntime runtime;
+    StateFeed feed(s, frame(), runtime, 1);
+    std::int64_t now_ms = 0;
+    for (const std::uint32_t id : ids)
+      feed.add(id).gnss->on_fix([this, id, &now_ms](const facilities::PositionFix& f) {
+        fixes[id].push_back(f);
+        fix_tick_ms[id].push_back(now_ms);
+        fixed_at_ms[now_ms].insert(id);
+      });
+    for (now_ms = 0; now_ms < 3000; now_ms += 10) {
+      runtime.advance(10ms);
+      std::vector<wire::VehicleState> states;
+      for (const std::uint32_t id : ids)
+        // Each car moves 0.1 m per tick: every state differs from the one before.
+        states.push_back(state(id, now_ms, 100.0 + static_cast<double>(now_ms) / 100.0));
+      EXPECT_TRUE(feed.handle_datagram(wire::encode_batch(states, kStartNs)));
+    }
+  }
+};
+
+TEST(StateFeed, SpreadsItsStationsEpochsOverThePeriod) {
+  const SpreadRun run;
+  // Before: all 29 at every 100 ms tick. Now no tick (10 ms of states) carries more than one
+  // more than an even share over the period's 10 ticks; the very first state is every
+  // station's first epoch.
+  const std::size_t even = (SpreadRun::kStations + 9) / 10;
+  for (const auto& [ms, stations] : run.fixed_at_ms) {
+    if (ms == 0)
+      continue;
+    EXPECT_LE(stations.size(), even + 1) << "tick at " << ms << " ms";
+  }
+  // Every tick of the period is used by some station.
+  std::set<std::int64_t> ticks_in_period;
+  for (const auto& [ms, stations] : run.fixed_at_ms)
+    if (ms != 0)
+      ticks_in_period.insert(ms % 100);
+  EXPECT_EQ(ticks_in_period.size(), 10u);
+}
+
+TEST(StateFeed, EachSpreadStationStillGetsOneFixPerPeriodOfItsNewestState) {
+  const SpreadRun run;
+  for (const std::uint32_t id : run.ids) {
+    const auto& ticks = run.fix_tick_ms.at(id);
+    const auto& fixes = run.fixes.at(id);
+    // The station's own instant: its first grid point after the start, to the next state
+    // (the states come every 10 ms).
+    const auto phase_ms = static_cast<double>(epoch_phase(id, 100ms).count()) / 1e6;
+    const auto grid = static_cast<std::int64_t>(std::ceil(phase_ms / 10.0)) * 10;
+    const std::int64_t first = grid == 0 ? 100 : grid;
+    // The first state's epoch, then one per period up to the last state (2990 ms).
+    ASSERT_EQ(ticks.size(), static_cast<std::size_t>(1 + (2990 - first) / 100 + 1)) << id;
+    EXPECT_EQ(ticks[1], first) << id;
+    for (std::size_t i = 0; i < ticks.size(); ++i) {
+      // The fix describes the state that made it, at the instant it came: the age of the
+      // newest fix at a CA check is 0, as with the whole-period grid.
+      EXPECT_EQ(clock::to_unix_ns(fixes[i].time), kStartNs + ticks[i] * 1'000'000) << id;
+      EXPECT_EQ(fixes[i].received, clock::SteadyTime{} + std::chrono::milliseconds{ticks[i] + 10});
+      // One check per period (the CA check runs at each fix): after the first, 100 ms apart.
+      // So a change of the vehicle's state is in a fix, and can be in a CAM, at most one
+      // period later, as before.
+      if (i >= 2) {
+        EXPECT_EQ(ticks[i] - ticks[i - 1], 100) << id << " fix " << i;
+      }
+    }
+  }
 }
 
 TEST(StateVehicleData, GivesWhatTheCanFeedGivesAFullStation) {

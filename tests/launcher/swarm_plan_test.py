@@ -192,6 +192,10 @@ class SwarmPlan(unittest.TestCase):
             self.assertEqual(sorted(emu["cap_add"]), ["NET_ADMIN", "SYS_ADMIN"])
             self.assertEqual(emu["environment"]["TESTBED_NODE"], name)
             self.assertEqual(emu["environment"]["STATION_HOSTS"], str(n["station_hosts"]))
+            # Weighted above the stations, which keep the runtime's 1024 (scale-out.md).
+            self.assertGreater(int(emu["environment"]["TESTBED_CPU_SHARES"]), 1024)
+            for svc in (f"station-{name}", f"station-host-{name}"):
+                self.assertNotIn("TESTBED_CPU_SHARES", services[svc]["environment"], svc)
             # The node's stations and its emulator share the attach volume, and only they.
             attach = f"attach-{name}:/run/testbed-attach"
             users = sorted(s for s, v in services.items() if attach in v.get("volumes", []))

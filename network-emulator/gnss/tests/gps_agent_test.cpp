@@ -58,6 +58,28 @@ TEST(GpsAgent, EmitsOneEpochPerPeriodOfSimTime) {
   EXPECT_EQ(n, 4);  // 0, 250 (covers 100 and 200), 390 (covers 300), 400
 }
 
+TEST(GpsAgent, AnEpochOffsetMovesTheGridNotThePeriod) {
+  AgentConfig c = config();
+  c.epoch_offset = std::chrono::milliseconds{37};
+  GpsAgent agent(c, frame());
+  std::vector<std::int64_t> epoch_ms;
+  for (std::int64_t ms = 0; ms <= 500; ms += 10)
+    if (agent.on_state(state(ms)))
+      epoch_ms.push_back(ms);
+  // The first state makes an epoch; then the first state at or after 37, 137, 237 … ms.
+  EXPECT_EQ(epoch_ms, (std::vector<std::int64_t>{0, 40, 140, 240, 340, 440}));
+  // The fix is stamped with the time of the state it describes, not with the grid point.
+  EXPECT_EQ(agent.last_fix().time, c.start_time + std::chrono::milliseconds{440});
+}
+
+TEST(GpsAgent, RejectsAnEpochOffsetOutsideThePeriod) {
+  AgentConfig c = config();
+  c.epoch_offset = std::chrono::milliseconds{100};
+  EXPECT_THROW(GpsAgent(c, frame()), std::invalid_argument);
+  c.epoch_offset = std::chrono::milliseconds{-1};
+  EXPECT_THROW(GpsAgent(c, frame()), std::invalid_argument);
+}
+
 TEST(GpsAgent, FixDescribesTheStateItCameFrom) {
   GpsAgent agent(config(), frame());
   const auto out = agent.on_state(state(12'340, 100.0, -50.0));
