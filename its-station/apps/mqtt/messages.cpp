@@ -158,6 +158,19 @@ json cam_message(const ReceivedCam& c) {
               {"received_at", unix_ms(c.received_at)}};
 }
 
+namespace {
+
+// The envelope's members after "message", in the order nlohmann keeps them, and its closing brace.
+void write_envelope_rest(fmt::memory_buffer& out, std::string_view origin, std::uint32_t source,
+                         clock::WallTime now, std::string_view type) {
+  fmt::format_to(std::back_inserter(out),
+                 "\"origin\":\"{}\",\"source_uuid\":\"station-{}\",\"timestamp\":{},"
+                 "\"type\":\"{}\",\"version\":\"{}\"}}",
+                 origin, source, unix_ms(now), type, kEnvelopeVersion);
+}
+
+}  // namespace
+
 std::string received_cam_payload(std::uint32_t source, clock::WallTime now, const ReceivedCam& c) {
   fmt::memory_buffer out;
   auto it = std::back_inserter(out);
@@ -169,10 +182,7 @@ std::string received_cam_payload(std::uint32_t source, clock::WallTime now, cons
   write_high_frequency(out, c.kinematics);
   fmt::format_to(it, ",\"protocol_version\":2,\"received_at\":{},\"station_id\":{}}},",
                  unix_ms(c.received_at), c.station_id);
-  fmt::format_to(it,
-                 "\"origin\":\"remote\",\"source_uuid\":\"station-{}\",\"timestamp\":{},"
-                 "\"type\":\"cam\",\"version\":\"{}\"}}",
-                 source, unix_ms(now), kEnvelopeVersion);
+  write_envelope_rest(out, "remote", source, now, "cam");
   return fmt::to_string(out);
 }
 
@@ -194,10 +204,7 @@ std::string state_payload(std::uint32_t source, clock::WallTime now, const Stati
   write_high_frequency(out, s.kinematics);
   fmt::format_to(it, ",\"station_id\":{},\"timestamp_its\":{}}},", s.station_id,
                  timestamp_its(s.time));
-  fmt::format_to(it,
-                 "\"origin\":\"self\",\"source_uuid\":\"station-{}\",\"timestamp\":{},"
-                 "\"type\":\"state\",\"version\":\"{}\"}}",
-                 source, unix_ms(now), kEnvelopeVersion);
+  write_envelope_rest(out, "self", source, now, "state");
   return fmt::to_string(out);
 }
 
