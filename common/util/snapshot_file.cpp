@@ -8,6 +8,8 @@
 #include <system_error>
 #include <utility>
 
+#include <spdlog/spdlog.h>
+
 namespace tb {
 namespace {
 
@@ -84,6 +86,17 @@ void SnapshotFile::write(std::string_view content) {
   current_ = std::exchange(spare_, -1);
   if (!exchange_)
     close_fd(current_);  // write-and-rename needs no second inode kept open
+}
+
+void StatusFileWriter::write(std::string_view content) {
+  try {
+    file_.write(content);
+    if (std::exchange(failing_, false))
+      spdlog::info("status file {} written again", file_.path());
+  } catch (const std::system_error& e) {
+    if (!std::exchange(failing_, true))
+      spdlog::error("status file: {}", e.what());
+  }
 }
 
 }  // namespace tb

@@ -4,6 +4,7 @@
 
 #include <string>
 #include <string_view>
+#include <utility>
 
 namespace tb {
 
@@ -41,6 +42,18 @@ class SnapshotFile {
   int current_ = -1;  // the inode named path_
   int spare_ = -1;    // the inode named tmp_, the next to be written
   bool exchange_ = true;
+};
+
+/// A status file that a program rewrites periodically and must not stop for: a write that fails
+/// is logged when writes start failing and again when they work again, not at every period.
+class StatusFileWriter {
+ public:
+  explicit StatusFileWriter(std::string path) : file_(std::move(path)) {}
+  void write(std::string_view content);
+
+ private:
+  SnapshotFile file_;
+  bool failing_ = false;
 };
 
 }  // namespace tb

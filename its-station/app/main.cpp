@@ -10,8 +10,6 @@
 #include <memory>
 #include <optional>
 #include <string>
-#include <system_error>
-#include <utility>
 
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
@@ -307,27 +305,18 @@ int run(const Options& o) {
     }
   }
 
-  // Status file: the LDM as the station sees it, for operators and tests. A write that fails
-  // is logged when it starts failing and when it works again, not twice a second.
+  // Status file: the LDM as the station sees it, for operators and tests.
   asio::steady_timer status_timer(io);
-  std::optional<tb::SnapshotFile> status_file;
+  std::optional<tb::StatusFileWriter> status_file;
   if (!o.status_file.empty())
     status_file.emplace(o.status_file);
-  bool status_failing = false;
   auto write_status = [&] {
     if (!status_file)
       return;
     nlohmann::json j = station.status();
     if (rsu_mode)
       j["rsu"] = rsu_mode->status();
-    try {
-      status_file->write(j.dump() + "\n");
-      if (std::exchange(status_failing, false))
-        spdlog::info("status file {} written again", status_file->path());
-    } catch (const std::system_error& e) {
-      if (!std::exchange(status_failing, true))
-        spdlog::error("status file: {}", e.what());
-    }
+    status_file->write(j.dump() + "\n");
   };
   std::function<void()> status_tick = [&] {
     write_status();

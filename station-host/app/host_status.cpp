@@ -1,10 +1,5 @@
 #include "station-host/app/host_status.hpp"
 
-#include <system_error>
-#include <utility>
-
-#include <spdlog/spdlog.h>
-
 namespace tb::host {
 
 nlohmann::json station_status(const its::station::Station& s,
@@ -64,14 +59,7 @@ void HostStatus::write(std::span<const its::station::Station* const> stations,
                  {"malformed", states.malformed},
                  {"states", states.states},
                  {"other_station", states.other_station}};
-  try {
-    file_.write(j.dump() + "\n");
-    if (std::exchange(failing_, false))
-      spdlog::info("status file {} written again", file_.path());
-  } catch (const std::system_error& e) {
-    if (!std::exchange(failing_, true))
-      spdlog::error("status file: {}", e.what());
-  }
+  file_.write(j.dump() + "\n");
 }
 
 }  // namespace tb::host

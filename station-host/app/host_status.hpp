@@ -25,16 +25,14 @@ nlohmann::json station_status(const its::station::Station& station,
 class HostStatus {
  public:
   explicit HostStatus(std::string path) : file_(std::move(path)) {}
-  /// Replaces the file whole (a reader never sees half of it). A write that fails is logged
-  /// when writes start failing and when they work again.
+  /// Replaces the file whole (a reader never sees half of it); a failing write is logged.
   void write(std::span<const its::station::Station* const> stations,
              std::span<const its::security::SecurityEntity* const> security,
              const DemuxCounters& link, const HostSocketStats& socket,
              const StateFeed::Counters& states);
 
  private:
-  SnapshotFile file_;
-  bool failing_ = false;
+  StatusFileWriter file_;
 };
 
 }  // namespace tb::host
