@@ -78,7 +78,7 @@ void Ldm::add_cam(std::shared_ptr<const messages::Cam> shared, clock::WallTime r
     auto [added, _] = neighbours_.try_emplace(id);
     added->second.history = SampleHistory(config_.history_length);
     slot->second = &added->second;
-    expiry_checks_.push({s.received + config_.neighbour_timeout, id});
+    expiry_checks_.push({s.received + config_.neighbour_timeout, slot->second});
   }
   auto& n = *slot->second;
   n.station_id = cam.header.stationID;
@@ -141,17 +141,15 @@ void Ldm::expire() {
   // Forgotten once unheard for longer than the timeout, as a walk over all neighbours at this
   // sweep would decide.
   while (!expiry_checks_.empty() && expiry_checks_.top().due < now) {
-    const auto id = expiry_checks_.top().id;
+    Neighbour* n = expiry_checks_.top().neighbour;
     expiry_checks_.pop();
-    const auto it = by_id_.find(id);
-    if (it == by_id_.end())
-      continue;
-    const auto last_heard = it->second->latest().received;
+    const auto last_heard = n->latest().received;
     if (now - last_heard <= config_.neighbour_timeout) {
-      expiry_checks_.push({last_heard + config_.neighbour_timeout, id});
+      expiry_checks_.push({last_heard + config_.neighbour_timeout, n});
       continue;
     }
-    by_id_.erase(it);
+    const auto id = n->station_id;
+    by_id_.erase(id);
     neighbours_.erase(id);
     for (auto& l : gone_listeners_)
       l(id);

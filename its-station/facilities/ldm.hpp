@@ -178,10 +178,12 @@ class Ldm {
   /// if it has been unheard since, else checked again at its latest CAM + timeout. A CAM itself
   /// touches nothing here (issue 33: keeping a reception order moved a list node per CAM, and
   /// walking all neighbours at every sweep was a fifth of a pooled station's reception cost);
-  /// each neighbour is looked at about once per timeout.
+  /// each neighbour is looked at about once per timeout. A check names its neighbour directly:
+  /// a neighbour has exactly one check waiting, and is only forgotten when that check is taken
+  /// out, so the pointer (stable in neighbours_) is live whenever the check falls due.
   struct ExpiryCheck {
     clock::SteadyTime due;
-    messages::StationID id;
+    Neighbour* neighbour;
     bool operator>(const ExpiryCheck& o) const { return due > o.due; }
   };
   std::priority_queue<ExpiryCheck, std::vector<ExpiryCheck>, std::greater<>> expiry_checks_;

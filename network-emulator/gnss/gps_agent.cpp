@@ -70,7 +70,8 @@ std::optional<std::string_view> GpsAgent::on_state(const wire::VehicleState& s) 
   fix_.range_rms_m = e.sigma_north;  // the residuals' RMS follows the noise level
 
   out_.clear();
-  append_epoch(fix_, out_);
+  if (config_.write_sentences)
+    append_epoch(fix_, out_);
   ++epochs_;
   return std::string_view(out_);
 }

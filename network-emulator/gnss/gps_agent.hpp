@@ -35,6 +35,9 @@ struct AgentConfig {
   scenario::GnssAntenna antenna;
   /// Where the epochs fall within a period (0 ≤ offset < period): k × period + offset.
   std::chrono::nanoseconds epoch_offset{0};
+  /// false: an epoch makes its fix (last_fix()) but no NMEA text, for a receiver that reads the
+  /// fix in-process (station-host: formatting sentences nobody read was 6 % of its CPU).
+  bool write_sentences = true;
 };
 
 class GpsAgent {
@@ -45,7 +48,7 @@ class GpsAgent {
   GpsAgent(const AgentConfig& config, const geodesy::Georeferencing& frame);
 
   /// Feeds the station's latest state. Returns one epoch's sentences (valid until the next
-  /// call) when an epoch falls due, otherwise nothing.
+  /// call; empty without write_sentences) when an epoch falls due, otherwise nothing.
   std::optional<std::string_view> on_state(const wire::VehicleState& state);
 
   /// UTC of sim time 0 from now on: the world's start time that sim-server fixed (docs/time.md).

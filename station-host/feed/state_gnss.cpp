@@ -39,10 +39,20 @@ facilities::GpsdReport gpsd_report_of(const emu::gnss::Fix& fix) {
   return r;
 }
 
+namespace {
+
+// The fix is read from the agent, not from its sentences.
+emu::gnss::AgentConfig without_sentences(emu::gnss::AgentConfig c) {
+  c.write_sentences = false;
+  return c;
+}
+
+}  // namespace
+
 StateGnssReceiver::StateGnssReceiver(const emu::gnss::AgentConfig& config,
                                      const geodesy::Georeferencing& frame, clock::Runtime& runtime,
                                      clock::Duration stale_after)
-    : agent_(config, frame), runtime_(runtime), stale_after_(stale_after) {}
+    : agent_(without_sentences(config), frame), runtime_(runtime), stale_after_(stale_after) {}
 
 StateGnssReceiver::~StateGnssReceiver() {
   if (stale_timer_ != 0)
@@ -50,7 +60,7 @@ StateGnssReceiver::~StateGnssReceiver() {
 }
 
 void StateGnssReceiver::on_state(const wire::VehicleState& state) {
-  // The agent's NMEA text is not read: its last_fix() is what the sentences say.
+  // No NMEA text: the agent's last_fix() is what its sentences would say.
   if (!agent_.on_state(state))
     return;
   facilities::PositionFix fix;

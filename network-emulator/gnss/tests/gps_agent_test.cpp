@@ -80,6 +80,31 @@ TEST(GpsAgent, RejectsAnEpochOffsetOutsideThePeriod) {
   EXPECT_THROW(GpsAgent(c, frame()), std::invalid_argument);
 }
 
+TEST(GpsAgent, WithoutSentencesMakesTheSameFixesAndNoText) {
+  AgentConfig quiet_config = config(false);
+  quiet_config.write_sentences = false;
+  GpsAgent quiet(quiet_config, frame());
+  GpsAgent talking(config(false), frame());
+  int epochs = 0;
+  for (std::int64_t ms = 0; ms <= 1000; ms += 10) {
+    const auto a = quiet.on_state(state(ms, 100.0 + ms * 0.01));
+    const auto b = talking.on_state(state(ms, 100.0 + ms * 0.01));
+    ASSERT_EQ(a.has_value(), b.has_value()) << ms;
+    if (!a)
+      continue;
+    ++epochs;
+    EXPECT_TRUE(a->empty());
+    EXPECT_FALSE(b->empty());
+    // The same error model and seed: the same fix, noise included.
+    EXPECT_EQ(quiet.last_fix().time, talking.last_fix().time);
+    EXPECT_EQ(quiet.last_fix().position.latitude_deg, talking.last_fix().position.latitude_deg);
+    EXPECT_EQ(quiet.last_fix().position.longitude_deg, talking.last_fix().position.longitude_deg);
+    EXPECT_EQ(quiet.last_fix().valid, talking.last_fix().valid);
+  }
+  EXPECT_EQ(epochs, 11);
+  EXPECT_EQ(quiet.epochs(), 11u);
+}
+
 TEST(GpsAgent, FixDescribesTheStateItCameFrom) {
   GpsAgent agent(config(), frame());
   const auto out = agent.on_state(state(12'340, 100.0, -50.0));
