@@ -6,13 +6,15 @@
 // With --at-cert/--at-key/--trust/--aa it signs what it sends and verifies what it receives
 // (TS 103 097, `signed` mode: unverified packets are dropped) with certificate files another
 // stack would be given (its-pki export), and then dates the security and GN times from GNSS
-// time: the NMEA of --nmea-port (the station's feed), as every station must.
+// time: the NMEA of --nmea-port (the station's feed), as every station must; its "ready" line
+// then comes with the first fix, since before it the probe could verify nothing.
 
 #include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <cstdint>
 #include <cstdlib>
+#include <functional>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -266,6 +268,7 @@ int main(int argc, char** argv) {
   tb::clock::GnssDisciplinedRuntime its_clock{rt};
   boost::asio::ip::udp::socket nmea{io};
   std::array<char, 4096> nmea_buffer{};
+  std::function<void()> on_first_fix;
   std::function<void()> read_nmea = [&] {
     nmea.async_receive(boost::asio::buffer(nmea_buffer),
                        [&](const boost::system::error_code& ec, std::size_t n) {
@@ -275,9 +278,13 @@ int main(int argc, char** argv) {
                          for (std::size_t at = 0; at < text.size();) {
                            const auto end = std::min(text.find('\n', at), text.size());
                            if (const auto t = rmc_time(text.substr(at, end - at))) {
-                             if (!its_clock.synchronised())
-                               spdlog::info("ITS clock: on GNSS time from the first fix");
+                             const bool first = !its_clock.synchronised();
                              its_clock.on_fix(*t);
+                             if (first) {
+                               spdlog::info("ITS clock: on GNSS time from the first fix");
+                               if (on_first_fix)
+                                 on_first_fix();
+                             }
                            }
                            at = end + 1;
                          }
@@ -435,9 +442,17 @@ int main(int argc, char** argv) {
       io.stop();
   });
 
-  print({{"event", "ready"},
-         {"interface", o.interface},
-         {"address", link::to_string(socket->address())}});
+  // Signing, a receiver is ready once it is on GNSS time: before that every packet's
+  // generationTime would be judged against the host's clock and refused (a sender waits anyway).
+  const auto ready = [&] {
+    print({{"event", "ready"},
+           {"interface", o.interface},
+           {"address", link::to_string(socket->address())}});
+  };
+  if (secured)
+    on_first_fix = ready;
+  else
+    ready();
   io.run();
 
   json drops = json::object();
