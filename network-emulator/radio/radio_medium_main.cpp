@@ -28,6 +28,7 @@
 #include "common/map/scenario_map.hpp"
 #include "common/scenario/loader.hpp"
 #include "common/trace/tracer.hpp"
+#include "common/util/realtime.hpp"
 #include "common/wire/vehicle_state.hpp"
 #include "network-emulator/radio/bridge_medium.hpp"
 #include "network-emulator/radio/channel.hpp"
@@ -66,6 +67,7 @@ struct Options {
   std::string federation;  ///< placement file (issue 35)
   std::string node;
   std::string federation_listen = "0.0.0.0:4730";
+  int realtime_priority = 0;
 };
 
 class UsageError : public std::runtime_error {
@@ -706,6 +708,17 @@ int run(const Options& opt) {
           ? fmt::format(" (frames offered within {:.0f} m)", *channel.max_range_m())
           : std::string(),
       opt.positions);
+  if (opt.realtime_priority != 0) {
+    // Last, so that setting up the radios does not run at it: what is latency-critical is the
+    // wake-up for a frame (docs/scale-out.md, "The hop between media").
+    if (const auto r = tb::run_at_realtime_priority(opt.realtime_priority))
+      spdlog::info("radio-medium: real-time scheduling: {} priority {}", r->policy, r->priority);
+    else
+      spdlog::warn(
+          "radio-medium: --realtime-priority: cannot run at real-time priority: {}; running at "
+          "normal priority (frames wait longer for this process to be scheduled)",
+          r.error());
+  }
   // Launchers and tests wait for this line before they send.
   std::printf("radio-medium: ready\n");
   std::fflush(stdout);
@@ -782,6 +795,10 @@ int main(int argc, char** argv) {
   app.add_option("--node", opt.node, "this node's name in the placement file");
   app.add_option("--federation-listen", opt.federation_listen,
                  "ADDRESS:PORT (UDP) where the other nodes' media send their frames");
+  app.add_option("--realtime-priority", opt.realtime_priority,
+                 "run the medium's thread under SCHED_FIFO at this priority (1..99; 0: normal "
+                 "scheduling); refused by the kernel: a warning, and it runs at normal priority")
+      ->check(CLI::Range(0, 99));
   app.add_option("--log-level", opt.log_level, "trace, debug, info, warn, error")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
   CLI11_PARSE(app, argc, argv);
