@@ -144,6 +144,21 @@ class SwarmPlan(unittest.TestCase):
                           expect=2)
         self.assertIn("station 1005 is not in", r.stderr)
 
+    def test_realtime_off_and_bad_values(self):
+        self.run_plan(SCEN / "dense-ring.json", "--nodes", "n1,n2", "--realtime-priority", "0")
+        for name in ("n1", "n2"):
+            emu = self.stack()["services"][f"emulator-{name}"]
+            self.assertEqual(sorted(emu["cap_add"]), ["NET_ADMIN", "SYS_ADMIN"])
+            self.assertNotIn("TESTBED_RT_PRIORITY", emu["environment"])
+            self.assertNotIn("TESTBED_RT_RUNTIME_US", emu["environment"])
+        shutil.rmtree(self.out)
+        for opt, bad, says in (("--realtime-priority", "100", "a SCHED_FIFO priority 1..99"),
+                               ("--realtime-priority", "-1", "a SCHED_FIFO priority 1..99"),
+                               ("--realtime-runtime", "0", "µs per second, 1..1000000"),
+                               ("--realtime-runtime", "1000001", "µs per second, 1..1000000")):
+            r = self.run_plan(SCEN / "dense-ring.json", "--nodes", "n1,n2", opt, bad, expect=2)
+            self.assertIn(f"{opt}: {bad}: {says}", r.stderr)
+
     def test_empty_node_list(self):
         for nodes in ("", " , "):
             r = self.run_plan(SCEN / "demo.json", "--nodes", nodes, expect=2)
@@ -189,13 +204,18 @@ class SwarmPlan(unittest.TestCase):
                 # A swarm restarts an unhealthy task: no check counts while a node comes up.
                 self.assertEqual(services[svc]["healthcheck"], {"start_period": "600s"}, svc)
             emu = services[f"emulator-{name}"]
-            self.assertEqual(sorted(emu["cap_add"]), ["NET_ADMIN", "SYS_ADMIN"])
+            self.assertEqual(sorted(emu["cap_add"]), ["NET_ADMIN", "SYS_ADMIN", "SYS_NICE"])
+            # The medium at real-time priority, and its cgroup's budget (scale-out.md).
+            self.assertEqual(emu["environment"]["TESTBED_RT_PRIORITY"], "50")
+            self.assertEqual(emu["environment"]["TESTBED_RT_RUNTIME_US"], "400000")
             self.assertEqual(emu["environment"]["TESTBED_NODE"], name)
             self.assertEqual(emu["environment"]["STATION_HOSTS"], str(n["station_hosts"]))
             # Weighted above the stations, which keep the runtime's 1024 (scale-out.md).
             self.assertGreater(int(emu["environment"]["TESTBED_CPU_SHARES"]), 1024)
             for svc in (f"station-{name}", f"station-host-{name}"):
                 self.assertNotIn("TESTBED_CPU_SHARES", services[svc]["environment"], svc)
+                self.assertNotIn("TESTBED_RT_PRIORITY", services[svc]["environment"], svc)
+                self.assertNotIn("cap_add", services[svc], svc)
             # The node's stations and its emulator share the attach volume, and only they.
             attach = f"attach-{name}:/run/testbed-attach"
             users = sorted(s for s, v in services.items() if attach in v.get("volumes", []))
@@ -482,8 +502,11 @@ class UpSwarm(unittest.TestCase):
     def test_swarm_options_need_swarm(self):
         r = self.run_up("demo", "--nodes", "a,b")
         self.assertEqual(r.returncode, 2)
-        self.assertIn("--nodes, --by, --registry, --pushed and --station-hosts go with --swarm",
-                      r.stderr)
+        self.assertIn("--nodes, --by, --registry, --pushed, --station-hosts and "
+                      "--realtime-priority go with --swarm", r.stderr)
+        r = self.run_up("demo", "--realtime-priority", "50")
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("go with --swarm", r.stderr)
         r = self.run_up("demo", "--pushed")
         self.assertEqual(r.returncode, 2)
         self.assertIn("go with --swarm", r.stderr)
