@@ -25,6 +25,7 @@
 #include "common/clock/asio_runtime.hpp"
 #include "common/scenario/loader.hpp"
 #include "common/trace/tracer.hpp"
+#include "common/util/realtime.hpp"
 #include "common/wire/signal_feed.hpp"
 #include "network-emulator/app/batch_io.hpp"
 #include "network-emulator/app/emulator.hpp"
@@ -316,6 +317,7 @@ int main(int argc, char** argv) {
   std::string dbc_file = TESTBED_VEHICLE_DBC, trace_file, log_level = "info";
   std::uint64_t seed = 1;
   double status_interval = 5.0;
+  int realtime_priority = 0;
   app.add_option("--scenario", scenario_file, "scenario file (JSON)")->required();
   app.add_option("--listen", listen, "UDP address:port for vehicle states")->capture_default_str();
   std::string signals_listen;
@@ -342,6 +344,10 @@ int main(int argc, char** argv) {
   app.add_option("--status-interval", status_interval, "seconds between status lines (0: none)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app.add_option("--realtime-priority", realtime_priority,
+                 "run the emulator's thread under SCHED_FIFO at this priority (1..99; 0: normal "
+                 "scheduling); refused by the kernel: a warning, and it runs at normal priority")
+      ->check(CLI::Range(0, 99));
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}))
       ->capture_default_str();
@@ -604,6 +610,18 @@ int main(int argc, char** argv) {
     runtime.schedule_in(every, status);
   }
 
+  if (realtime_priority != 0) {
+    // The emulated receivers and buses are hardware of their own in a car: their epochs must
+    // not wait for a core behind the stations they feed (docs/latency.md, Round 7). Set last,
+    // so that the set-up does not run at it.
+    if (const auto r = run_at_realtime_priority(realtime_priority))
+      spdlog::info("real-time scheduling: {} priority {}", r->policy, r->priority);
+    else
+      spdlog::warn(
+          "--realtime-priority: cannot run at real-time priority: {}; running at normal "
+          "priority (epochs wait for this process to be scheduled)",
+          r.error());
+  }
   io.run();
   spdlog::info("final: {}", status_line());
   trace::global().flush();

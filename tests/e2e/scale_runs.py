@@ -223,6 +223,12 @@ def windowed_trace(trace_dir, out_dir, start_ns, end_ns):
                     dst.write(line)
 
 
+def realtime_of(args, index):
+    """The --realtime-priority of run @p index (from 0): the list's values in turn."""
+    values = [int(v) for v in args.realtime_priority.split(",") if v.strip()]
+    return values[index % len(values)] if values else 0
+
+
 def one_run(args, scenario, index):
     out = Path(tempfile.mkdtemp(prefix=f"scale-{args.stations}-"))
     out.chmod(0o755)
@@ -234,6 +240,7 @@ def one_run(args, scenario, index):
         (["--hosts", str(args.hosts)] if args.hosts else []) +
         (["--radio-forwarding", args.radio_forwarding] if args.radio_forwarding else []) +
         (["--shared-nice", str(args.shared_nice)] if args.shared_nice else []) +
+        (["--realtime-priority", str(rt)] if (rt := realtime_of(args, index)) else []) +
         [f"--station-arg={a}" for a in args.station_arg],
         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
     a = b = None
@@ -324,7 +331,8 @@ def fmt_run(i, r):
         full += (f"; {100 * cams['full_medium_decoded'] / cams['full_medium_delivered']:.2f} % of "
                  f"what the medium delivered to them ({cams['full_medium_decoded']} of "
                  f"{cams['full_medium_delivered']}, whole run)")
-    return (f"run {i}: load {r['load'][0]:.1f}→{r['load'][1]:.1f}, steal {m['steal']:.1f} %, "
+    rt = f" [--realtime-priority {r['realtime']}]" if r.get("realtime") is not None else ""
+    return (f"run {i}{rt}: load {r['load'][0]:.1f}→{r['load'][1]:.1f}, steal {m['steal']:.1f} %, "
             f"CPU user {m['user']:.0f} / sys {m['system']:.0f} / softirq {m['softirq']:.0f} / "
             f"idle {m['idle']:.0f} %\n"
             f"  state→CAM mean {s2c.get('mean', float('nan')):.1f} p50 {s2c.get('p50', float('nan')):.1f} "
@@ -353,6 +361,9 @@ def main():
                     help="passed on to scripts/testbed run (default: its own, auto)")
     ap.add_argument("--shared-nice", type=int, default=0,
                     help="passed on to scripts/testbed run")
+    ap.add_argument("--realtime-priority", default="",
+                    help="P[,P...]: passed on to scripts/testbed run; run k takes the k-th value, "
+                         "cycling (0,50 alternates for a comparison side by side)")
     ap.add_argument("--perf", help="perf record -a -g of the first run's window into this folder "
                                    "(scale.data); prints the top entries")
     ap.add_argument("--station-arg", action="append", default=[], metavar="ARG",
@@ -387,6 +398,8 @@ def main():
     runs = []
     for i in range(args.runs):
         r = one_run(args, scenario, i)
+        if args.realtime_priority:
+            r["realtime"] = realtime_of(args, i)
         runs.append(r)
         print(fmt_run(i + 1, r), flush=True)
         for line in r.get("perf_top", []):
