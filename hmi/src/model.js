@@ -5,6 +5,10 @@ export const NEIGHBOUR_TIMEOUT_MS = 3000;
 // LCRW updates an active warning at every evaluation; one not refreshed for this long is gone
 // (its clear message may have been lost with a connection).
 export const WARNING_TIMEOUT_MS = 2000;
+// A warning stays up at least this long after it was raised, even when its clear comes
+// sooner: LCRW can raise and clear within 30 ms as a gap closes and opens, too short for a
+// driver to see (as the sim-client's HUD, MonitorConfig::warning_min_display).
+export const WARNING_MIN_DISPLAY_MS = 1000;
 // The own lane's signal (issue 34) comes at up to 10 Hz while the car is on an ingress lane:
 // one older than this is gone (as the sim-client's HUD, MonitorConfig::signal_timeout).
 export const SIGNAL_TIMEOUT_MS = 1000;
@@ -216,10 +220,17 @@ export function handleMessage(model, topic, text, now = Date.now()) {
   if (parts[2] === 'app' && parts[3] === 'lcrw') {
     const w = body.message ?? {};
     const other = String(w.other_station_id);
+    const up = model.warnings.get(other);
     if (w.event === 'cleared') {
-      model.warnings.delete(other);
+      if (up && now - up.shownSince < WARNING_MIN_DISPLAY_MS) {
+        up.cleared = true; // expire() takes it down when its minimum display ends
+      } else {
+        model.warnings.delete(other);
+      }
     } else {
-      model.warnings.set(other, { ...w, receivedAt: now });
+      // Raised again while still up (even after an early clear): the same episode.
+      const shownSince = up ? up.shownSince : now;
+      model.warnings.set(other, { ...w, receivedAt: now, shownSince });
     }
     return 'warning';
   }
@@ -236,7 +247,8 @@ export function expire(model, now = Date.now()) {
     }
   }
   for (const [id, w] of model.warnings) {
-    if (now - w.receivedAt > WARNING_TIMEOUT_MS) {
+    const over = w.cleared ? now - w.shownSince >= WARNING_MIN_DISPLAY_MS : now - w.receivedAt > WARNING_TIMEOUT_MS;
+    if (over) {
       model.warnings.delete(id);
       changed = true;
     }

@@ -15,6 +15,7 @@ import {
   topWarning,
   RLVW_TIMEOUT_MS,
   SIGNAL_TIMEOUT_MS,
+  WARNING_MIN_DISPLAY_MS,
   WARNING_TIMEOUT_MS,
 } from '../src/model.js';
 
@@ -68,10 +69,30 @@ test('warnings: raised, most urgent first, cleared, expired', () => {
   handleMessage(m, 'its/1/app/lcrw', lcrw(2, 'raised', 2.8), 0);
   handleMessage(m, 'its/1/app/lcrw', lcrw(3, 'raised', 1.2, 'critical'), 0);
   assert.equal(topWarning(m).other_station_id, 3);
-  handleMessage(m, 'its/1/app/lcrw', lcrw(3, 'cleared', null), 100);
+  handleMessage(m, 'its/1/app/lcrw', lcrw(3, 'cleared', null), WARNING_MIN_DISPLAY_MS + 100);
   assert.equal(topWarning(m).other_station_id, 2);
   assert.equal(expire(m, WARNING_TIMEOUT_MS - 1), false);
   assert.equal(expire(m, WARNING_TIMEOUT_MS + 1), true);
+  assert.equal(topWarning(m), null);
+});
+
+test('warnings: an early clear keeps the warning up for its minimum display', () => {
+  const m = createModel();
+  selectStation(m, '1');
+  handleMessage(m, 'its/1/app/lcrw', lcrw(2, 'raised', 1.6), 0);
+  handleMessage(m, 'its/1/app/lcrw', lcrw(2, 'cleared', null), 30);
+  assert.equal(expire(m, 30), false);
+  assert.equal(topWarning(m).other_station_id, 2);
+  assert.equal(expire(m, WARNING_MIN_DISPLAY_MS - 1), false);
+  assert.equal(expire(m, WARNING_MIN_DISPLAY_MS), true);
+  assert.equal(topWarning(m), null);
+  // Raised again while held: the same episode; the next clear, past the minimum, is at once.
+  handleMessage(m, 'its/1/app/lcrw', lcrw(2, 'raised', 2.0), 5000);
+  handleMessage(m, 'its/1/app/lcrw', lcrw(2, 'cleared', null), 5200);
+  handleMessage(m, 'its/1/app/lcrw', lcrw(2, 'raised', 1.4), 5500);
+  assert.equal(expire(m, 6050), false);
+  assert.equal(topWarning(m).ttc_s, 1.4);
+  handleMessage(m, 'its/1/app/lcrw', lcrw(2, 'cleared', null), 6100);
   assert.equal(topWarning(m), null);
 });
 

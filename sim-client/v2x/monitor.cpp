@@ -229,14 +229,24 @@ bool V2xMonitor::on_lcrw(std::uint32_t station, std::string_view payload, clock:
     return false;
   }
   const auto key = std::make_pair(station, static_cast<std::uint32_t>(*other));
+  const auto found = warnings_.find(key);
   if (event == "cleared") {
-    warnings_.erase(key);
+    if (found != warnings_.end()) {
+      if (now - found->second.shown_since < cfg_.warning_min_display)
+        found->second.cleared = true;
+      else
+        warnings_.erase(found);
+    }
     return true;
   }
   if (event != "raised" && event != "updated") {
     last_error_ = fmt::format("message.event: '{}' is not raised, updated or cleared", event);
     return false;
   }
+  // A warning raised again while still on screen (even after an early clear) continues its
+  // episode: the banner does not restart its minimum display, it simply stays.
+  const bool on_screen = found != warnings_.end() && shown(found->second, now);
+  const clock::SteadyTime since = on_screen ? found->second.shown_since : now;
   LcrwAlert a;
   a.station = station;
   a.other = key.second;
@@ -249,7 +259,7 @@ bool V2xMonitor::on_lcrw(std::uint32_t station, std::string_view payload, clock:
   a.severity = text(*m, "severity");
   if (const auto it = m->find("distance_m"); it != m->end() && it->is_number())
     a.distance_m = it->get<double>();
-  warnings_[key] = Warning{std::move(a), now};
+  warnings_[key] = Warning{std::move(a), now, since, false};
   if (warnings_.size() > 4096) {
     std::erase_if(warnings_,
                   [&](const auto& kv) { return now - kv.second.received > cfg_.warning_timeout; });
@@ -491,11 +501,17 @@ bool V2xMonitor::on_rlvw(std::uint32_t station, std::string_view payload, clock:
   return true;
 }
 
+bool V2xMonitor::shown(const Warning& w, clock::SteadyTime now) const {
+  if (w.cleared)
+    return now - w.shown_since < cfg_.warning_min_display;
+  return now - w.received <= cfg_.warning_timeout;
+}
+
 V2xPicture V2xMonitor::picture(clock::SteadyTime now) const {
   std::lock_guard lock(mu_);
   V2xPicture p;
   for (const auto& [key, w] : warnings_)
-    if (now - w.received <= cfg_.warning_timeout)
+    if (shown(w, now))
       p.alerts.push_back(w.alert);
   std::stable_sort(p.alerts.begin(), p.alerts.end(), more_urgent);
   for (const auto& [key, t] : heard_)

@@ -120,6 +120,11 @@ struct MonitorConfig {
   /// A warning that is neither updated nor cleared for this long is dropped (a station that
   /// died mid-warning), as the web HMI does (hmi/src/model.js, WARNING_TIMEOUT_MS).
   clock::Duration warning_timeout = std::chrono::seconds{2};
+  /// A warning stays on screen at least this long after it was raised, even when its clear
+  /// comes sooner: LCRW can raise and clear within 30 ms as a gap closes and opens, shorter
+  /// than a frame of a slow view and than a driver's glance; the banner must not flicker
+  /// past unseen. A clear after this long takes it down at once.
+  clock::Duration warning_min_display = std::chrono::seconds{1};
   /// Upper bound for a DENM's validityDuration when it gives none (CDD default 600 s).
   clock::Duration denm_default_validity = std::chrono::seconds{600};
   /// A lane signal shows while its last message is at most this old (the station publishes
@@ -151,7 +156,11 @@ class V2xMonitor {
   struct Warning {
     LcrwAlert alert;
     clock::SteadyTime received{};
+    clock::SteadyTime shown_since{};  ///< raised (this episode), for warning_min_display
+    bool cleared = false;             ///< cleared early: kept until its minimum display ends
   };
+  /// Whether @p w is on screen at @p now.
+  bool shown(const Warning& w, clock::SteadyTime now) const;
   struct Denm {
     DenmEvent event;
     clock::SteadyTime expires{};

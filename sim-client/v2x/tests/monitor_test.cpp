@@ -63,9 +63,34 @@ TEST(V2xMonitor, WarningRaisedUpdatedAndCleared) {
   EXPECT_DOUBLE_EQ(*p.alert_for(1001)->ttc_s, 1.2);
   EXPECT_EQ(p.alert_for(1001)->severity, "critical");
 
-  EXPECT_TRUE(m.on_message("its/1001/app/lcrw", lcrw(1001, 1002, "cleared"), at(0.7)));
-  EXPECT_EQ(m.picture(at(0.7)).alert_for(1001), nullptr);
+  EXPECT_TRUE(m.on_message("its/1001/app/lcrw", lcrw(1001, 1002, "cleared"), at(1.2)));
+  EXPECT_EQ(m.picture(at(1.2)).alert_for(1001), nullptr);
   EXPECT_EQ(m.accepted(), 3u);
+}
+
+// A warning cleared 30 ms after it was raised (a gap that closes and opens again) still shows
+// for the minimum display time, 1 s from its raise; raised again meanwhile, it simply stays.
+TEST(V2xMonitor, AnEarlyClearKeepsTheWarningForItsMinimumDisplay) {
+  V2xMonitor m;
+  ASSERT_TRUE(m.on_message("its/1001/app/lcrw", lcrw(1001, 1002, "raised", 1.6), at(0)));
+  ASSERT_TRUE(m.on_message("its/1001/app/lcrw", lcrw(1001, 1002, "cleared"), at(0.03)));
+  ASSERT_NE(m.picture(at(0.03)).alert_for(1001), nullptr);
+  EXPECT_DOUBLE_EQ(*m.picture(at(0.99)).alert_for(1001)->ttc_s, 1.6);
+  EXPECT_EQ(m.picture(at(1.0)).alert_for(1001), nullptr);
+
+  // Cleared early, then raised again 0.5 s after its first raise: the same episode, so the
+  // next clear, 1.1 s after that first raise, takes it down at once.
+  ASSERT_TRUE(m.on_message("its/1001/app/lcrw", lcrw(1001, 1003, "raised", 2.0), at(2.0)));
+  ASSERT_TRUE(m.on_message("its/1001/app/lcrw", lcrw(1001, 1003, "cleared"), at(2.2)));
+  ASSERT_TRUE(m.on_message("its/1001/app/lcrw", lcrw(1001, 1003, "raised", 1.4), at(2.5)));
+  EXPECT_DOUBLE_EQ(*m.picture(at(2.9)).alert_for(1001)->ttc_s, 1.4);
+  EXPECT_NE(m.picture(at(3.05)).alert_for(1001), nullptr);  // raised again: not cleared
+  ASSERT_TRUE(m.on_message("its/1001/app/lcrw", lcrw(1001, 1003, "cleared"), at(3.1)));
+  EXPECT_EQ(m.picture(at(3.1)).alert_for(1001), nullptr);
+
+  // A clear for a warning never seen changes nothing.
+  ASSERT_TRUE(m.on_message("its/1001/app/lcrw", lcrw(1001, 1004, "cleared"), at(4.0)));
+  EXPECT_TRUE(m.picture(at(4.0)).alerts.empty());
 }
 
 TEST(V2xMonitor, MostUrgentFirstAndInfiniteTtcLast) {
@@ -204,7 +229,8 @@ TEST(V2xMonitor, EveryWarnedPairIsInThePicture) {
   EXPECT_EQ(pairs, (std::set<std::pair<std::uint32_t, std::uint32_t>>{
                        {1001, 1002}, {1001, 1003}, {1003, 1001}}));
   EXPECT_TRUE(m.on_message("its/1001/app/lcrw", lcrw(1001, 1003, "cleared"), at(0.2)));
-  EXPECT_EQ(m.picture(at(0.3)).alerts.size(), 2u);
+  EXPECT_EQ(m.picture(at(0.3)).alerts.size(), 3u);  // its minimum display
+  EXPECT_EQ(m.picture(at(1.0)).alerts.size(), 2u);
 }
 
 TEST(V2xMonitor, OtherTopicsAndPrefixesAreNotCounted) {
