@@ -30,7 +30,10 @@ Each run is `scripts/testbed run` of the generated scenario (root: network names
   stations alone as receivers (pooled stations trace what they send, not what they receive);
   the full stations' decoded CAMs against what the medium says it delivered to them (the
   measure on a channel that culls by range); and the radio medium's own statistics (dropped
-  deliveries).
+  deliveries);
+* the kernel's receive backlogs (/proc/net/softnet_stat): frames dropped because a CPU's
+  backlog was full, at start-up, in the window and at the stop, which is where the kernel's
+  forwarding loses frames that radio-stats counts as a station's full queue.
 
 The latency figures come from the window's trace records only (start-up and stop left out).
 
@@ -72,6 +75,21 @@ def machine_cpu():
     return [int(x) for x in open("/proc/stat").readline().split()[1:9]]
 
 
+def softnet():
+    """The kernel's per-CPU receive backlogs, summed: (frames dropped because a CPU's backlog
+    held net.core.netdev_max_backlog already, times net_rx_action ran out of budget). A veth
+    hands each frame it sends to its peer through the sending CPU's backlog, so with the
+    kernel's forwarding one CAM to 49 receivers is 49 frames in one backlog; a drop there is
+    counted by the sending veth (radio-stats' kernel_dropped) as if the receiver's queue were
+    full."""
+    dropped = squeezed = 0
+    for line in open("/proc/net/softnet_stat"):
+        f = line.split()
+        dropped += int(f[1], 16)
+        squeezed += int(f[2], 16)
+    return dropped, squeezed
+
+
 def loadavg():
     return float(open("/proc/loadavg").read().split()[0])
 
@@ -109,7 +127,8 @@ def descendants(root, procs):
 def snapshot(root):
     procs = processes()
     mine = {p: procs[p] for p in descendants(root, procs)}
-    return {"t": time.monotonic(), "load": loadavg(), "cpu": machine_cpu(), "procs": mine}
+    return {"t": time.monotonic(), "load": loadavg(), "cpu": machine_cpu(), "procs": mine,
+            "softnet": softnet()}
 
 
 def window(a, b, counts):
@@ -232,6 +251,7 @@ def realtime_of(args, index):
 def one_run(args, scenario, index):
     out = Path(tempfile.mkdtemp(prefix=f"scale-{args.stations}-"))
     out.chmod(0o755)
+    softnet_before = softnet()
     # The window is timed here: the launcher stops its programs at once when its duration is up,
     # so its own end would cut the window short. Given a margin, it is stopped with SIGINT.
     proc = subprocess.Popen(
@@ -279,6 +299,14 @@ def one_run(args, scenario, index):
         raise SystemExit(f"scale_runs: run {index + 1} never reached its measured window")
     result = window(a, b, {"all": args.stations, "full": args.full_count,
                            "pooled": args.stations - args.full_count})
+    after = softnet()
+    # Where the backlogs dropped: the start-up (before the window), the window, the stop.
+    result["backlog_dropped"] = {"start": a["softnet"][0] - softnet_before[0],
+                                 "window": b["softnet"][0] - a["softnet"][0],
+                                 "stop": after[0] - b["softnet"][0]}
+    result["backlog_squeezed"] = {"start": a["softnet"][1] - softnet_before[1],
+                                  "window": b["softnet"][1] - a["softnet"][1],
+                                  "stop": after[1] - b["softnet"][1]}
     run_dir = sorted(out.glob("run-*"))[-1]
     windowed_trace(run_dir / "trace", run_dir / "trace-window", a_unix, b_unix)
     rep = subprocess.run([str(ROOT / "scripts/report"), str(run_dir / "trace-window"), "--json",
@@ -340,6 +368,10 @@ def fmt_run(i, r):
             f"p50 {med.get('p50', float('nan')):.2f} p99 {med.get('p99', float('nan')):.2f} ms; "
             f"CAM deliveries lost {lost} of {r['cams']['expected']}"
             + (f"; medium dropped {r['medium']['dropped']}" if "medium" in r else "") + full + "\n"
+            "  kernel backlogs dropped (start-up / window / stop): "
+            + " / ".join(str(r["backlog_dropped"][k]) for k in ("start", "window", "stop"))
+            + "; squeezed " + " / ".join(str(r["backlog_squeezed"][k]) for k in ("start", "window", "stop"))
+            + "\n"
             f"  CPU ms per station per s: " +
             ", ".join(f"{k} {c[k]:.2f}" for k in KIND_ORDER if k in c) +
             f"; all {r['cpu_total_ms_per_s'] / 10:.0f} % of a core")
@@ -424,6 +456,9 @@ def main():
             rows.append((f"{s} {q} (ms)", lambda r, s=s, q=q: r["stages"].get(s, {}).get(q), None))
     for s in ("t2", "t3.gpsd", "air"):
         rows.append((f"{s} p99 (ms)", lambda r, s=s: r["stages"].get(s, {}).get("p99"), None))
+    rows.append(("kernel backlogs dropped, start-up / window / stop", None,
+                 ", ".join("/".join(str(r["backlog_dropped"][k]) for k in ("start", "window", "stop"))
+                           for r in runs)))
     rows.append(("CAM deliveries lost (every station traces its receptions)",
                  lambda r: r["cams"]["expected"] - r["cams"]["decoded"]
                  if args.full_count == args.stations else None, None))
