@@ -69,6 +69,9 @@ CASE is one of:
                    clock, is within 200 ms of the change sim-server made (server.signal);
                    scripts/report --require signals joins the light changes to the cars
 
+Every case also checks that the kernel ran network-emulator's thread under SCHED_FIFO 50, the
+launcher's default (its threads' class sampled from /proc while the testbed runs).
+
 A run that fails while the virtual machine's host stole ≥ 10 % of the CPU (steal time,
 /proc/stat) is run once more; each run prints the steal.
 
@@ -84,6 +87,7 @@ import socket
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -803,6 +807,40 @@ def cpu_times():
     return sum(fields[:8]), fields[7] if len(fields) > 7 else 0
 
 
+# The native launcher's network-emulator runs its thread under SCHED_FIFO at this priority
+# (scripts/testbed run --realtime-priority, docs/latency.md Round 8).
+EMULATOR_RT_PRIORITY = 50
+SCHED_FIFO = 1
+
+
+class SchedulingWatch(threading.Thread):
+    """Samples, while the testbed runs, the scheduling class the kernel gives each thread of a
+    program (/proc/PID/task/TID/stat: rt_priority and policy, fields 40 and 41): what the
+    program asked for only counts if the kernel granted it."""
+
+    def __init__(self, comm):
+        super().__init__(daemon=True)
+        self.comm = comm  # as /proc/PID/comm has it: cut to 15 characters
+        self.seen = set()  # (policy, rt_priority) of any of its threads
+        self.stop = threading.Event()
+
+    def sample(self):
+        for pid in filter(str.isdigit, os.listdir("/proc")):
+            try:
+                if open(f"/proc/{pid}/comm").read().strip() != self.comm:
+                    continue
+                for tid in os.listdir(f"/proc/{pid}/task"):
+                    stat = open(f"/proc/{pid}/task/{tid}/stat").read()
+                    f = stat[stat.rindex(")") + 2:].split()  # f[0] is field 3
+                    self.seen.add((int(f[38]), int(f[37])))
+            except (OSError, ValueError, IndexError):
+                pass  # the process ended meanwhile
+
+    def run(self):
+        while not self.stop.wait(0.5):
+            self.sample()
+
+
 # A virtual machine's host may take the CPU away (steal time): at 46 % the three-vehicle run
 # missed its latency bound and raised no warning at all. The checks are about the testbed, not
 # the host: a run that failed while the host stole this much is run again once, and both runs
@@ -1039,6 +1077,8 @@ def run_case(args):
          "--build", args.build, "--duration", str(duration), "--out", str(out)] +
         (["--security", args.security] if args.security else []),
         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
+    emulator_sched = SchedulingWatch("network-emulato")
+    emulator_sched.start()
     messages = []
     sub = None
     hmi = None
@@ -1092,10 +1132,17 @@ def run_case(args):
                     messages.append((topic, json.loads(payload)))
                 except json.JSONDecodeError:
                     pass
+    emulator_sched.stop.set()
+    emulator_sched.join()
     print(log)
     failures = []
     if testbed.returncode != 0:
         failures.append(f"scripts/testbed exited with {testbed.returncode}")
+    print(f"e2e: network-emulator's threads seen as (policy, rt_priority): "
+          f"{sorted(emulator_sched.seen)}")
+    if (SCHED_FIFO, EMULATOR_RT_PRIORITY) not in emulator_sched.seen:
+        failures.append(f"network-emulator never ran at SCHED_FIFO {EMULATOR_RT_PRIORITY} "
+                        f"(the launcher's default); seen {sorted(emulator_sched.seen)}")
 
     if args.case == "foreign-root":
         failures += foreign_root_failures(out, messages)
