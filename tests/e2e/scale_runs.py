@@ -243,9 +243,10 @@ def windowed_trace(trace_dir, out_dir, start_ns, end_ns):
 
 
 def realtime_of(args, index):
-    """The --realtime-priority of run @p index (from 0): the list's values in turn."""
+    """The --realtime-priority of run @p index (from 0): the list's values in turn; None: the
+    launcher's own default."""
     values = [int(v) for v in args.realtime_priority.split(",") if v.strip()]
-    return values[index % len(values)] if values else 0
+    return values[index % len(values)] if values else None
 
 
 def one_run(args, scenario, index):
@@ -260,7 +261,9 @@ def one_run(args, scenario, index):
         (["--hosts", str(args.hosts)] if args.hosts else []) +
         (["--radio-forwarding", args.radio_forwarding] if args.radio_forwarding else []) +
         (["--shared-nice", str(args.shared_nice)] if args.shared_nice else []) +
-        (["--realtime-priority", str(rt)] if (rt := realtime_of(args, index)) else []) +
+        # 0 is passed too: it turns the launcher's default of 50 off.
+        (["--realtime-priority", str(rt)] if (rt := realtime_of(args, index)) is not None
+         else []) +
         [f"--station-arg={a}" for a in args.station_arg],
         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
     a = b = None
@@ -394,8 +397,9 @@ def main():
     ap.add_argument("--shared-nice", type=int, default=0,
                     help="passed on to scripts/testbed run")
     ap.add_argument("--realtime-priority", default="",
-                    help="P[,P...]: passed on to scripts/testbed run; run k takes the k-th value, "
-                         "cycling (0,50 alternates for a comparison side by side)")
+                    help="P[,P...]: passed on to scripts/testbed run (default: the launcher's "
+                         "own, 50); run k takes the k-th value, cycling (0,50 alternates for a "
+                         "comparison side by side)")
     ap.add_argument("--perf", help="perf record -a -g of the first run's window into this folder "
                                    "(scale.data); prints the top entries")
     ap.add_argument("--station-arg", action="append", default=[], metavar="ARG",
