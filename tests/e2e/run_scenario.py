@@ -70,7 +70,10 @@ CASE is one of:
                    scripts/report --require signals joins the light changes to the cars
 
 Every case also checks that the kernel ran network-emulator's thread under SCHED_FIFO 50, the
-launcher's default (its threads' class sampled from /proc while the testbed runs).
+launcher's default (its threads' class sampled from /proc while the testbed runs); scale and
+pooled-scale that the launcher gave the kernel's receive backlog room for a burst of every
+vehicle's frame to every port, put it back at the stop, and that the kernel dropped nothing
+there (/proc/net/softnet_stat).
 
 A run that fails while the virtual machine's host stole ≥ 10 % of the CPU (steal time,
 /proc/stat) is run once more; each run prints the steal.
@@ -813,18 +816,28 @@ EMULATOR_RT_PRIORITY = 50
 SCHED_FIFO = 1
 
 
-class SchedulingWatch(threading.Thread):
+BACKLOG = Path("/proc/sys/net/core/netdev_max_backlog")
+
+
+def softnet_dropped():
+    """Frames the kernel dropped because a CPU's receive backlog was full, since boot."""
+    return sum(int(line.split()[1], 16) for line in open("/proc/net/softnet_stat"))
+
+
+class RunWatch(threading.Thread):
     """Samples, while the testbed runs, the scheduling class the kernel gives each thread of a
     program (/proc/PID/task/TID/stat: rt_priority and policy, fields 40 and 41): what the
-    program asked for only counts if the kernel granted it."""
+    program asked for only counts if the kernel granted it; and the receive backlog's size."""
 
     def __init__(self, comm):
         super().__init__(daemon=True)
         self.comm = comm  # as /proc/PID/comm has it: cut to 15 characters
         self.seen = set()  # (policy, rt_priority) of any of its threads
+        self.backlog_max = 0
         self.stop = threading.Event()
 
     def sample(self):
+        self.backlog_max = max(self.backlog_max, int(BACKLOG.read_text()))
         for pid in filter(str.isdigit, os.listdir("/proc")):
             try:
                 if open(f"/proc/{pid}/comm").read().strip() != self.comm:
@@ -1077,7 +1090,8 @@ def run_case(args):
          "--build", args.build, "--duration", str(duration), "--out", str(out)] +
         (["--security", args.security] if args.security else []),
         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
-    emulator_sched = SchedulingWatch("network-emulato")
+    backlog_before, dropped_before = int(BACKLOG.read_text()), softnet_dropped()
+    emulator_sched = RunWatch("network-emulato")
     emulator_sched.start()
     messages = []
     sub = None
@@ -1143,6 +1157,26 @@ def run_case(args):
     if (SCHED_FIFO, EMULATOR_RT_PRIORITY) not in emulator_sched.seen:
         failures.append(f"network-emulator never ran at SCHED_FIFO {EMULATOR_RT_PRIORITY} "
                         f"(the launcher's default); seen {sorted(emulator_sched.seen)}")
+    if scenario is None and args.case in ("scale", "pooled-scale"):
+        # Every frame of a burst fits the kernel's receive backlog (scripts/testbed
+        # raise_backlog), which the launcher puts back at the stop; nothing was dropped there.
+        vehicles, ports = ((SCALE_STATIONS, SCALE_STATIONS) if args.case == "scale" else
+                           # a station-host per core, each one port
+                           (POOLED_FULL + POOLED_POOLED, POOLED_FULL + (os.cpu_count() or 1)))
+        need = min(vehicles * (ports - 1) + 1000, 100000)
+        dropped = softnet_dropped() - dropped_before
+        backlog_after = int(BACKLOG.read_text())
+        print(f"e2e: net.core.netdev_max_backlog {backlog_before} -> {emulator_sched.backlog_max} "
+              f"-> {backlog_after}; kernel backlog drops during the run: {dropped}")
+        if emulator_sched.backlog_max < max(need, backlog_before):
+            failures.append(f"net.core.netdev_max_backlog was {emulator_sched.backlog_max} "
+                            f"during the run, expected at least {need}")
+        if backlog_after != backlog_before:
+            failures.append(f"net.core.netdev_max_backlog not put back: {backlog_after}, was "
+                            f"{backlog_before}")
+        if dropped:
+            failures.append(f"the kernel dropped {dropped} frames at a full receive backlog "
+                            "(/proc/net/softnet_stat)")
 
     if args.case == "foreign-root":
         failures += foreign_root_failures(out, messages)
