@@ -307,6 +307,12 @@ void CaService::generate(CamTrigger why, const PositionFix& fix) {
     l(cam, why, fix);
 }
 
+void CaService::set_shared_decoder(SharedCamDecoder* decoder) {
+  decoder_ = decoder;
+  if (decoder != nullptr)
+    ldm_.share_sender_index(decoder->senders());
+}
+
 void CaService::receive(std::span<const std::uint8_t> payload, clock::WallTime rx_time,
                         std::optional<std::span<const std::uint8_t>> ssp) {
   // Decoded into the object the LDM keeps (issue 33: no copy per station).
@@ -335,7 +341,7 @@ void CaService::receive(std::span<const std::uint8_t> payload, clock::WallTime r
   if (config_.trace_receptions)
     trace::global().record("its.cam_rx",
                            {{"station", config_.station_id}, {"from", from}, {"gdt", gdt}});
-  ldm_.add_cam(std::move(cam), rx_time);
+  ldm_.add_cam(std::move(cam), rx_time, decoder_ ? decoder_->sender_row() : SenderIndex::kNoRow);
   if (config_.trace_receptions)
     trace::global().record("its.ldm",
                            {{"station", config_.station_id}, {"from", from}, {"gdt", gdt}});

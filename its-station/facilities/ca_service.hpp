@@ -90,7 +90,8 @@ class CaService {
 
   /// Decode received CAMs through @p decoder (shared by the services of one thread, which then
   /// keep one decoded CAM per frame between them); null: each CAM decoded on its own.
-  void set_shared_decoder(SharedCamDecoder* decoder) { decoder_ = decoder; }
+  /// The LDM then caches its neighbours in the decoder's SenderIndex. Before the first CAM.
+  void set_shared_decoder(SharedCamDecoder* decoder);
 
   void on_sent(SentListener l) { sent_listeners_.push_back(std::move(l)); }
   const Counters& counters() const { return counters_; }

@@ -49,7 +49,8 @@ std::int64_t Ldm::now_its() const {
   return timestamp_its(runtime_.wall_now());
 }
 
-void Ldm::add_cam(std::shared_ptr<const messages::Cam> shared, clock::WallTime rx_wall) {
+void Ldm::add_cam(std::shared_ptr<const messages::Cam> shared, clock::WallTime rx_wall,
+                  std::uint32_t sender_row) {
   const messages::Cam& cam = *shared;
   const auto& basic = cam.cam.camParameters.basicContainer;
   const auto lat = cdd::latitude_deg(basic.referencePosition.latitude);
@@ -73,14 +74,21 @@ void Ldm::add_cam(std::shared_ptr<const messages::Cam> shared, clock::WallTime r
   }
 
   const auto id = cam.header.stationID;
-  auto [slot, is_new] = by_id_.try_emplace(id, nullptr);
-  if (is_new) {
-    auto [added, _] = neighbours_.try_emplace(id);
-    added->second.history = SampleHistory(config_.history_length);
-    slot->second = &added->second;
-    expiry_checks_.push({s.received + config_.neighbour_timeout, slot->second});
+  Neighbour* found = by_row_.get(sender_row);
+  // A cell holds its row's neighbour; a caller's wrong row shows as another station id.
+  if (found == nullptr || found->station_id != id) {
+    auto [slot, is_new] = by_id_.try_emplace(id, nullptr);
+    if (is_new) {
+      auto [added, _] = neighbours_.try_emplace(id);
+      added->second.station_id = id;
+      added->second.history = SampleHistory(config_.history_length);
+      slot->second = &added->second;
+      expiry_checks_.push({s.received + config_.neighbour_timeout, slot->second});
+    }
+    found = slot->second;
+    by_row_.set(sender_row, id, found);
   }
-  auto& n = *slot->second;
+  auto& n = *found;
   n.station_id = cam.header.stationID;
   n.station_type = basic.stationType;
   n.last_cam = std::move(shared);
@@ -149,6 +157,7 @@ void Ldm::expire() {
       continue;
     }
     const auto id = n->station_id;
+    by_row_.forget(id);
     by_id_.erase(id);
     neighbours_.erase(id);
     for (auto& l : gone_listeners_)

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "common/clock/runtime.hpp"
+#include "common/util/sender_index.hpp"
 #include "its-station/facilities/intersection_store.hpp"
 #include "its-station/messages/cam.hpp"
 #include "its-station/messages/denm.hpp"
@@ -126,7 +127,13 @@ class Ldm {
 
   /// A CAM from another station arrived (decoded); the neighbour keeps @p cam (not a copy).
   /// Ignores CAMs without a position.
-  void add_cam(std::shared_ptr<const messages::Cam> cam, clock::WallTime rx_wall);
+  /// @p sender_row: the sender's row in the SenderIndex shared with share_sender_index(),
+  /// which finds the neighbour without a hash lookup.
+  void add_cam(std::shared_ptr<const messages::Cam> cam, clock::WallTime rx_wall,
+               std::uint32_t sender_row = SenderIndex::kNoRow);
+  /// Caches the neighbours in a column of @p index (keyed by StationID), shared by the LDMs of
+  /// one thread that hear the same CAMs (common/util/sender_index.hpp). Before the first CAM.
+  void share_sender_index(SenderIndex& index) { by_row_ = SenderColumn<Neighbour>(index); }
   /// A DENM arrived; applies the receiving rules and says what became of it:
   /// - validity over (detectionTime + validityDuration ≤ now): kExpired;
   /// - unknown action ID: kNew, or kUnknownTermination for a termination;
@@ -174,6 +181,8 @@ class Ldm {
   /// neighbours_ by hash: a CAM finds its sender in one or two cache lines, not down a tree of
   /// hundreds of neighbours (issue 33: the tree walk was most of a pooled station's add_cam).
   std::unordered_map<messages::StationID, Neighbour*> by_id_;
+  /// by_id_ without the lookup, for the hosts that share a SenderIndex.
+  SenderColumn<Neighbour> by_row_;
   /// One expiry check per neighbour, soonest first: when it falls due the neighbour is forgotten
   /// if it has been unheard since, else checked again at its latest CAM + timeout. A CAM itself
   /// touches nothing here (issue 33: keeping a reception order moved a list node per CAM, and

@@ -20,11 +20,13 @@ Expected<std::shared_ptr<const messages::Cam>, messages::CodecError> SharedCamDe
     return last_;
   }
   last_.reset();
+  sender_row_ = SenderIndex::kNoRow;
   auto cam = decode_shared_cam(payload);
   if (!cam)
     return cam;
   ++decoded_;
   last_ = *cam;
+  sender_row_ = senders_.row(last_->header.stationID);
   last_bytes_.assign(payload.begin(), payload.end());
   return cam;
 }

@@ -19,9 +19,18 @@ const LocationTableEntry* LocationTable::find(std::uint64_t mid_key, clock::Stea
 }
 
 LocationTableEntry& LocationTable::find_or_create(const GnAddress& address, clock::SteadyTime now,
-                                                  bool& created) {
-  auto [it, inserted] = entries_.try_emplace(address.mid_key());
-  LocationTableEntry& e = it->second;
+                                                  bool& created, std::uint32_t sender_row) {
+  const std::uint64_t key = address.mid_key();
+  LocationTableEntry* cached = by_row_.get(sender_row);
+  bool inserted = false;
+  // The row is the caller's word for the key; an entry under another key is not trusted.
+  if (cached == nullptr || cached->address.mid_key() != key) {
+    auto [it, added] = entries_.try_emplace(key);
+    cached = &it->second;
+    inserted = added;
+    by_row_.set(sender_row, key, cached);
+  }
+  LocationTableEntry& e = *cached;
   created = inserted || e.expires <= now;
   if (created) {
     // An expired entry is as good as absent: its position and DPL are stale (clause 8.1.3).
@@ -60,8 +69,10 @@ std::size_t LocationTable::purge(clock::SteadyTime now) {
     return 0;
   clock::SteadyTime earliest = clock::SteadyTime::max();
   const auto removed = std::erase_if(entries_, [&](const auto& kv) {
-    if (kv.second.expires <= now)
+    if (kv.second.expires <= now) {
+      by_row_.forget(kv.first);
       return true;
+    }
     earliest = std::min(earliest, kv.second.expires);
     return false;
   });

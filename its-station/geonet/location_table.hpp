@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "common/clock/clock.hpp"
+#include "common/util/sender_index.hpp"
 #include "its-station/geonet/packet.hpp"
 
 namespace tb::its::geonet {
@@ -39,9 +40,14 @@ class LocationTable {
   const LocationTableEntry* find(std::uint64_t mid_key, clock::SteadyTime now) const;
 
   /// The entry of @p address, created (not a neighbour, empty DPL) if absent or expired.
-  /// Sets @p created when a new entry was made.
-  LocationTableEntry& find_or_create(const GnAddress& address, clock::SteadyTime now,
-                                     bool& created);
+  /// Sets @p created when a new entry was made. @p sender_row: the address's row in the
+  /// shared SenderIndex (share_sender_index), which finds the entry without a hash lookup.
+  LocationTableEntry& find_or_create(const GnAddress& address, clock::SteadyTime now, bool& created,
+                                     std::uint32_t sender_row = SenderIndex::kNoRow);
+
+  /// Caches this table's entries in a column of @p index, shared by the tables of one thread
+  /// that hear the same frames (sender_index.hpp). Before the first entry is made.
+  void share_sender_index(SenderIndex& index) { by_row_ = SenderColumn<LocationTableEntry>(index); }
 
   /// Clause C.2: takes @p pv into the entry if it is newer than the one held, and restarts the
   /// entry's lifetime. Returns false (and changes nothing) for an older or equal timestamp.
@@ -73,7 +79,9 @@ class LocationTable {
 
  private:
   clock::Duration lifetime_;
+  /// Node-based: the entries stay where they are, so by_row_ may point at them.
   std::unordered_map<std::uint64_t, LocationTableEntry> entries_;
+  SenderColumn<LocationTableEntry> by_row_;
   /// No entry expires before this. Every expiry is set to the then steady now + lifetime_, so
   /// none moves earlier: the earliest one a purge left stays a bound, lowered by new entries.
   clock::SteadyTime earliest_expiry_ = clock::SteadyTime::max();

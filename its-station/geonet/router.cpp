@@ -471,7 +471,11 @@ void Router::on_frame(const link::ReceivedFrame& frame) {
     next_purge_ = now + 1s;
   }
 
-  auto parsed = shared_parser_ ? shared_parser_->parse(frame.payload) : parse_packet(frame.payload);
+  // A shared parser's packet is held there (valid while this frame is handled), else our own.
+  std::optional<Expected<Packet, ParseError>> own;
+  const Expected<Packet, ParseError>& parsed = shared_parser_
+                                                   ? shared_parser_->parse(frame.payload)
+                                                   : own.emplace(parse_packet(frame.payload));
   if (!parsed) {
     drop(DropReason::kParseError, parsed.error());
     return;
@@ -517,7 +521,9 @@ void Router::on_frame(const link::ReceivedFrame& frame) {
     }
   }
   bool created = false;
-  LocationTableEntry& entry = table_.find_or_create(so.address, now, created);
+  LocationTableEntry& entry =
+      table_.find_or_create(so.address, now, created,
+                            shared_parser_ ? shared_parser_->sender_row() : SenderIndex::kNoRow);
   switch (p.common.type) {
     case PacketType::kBeacon:
     case PacketType::kSingleHopBroadcast: {

@@ -196,7 +196,13 @@ class Router {
   void set_security(security::SecurityEntity* entity) { security_ = entity; }
   /// Parse received frames through @p parser, shared with the other routers of this thread that
   /// hear the same frames (station-host): one parse per frame for all of them.
-  void set_shared_parser(SharedPacketParser* parser) { shared_parser_ = parser; }
+  /// Its location table then caches its entries in the parser's SenderIndex. Before the first
+  /// frame.
+  void set_shared_parser(SharedPacketParser* parser) {
+    shared_parser_ = parser;
+    if (parser != nullptr)
+      table_.share_sender_index(parser->senders());
+  }
 
   /// The receive path; the constructor binds it to the link. Public so that a caller holding
   /// frames from elsewhere (a pcap, a fuzzer) can feed them.

@@ -4,20 +4,21 @@
 
 namespace tb::its::geonet {
 
-Expected<Packet, ParseError> SharedPacketParser::parse(std::span<const std::uint8_t> bytes) {
+const Expected<Packet, ParseError>& SharedPacketParser::parse(std::span<const std::uint8_t> bytes) {
   if (last_ && std::ranges::equal(bytes, last_bytes_)) {
     ++reused_;
-    Expected<Packet, ParseError> out = *last_;
     // The held payload views the last caller's bytes, which may be gone: view this caller's.
-    if (out)
-      out->payload = bytes.subspan(payload_offset_, out->payload.size());
-    return out;
+    if (*last_)
+      (*last_)->payload = bytes.subspan(payload_offset_, (*last_)->payload.size());
+    return *last_;
   }
   ++parsed_;
-  auto p = parse_packet(bytes);
+  last_ = parse_packet(bytes);
   last_bytes_.assign(bytes.begin(), bytes.end());
+  const Expected<Packet, ParseError>& p = *last_;
   payload_offset_ = p ? static_cast<std::size_t>(p->payload.data() - bytes.data()) : 0;
-  last_ = p;
+  sender_row_ =
+      p ? senders_.row(source_position(p->extended).address.mid_key()) : SenderIndex::kNoRow;
   return p;
 }
 

@@ -106,6 +106,45 @@ TEST(Ldm, KeepsTheReceivedCamItself) {
   EXPECT_EQ(first.use_count(), 1) << "the older CAM is let go";
 }
 
+// Two LDMs sharing a SenderIndex (station-host's stations) find their neighbours through it,
+// each its own, forget them as they would without it, and do not trust a wrong row.
+TEST(Ldm, ASharedSenderIndexFindsEachLdmsOwnNeighbour) {
+  clock::ManualRuntime rt;
+  SenderIndex index;
+  Ldm a(rt, LdmConfig{3000ms, 3, 50ms});
+  Ldm b(rt, LdmConfig{3000ms, 3, 50ms});
+  a.share_sender_index(index);
+  b.share_sender_index(index);
+  const auto row7 = index.row(7);
+  const auto row8 = index.row(8);
+  for (int i = 0; i < 4; ++i) {
+    a.add_cam(cam_from(7, 48.0, 11.0, 10.0 + i), rt.wall_now(), row7);
+    b.add_cam(cam_from(7, 48.0, 11.0, 20.0 + i), rt.wall_now(), row7);
+    rt.advance(100ms);
+  }
+  EXPECT_EQ(a.neighbours().size(), 1u);
+  EXPECT_EQ(a.neighbour(7)->history.size(), 3u);
+  EXPECT_NEAR(*a.neighbour(7)->latest().speed_mps, 13.0, 1e-9);
+  EXPECT_NEAR(*b.neighbour(7)->latest().speed_mps, 23.0, 1e-9);
+  // A CAM of 8 said to be from row 7: the row's neighbour is 7, so 8 is looked up by its id.
+  a.add_cam(cam_from(8, 48.1, 11.0, 5.0), rt.wall_now(), row7);
+  ASSERT_NE(a.neighbour(8), nullptr);
+  EXPECT_NEAR(*a.neighbour(7)->latest().speed_mps, 13.0, 1e-9) << "7 untouched";
+  a.add_cam(cam_from(8, 48.1, 11.0, 6.0), rt.wall_now(), row8);
+  EXPECT_NEAR(*a.neighbour(8)->latest().speed_mps, 6.0, 1e-9);
+  EXPECT_EQ(a.neighbours().size(), 2u);
+  // 7 forgotten (last heard at 300 ms), then heard again through its row: a new neighbour,
+  // not the one that went.
+  rt.advance(3100ms);
+  EXPECT_EQ(a.neighbour(7), nullptr);
+  EXPECT_EQ(b.neighbour(7), nullptr);
+  a.add_cam(cam_from(7, 48.0, 11.0, 30.0), rt.wall_now(), row7);
+  ASSERT_NE(a.neighbour(7), nullptr);
+  EXPECT_EQ(a.neighbour(7)->history.size(), 1u);
+  EXPECT_NEAR(*a.neighbour(7)->latest().speed_mps, 30.0, 1e-9);
+  EXPECT_EQ(b.neighbour(7), nullptr);
+}
+
 TEST(Ldm, CamWithoutPositionIsIgnored) {
   clock::ManualRuntime rt;
   Ldm ldm(rt);

@@ -75,6 +75,43 @@ TEST(LocationTable, AnExpiredEntryIsRecreatedEmpty) {
   EXPECT_FALSE(LocationTable::is_duplicate_sequence_number(again, 7));
 }
 
+// Two tables sharing a SenderIndex (station-host's stations) find their entries through it,
+// each its own; a purged entry leaves its cell, and a wrong row is not trusted.
+TEST(LocationTable, ASharedSenderIndexFindsEachTablesOwnEntry) {
+  SenderIndex index;
+  LocationTable a{20s};
+  LocationTable b{20s};
+  a.share_sender_index(index);
+  b.share_sender_index(index);
+  const clock::SteadyTime t0{};
+  const auto row1 = index.row(addr(1).mid_key());
+  const auto row2 = index.row(addr(2).mid_key());
+  bool created = false;
+  auto& a1 = a.find_or_create(addr(1), t0, created, row1);
+  EXPECT_TRUE(created);
+  auto& b1 = b.find_or_create(addr(1), t0, created, row1);
+  EXPECT_TRUE(created);
+  EXPECT_NE(&a1, &b1);
+  EXPECT_TRUE(a.update_position(a1, pv(1, 1000), t0));
+  EXPECT_EQ(&a.find_or_create(addr(1), t0 + 1s, created, row1), &a1);
+  EXPECT_FALSE(created);
+  EXPECT_EQ(&b.find_or_create(addr(1), t0 + 1s, created, row1), &b1);
+  // Address 2 said to be from row 1: looked up by its key, 1's entry untouched.
+  auto& a2 = a.find_or_create(addr(2), t0 + 1s, created, row1);
+  EXPECT_TRUE(created);
+  EXPECT_NE(&a2, &a1);
+  EXPECT_EQ(a1.position.timestamp, Timestamp{1000});
+  EXPECT_EQ(&a.find_or_create(addr(2), t0 + 2s, created, row2), &a2);
+  EXPECT_EQ(a.size(), 2u);
+  // Purged, then heard again through its row: a new entry, created empty.
+  EXPECT_EQ(a.purge(t0 + 30s), 2u);
+  auto& again = a.find_or_create(addr(1), t0 + 30s, created, row1);
+  EXPECT_TRUE(created);
+  EXPECT_FALSE(again.has_position);
+  EXPECT_EQ(a.size(), 1u);
+  EXPECT_EQ(a.find(addr(1).mid_key(), t0 + 30s), &again);
+}
+
 TEST(LocationTable, OnlyNewerPositionsReplaceTheHeldOne) {
   LocationTable table{20s};
   bool created = false;

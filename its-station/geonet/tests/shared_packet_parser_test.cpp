@@ -43,6 +43,25 @@ TEST(SharedPacketParser, SameBytesParsedOnceAndThePayloadViewsTheCallersBytes) {
   EXPECT_EQ(b->payload.data(), second.data() + 40);  // not into the first caller's bytes
 }
 
+TEST(SharedPacketParser, GivesTheSourcesRowInItsSenderIndex) {
+  SharedPacketParser parser;
+  Bytes other = kShb;
+  other[19] ^= 0x01;  // another source address: the last octet of the SO PV's MID
+  Bytes truncated(kShb.begin(), kShb.begin() + 30);
+  parser.parse(kShb);
+  const auto row = parser.sender_row();
+  ASSERT_NE(row, SenderIndex::kNoRow);
+  EXPECT_EQ(parser.senders().key(row),
+            source_position(parse_packet(kShb)->extended).address.mid_key());
+  parser.parse(other);
+  EXPECT_NE(parser.sender_row(), row);
+  EXPECT_NE(parser.sender_row(), SenderIndex::kNoRow);
+  parser.parse(kShb);
+  EXPECT_EQ(parser.sender_row(), row);
+  parser.parse(truncated);
+  EXPECT_EQ(parser.sender_row(), SenderIndex::kNoRow);
+}
+
 TEST(SharedPacketParser, OtherBytesAndErrorsAreParsedAsParsePacketWould) {
   SharedPacketParser parser;
   Bytes later = kShb;
