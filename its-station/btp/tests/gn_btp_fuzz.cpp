@@ -1,6 +1,7 @@
 // libFuzzer target: a received frame through GN parsing, the router's receive path (checks,
 // location table, duplicate detection, forwarding) and BTP dispatch. Also checks that whatever
-// parses re-encodes to a packet that parses to the same headers.
+// parses re-encodes to a packet that parses to the same headers, and that two routers sharing a
+// SharedPacketParser and its SenderIndex (station-host) end where an unshared one does.
 
 #include <cstddef>
 #include <cstdint>
@@ -61,15 +62,33 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // One router forwarding GBCs at once, one by contention (Annex F.2 and F.3).
   static Station simple{geonet::RouterConfig::AreaForwarding::kSimple};
   static Station cbf{geonet::RouterConfig::AreaForwarding::kContentionBased};
+  // Two more like `simple` that share a parser, as a station-host's stations do.
+  static geonet::SharedPacketParser parser;
+  static Station shared_a{geonet::RouterConfig::AreaForwarding::kSimple};
+  static Station shared_b{geonet::RouterConfig::AreaForwarding::kSimple};
+  static const bool sharing = [] {
+    shared_a.router.set_shared_parser(&parser);
+    shared_b.router.set_shared_parser(&parser);
+    return true;
+  }();
+  (void)sharing;
   const std::span<const std::uint8_t> bytes(data, size);
   if (auto p = geonet::parse_packet(bytes))
     check_round_trip(*p);
-  for (Station* station : {&simple, &cbf}) {
+  for (Station* station : {&simple, &cbf, &shared_a, &shared_b}) {
     station->link.inject({0x02, 0, 0, 0, 0, 0x02}, tb::its::link::kBroadcastMac,
                          tb::its::link::kEtherTypeGeoNetworking, bytes, station->rt.wall_now());
     // Let time pass so that contention timers fire, the location table purges and beacons go.
     station->rt.advance(std::chrono::milliseconds{60});
     station->pos.set({station->rt.wall_now(), 48.15, -1.6, 10.0, 90.0, true});
+  }
+  for (const Station* station : {&shared_a, &shared_b}) {
+    const auto& a = station->router.stats();
+    const auto& b = simple.router.stats();
+    if (a.received != b.received || a.delivered != b.delivered || a.drops != b.drops ||
+        station->router.location_table().size() != simple.router.location_table().size() ||
+        station->delivered != simple.delivered)
+      std::abort();
   }
   return 0;
 }
