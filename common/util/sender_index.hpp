@@ -50,7 +50,6 @@ class SenderIndex {
   }
 
   std::size_t rows() const { return rows_.size(); }
-  std::uint32_t columns() const { return columns_; }
 
  private:
   std::size_t max_rows_;

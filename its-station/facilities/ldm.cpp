@@ -89,7 +89,6 @@ void Ldm::add_cam(std::shared_ptr<const messages::Cam> shared, clock::WallTime r
     by_row_.set(sender_row, id, found);
   }
   auto& n = *found;
-  n.station_id = cam.header.stationID;
   n.station_type = basic.stationType;
   n.last_cam = std::move(shared);
   n.history.push_front(s);
