@@ -38,6 +38,12 @@ using test_support::epoll_watched_descriptors;
 
 /// A sender and a receiver on vcan0 of a namespace of their own. CAN_RAW loops a frame sent on
 /// vcan back to every other socket on the interface, so the receiver sees what the sender sends.
+///
+/// The loop-back is not done when send() returns: vcan hands the frame to the kernel's backlog,
+/// which a loaded machine works off later, in ksoftirqd. A test that needs frames queued at the
+/// receiver before it reads waits for them at a probe socket. The probe is bound before the
+/// receiver, and af_can hands each frame to the sockets bound later first (its receiver lists
+/// add at the head), so once the probe holds a frame the receiver holds it too.
 class VcanPair : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -58,16 +64,28 @@ class VcanPair : public ::testing::Test {
         failure = "ip link add vcan0 type vcan failed (modprobe vcan?)";
         return;
       }
+      auto p = SocketCanBus::open(io, "vcan0");
       auto t = SocketCanBus::open(io, "vcan0");
       auto r = SocketCanBus::open(io, "vcan0");
-      if (!t || !r) {
-        failure = "SocketCanBus::open: " + (t ? r.error() : t.error()).message();
+      if (!p || !t || !r) {
+        failure = "SocketCanBus::open: " + (!p ? p.error() : !t ? t.error() : r.error()).message();
         return;
       }
+      probe = std::move(*p);
       tx = std::move(*t);
       rx = std::move(*r);
     }).join();
     ASSERT_TRUE(failure.empty()) << failure;
+    probe->start_receive([this](const CanFrame&, std::int64_t) { ++probed_; });
+  }
+
+  /// Runs the io_context until the probe has seen @p n frames since the test began: then the
+  /// receiver's socket holds them too (see the class comment).
+  void wait_until_looped_back(std::size_t n) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+    while (probed_ < n && std::chrono::steady_clock::now() < deadline)
+      io.run_for(std::chrono::milliseconds(1));
+    ASSERT_EQ(probed_, n) << "frames looped back by vcan0 within 5 s";
   }
 
   /// @p n frames of vehicle.dbc's VehicleSpeed, AliveCounter 0, 1, ... (mod 16) and the frame's
@@ -95,7 +113,8 @@ class VcanPair : public ::testing::Test {
   }
 
   boost::asio::io_context io;
-  std::unique_ptr<SocketCanBus> tx, rx;
+  std::unique_ptr<SocketCanBus> probe, tx, rx;
+  std::size_t probed_ = 0;
   Database dbc = *Database::load(TESTBED_VEHICLE_DBC);
   const Message* speed_ = dbc.find_message("VehicleSpeed");
   const Signal* counter_ = speed_->find_signal("AliveCounter");
@@ -132,12 +151,14 @@ TEST_F(VcanPair, OnDemandLeavesTheEpollSetSoThatFramesWakeNobody) {
   EXPECT_EQ(epoll_watched_descriptors(), watched - 1);
   const auto frames = counted_frames(3);
   send(frames);
+  wait_until_looped_back(3);
   io.run_for(std::chrono::milliseconds(100));
   EXPECT_TRUE(got.empty()) << "no read before poll()";
   EXPECT_EQ(rx->poll(), 3u);
   EXPECT_EQ(got, frames);
   // The sender still sends through its own descriptor, and the released one reads on.
   send(counted_frames(2, 3));
+  wait_until_looped_back(5);
   EXPECT_EQ(rx->poll(), 2u);
 }
 
@@ -147,6 +168,7 @@ TEST_F(VcanPair, OnePollReadsMoreFramesThanOneBatchInOrder) {
                       std::chrono::hours{1});
   const auto frames = counted_frames(3 * static_cast<int>(SocketCanBus::kReadBatch) + 5);
   send(frames);
+  wait_until_looped_back(frames.size());
   EXPECT_EQ(rx->poll(), frames.size());
   EXPECT_EQ(got, frames);
   // Four system calls for 53 frames: three full batches and a short one that ends the read.
