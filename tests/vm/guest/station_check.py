@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""station_check.py RUN_DIR MQTT_LOG SCENARIO STATUS_DIR: the checks of the its-station stage
+"""station_check.py RUN_DIR MQTT_LOG STATUS_DIR: the checks of the its-station stage
 (test.sh), from what one run of the native launcher (scripts/testbed run
 guest/scenario-lcrw.json) left behind:
 
@@ -12,7 +12,6 @@ Prints one line per check, "NAME<TAB>0|1<TAB>evidence" (0 = pass), for test.sh's
 Station 1001 (red) closes in on 1002 (black) ahead on its lane: red must be warned about black
 (forward case, TTC < 3 s); black, which has red behind it, never.
 """
-import datetime
 import glob
 import json
 import os
@@ -44,7 +43,7 @@ def read(path):
 
 
 def main():
-    run_dir, mqtt_log, scenario_path, status_dir = sys.argv[1:5]
+    run_dir, mqtt_log, status_dir = sys.argv[1:4]
     res = []
 
     def check(name, ok, why):
@@ -137,31 +136,32 @@ def main():
           f"({c.get('clear_reason', '-')})")
 
     # Did the stations keep up with real time? Lag of each station's fix behind the physics
-    # step it describes (fix_ms = start_time + sim time; server.step gives the step's wall time).
-    steps = {r["tick"]: r["ts"] for r in ev.get("server.step", [])}
-    with open(scenario_path) as f:
-        scen = json.load(f)
-    hz = scen["rates"]["physics_hz"]
-    start_ms = datetime.datetime.fromisoformat(
-        scen["start_time"].replace("Z", "+00:00")).timestamp() * 1000
+    # step it describes. A fix is dated world start + sim time (docs/time.md); the client's
+    # client.forward record of that station and sim time gives the step's wall time.
+    starts = ev.get("server.world_start", [])
+    world_start_ns = starts[-1]["world_start_ns"] if starts else None
+    step_of = {(r["station"], r["sim_ns"]): r["step_ns"] for r in ev.get("client.forward", [])
+               if "sim_ns" in r and r.get("step_ns")}
     lags = []
-    for r in ev.get("its.fix", []):
-        tick = round((r["fix_ms"] - start_ms) / 1000 * hz)
-        if tick in steps:
-            lags.append((r["ts"] - steps[tick]) / 1e6)
+    if world_start_ns is not None:
+        for r in ev.get("its.fix", []):
+            step = step_of.get((r.get("station"), r["fix_ms"] * 1_000_000 - world_start_ns))
+            if step is not None:
+                lags.append((r["ts"] - step) / 1e6)
     if lags:
         lags.sort()
         p50, p95, mx = lags[len(lags) // 2], lags[int(len(lags) * 0.95)], lags[-1]
         why = (f"{len(lags)} fixes; fix behind its physics step: median {p50:.0f} ms, "
                f"p95 {p95:.0f} ms, max {mx:.0f} ms")
     else:
-        why = "no fixes or no steps traced"
+        why = "no fixes, no server.world_start or no client.forward records traced"
     res.append(f"info\t-\t{why}")
-    # How early the stations were exchanging CAMs, in sim time (red's warning is due at 29.1 s):
-    # the margin the scenario leaves for the launcher's start under TCG.
-    if steps:
-        # Sim time of a step's start is tick / physics_hz.
-        t0_ns = steps[min(steps)] - min(steps) / hz * 1e9
+    # How early the stations were exchanging CAMs, in sim time (red's warning is due at 29.1 s;
+    # sim time runs from minus the warm-up): the margin the scenario leaves for the launcher's
+    # start under TCG.
+    zero = [step for (_, sim_ns), step in step_of.items() if sim_ns == 0]
+    if zero:
+        t0_ns = min(zero)
         firsts = []
         for me in (RED, BLACK):
             ts = [r["ts"] for r in of("its.ldm", station=me)]

@@ -353,7 +353,7 @@ if [[ ${TB_VM_STATIONS:-1} == 1 ]]; then
     if [[ $name == info ]]; then echo "stations: $why"; continue; fi
     check "$name" "$rc" "$why"
     [[ $rc == 0 ]] || ok=0
-  done < <(python3 "$G/station_check.py" "${run_dir:-$L}" "$T/mqtt.txt" "$SL" "$T" 2>&1)
+  done < <(python3 "$G/station_check.py" "${run_dir:-$L}" "$T/mqtt.txt" "$T" 2>&1)
   mons=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["frames"])' "$T/mon2.json" 2>/dev/null)
   python3 -c 'import json,sys; f=json.load(open(sys.argv[1]))["frames"]; sys.exit(0 if f.get("02:00:00:00:03:e9", 0) > 0 and f.get("02:00:00:00:03:ea", 0) > 0 else 1)' "$T/mon2.json" 2>/dev/null
   check stations.monitor_sees_cams $? "(GeoNetworking frames per transmitter on tbrmmon: ${mons:-none})"
